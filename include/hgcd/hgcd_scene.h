@@ -1,0 +1,66 @@
+/*
+ * hgcd reference scenes (../shared/SCENES.md), generated bit for bit, for
+ * tests, examples, benchmarks and bindings. Included by hgcd.h.
+ */
+#ifndef HGCD_SCENE_H
+#define HGCD_SCENE_H
+
+#include <stdint.h>
+
+#include "hgcd_export.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Parameters of scene `tetra`. Obtain with hgcd_scene_tetra_desc_default(). */
+typedef struct hgcd_scene_tetra_desc {
+    uint32_t struct_size;
+    uint32_t init_tag;
+    /** Number of tetrahedra. Default 750000. */
+    uint64_t n;
+    /** splitmix64 seed. Default 1. */
+    uint64_t seed;
+    /** Cube side. Default 200. */
+    double side;
+    /** Circumradius range, log-uniform. Defaults 0.25 and 2. */
+    double rmin;
+    double rmax;
+    /** Speed bound per tick. Default 0.05. */
+    double vmax;
+} hgcd_scene_tetra_desc;
+
+HGCD_API hgcd_scene_tetra_desc hgcd_scene_tetra_desc_default(void);
+
+/** Draws the n objects of scene `tetra`. Each output array may be NULL to
+ *  skip it; otherwise it holds n entries of: centers 3 doubles, radii 1
+ *  (circumradius r), scales 1 (r / sqrt(3), the body scale for the unit mesh
+ *  of hgcd_scene_tetra_unit_mesh), orientations 4 (x, y, z, w), velocities 3.
+ *  Errors: -1 (HGCD_ERROR_NULL_ARGUMENT) for a NULL desc, -3
+ *  (HGCD_ERROR_BAD_DESCRIPTOR), -2 (HGCD_ERROR_INVALID_ARGUMENT) for
+ *  non-finite or out-of-order parameters, -8 (HGCD_ERROR_CAPACITY) when
+ *  n * 4 doubles would overflow. */
+HGCD_API int32_t hgcd_scene_tetra_generate(const hgcd_scene_tetra_desc *desc,
+                                           double *centers, double *radii,
+                                           double *scales,
+                                           double *orientations,
+                                           double *velocities);
+
+/** The unit sign-pattern tetrahedron of SCENES.md: vertices (1,1,1),
+ *  (1,-1,-1), (-1,1,-1), (-1,-1,1) into vertices[12] and the faces (0,1,2)
+ *  (0,3,1) (0,2,3) (1,3,2) into triangles[12]. Scaled by r / sqrt(3) it is the
+ *  scene's tetrahedron of circumradius r, bit for bit. NULL pointers are
+ *  skipped. */
+HGCD_API void hgcd_scene_tetra_unit_mesh(double *vertices, uint32_t *triangles);
+
+/** One tick of the scene's motion for n objects: center += velocity, mirrored
+ *  back into [0, side] per coordinate with that velocity component negated,
+ *  exactly as SCENES.md writes it. For callers that move bodies themselves. */
+HGCD_API void hgcd_scene_tetra_move(uint64_t n, double side, double *centers,
+                                    double *velocities);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HGCD_SCENE_H */

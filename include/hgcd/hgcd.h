@@ -31,8 +31,11 @@
  * ------
  * Every fallible call returns an hgcd_status: HGCD_OK (0) or a negative code.
  * hgcd_status_string() names a code; hgcd_world_last_error() gives the detail
- * of the last failed call on that world ("body_create: position[1] is NaN").
- * A failed call leaves the world exactly as it was. No call aborts, throws or
+ * of the last failed call on that world that takes a non-const world
+ * ("body_create: position[1] is not finite"). Calls taking a const world only
+ * read it and return a status without recording a message, so they can
+ * overlap safely. A failed call leaves the world exactly as it was (apart from
+ * the recorded message). No call aborts, throws or
  * crashes on bad arguments; out-of-memory is reported as
  * HGCD_ERROR_OUT_OF_MEMORY.
  *
@@ -196,8 +199,9 @@ HGCD_API hgcd_status hgcd_world_create(const hgcd_world_desc *desc,
  *  invalid. NULL is a no-op. */
 HGCD_API void hgcd_world_destroy(hgcd_world *world);
 
-/** Detail of the last failed call on this world, or "" if none failed yet.
- *  The string is owned by the world and valid until the next call on it.
+/** Detail of the last failed call (of those taking a non-const world) on this
+ *  world, or "" if none failed yet. The string is owned by the world and valid
+ *  until the next non-const call on it.
  *  NULL world gives a static message. */
 HGCD_API const char *hgcd_world_last_error(const hgcd_world *world);
 

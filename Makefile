@@ -1,0 +1,96 @@
+# hgcd: plain build with only a C++ compiler (g++ or clang++) and make.
+#   make                 libhgcd.a and libhgcd.so.MAJOR.MINOR.PATCH (soname libhgcd.so.MAJOR)
+#   make install         PREFIX=/usr/local DESTDIR= : headers, libraries, hgcd.pc
+#   make demo            the main job: builds and runs examples/demo (N=..., TICKS=..., THREADS=...)
+#   make test            every test (meson + CMocka, sanitizers, Rust); installs what is missing
+#   make bench           benchmarks (bench/)
+# The version is read from include/hgcd/hgcd_version.h, as meson does.
+
+VERSION_H := include/hgcd/hgcd_version.h
+MAJOR := $(shell sed -n 's/^\#define HGCD_VERSION_MAJOR \([0-9]*\)/\1/p' $(VERSION_H))
+MINOR := $(shell sed -n 's/^\#define HGCD_VERSION_MINOR \([0-9]*\)/\1/p' $(VERSION_H))
+PATCH := $(shell sed -n 's/^\#define HGCD_VERSION_PATCH \([0-9]*\)/\1/p' $(VERSION_H))
+VERSION := $(MAJOR).$(MINOR).$(PATCH)
+
+CXX ?= g++
+CC ?= cc
+PREFIX ?= /usr/local
+LIBDIR ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+BUILD ?= build-make
+
+# -ffp-contract=off: no fused multiply-add, so world vertices are the same
+# bits everywhere (see hgcd.h). Never -ffast-math.
+CXXFLAGS ?= -O2 -g
+HGCD_CXXFLAGS := -std=c++17 -fPIC -fopenmp -ffp-contract=off -fvisibility=hidden \
+                 -Wall -Wextra -Iinclude -DHGCD_BUILDING_LIBRARY
+LDLIBS_LIB := -fopenmp -lm
+
+SRCS := $(wildcard src/*.cpp)
+OBJS := $(patsubst src/%.cpp,$(BUILD)/%.o,$(SRCS))
+STATIC := $(BUILD)/libhgcd.a
+SHARED := $(BUILD)/libhgcd.so.$(VERSION)
+SONAME := libhgcd.so.$(MAJOR)
+
+.PHONY: all lib install uninstall demo test bench clean deps
+
+all: lib
+lib: $(STATIC) $(SHARED)
+
+$(BUILD)/%.o: src/%.cpp $(wildcard src/*.hpp src/*.h include/hgcd/*.h) | $(BUILD)
+	$(CXX) $(HGCD_CXXFLAGS) $(CXXFLAGS) -c $< -o $@
+
+$(BUILD):
+	mkdir -p $(BUILD)
+
+$(STATIC): $(OBJS)
+	rm -f $@
+	ar rcs $@ $^
+
+$(SHARED): $(OBJS) src/hgcd.map
+	$(CXX) -shared -Wl,-soname,$(SONAME) -Wl,--version-script=src/hgcd.map -o $@ $(OBJS) $(LDFLAGS) $(LDLIBS_LIB)
+	ln -sf libhgcd.so.$(VERSION) $(BUILD)/$(SONAME)
+	ln -sf $(SONAME) $(BUILD)/libhgcd.so
+
+$(BUILD)/hgcd.pc: Makefile
+	printf 'prefix=%s\nlibdir=%s\nincludedir=%s\n\nName: hgcd\nDescription: Parallel exact collision detection between many triangle meshes\nVersion: %s\nLibs: -L$${libdir} -lhgcd\nLibs.private: -fopenmp -lstdc++ -lm\nCflags: -I$${includedir}\n' \
+	  '$(PREFIX)' '$(LIBDIR)' '$(INCLUDEDIR)' '$(VERSION)' > $@
+
+install: lib $(BUILD)/hgcd.pc
+	install -d $(DESTDIR)$(INCLUDEDIR)/hgcd $(DESTDIR)$(LIBDIR)/pkgconfig
+	install -m 644 include/hgcd/*.h $(DESTDIR)$(INCLUDEDIR)/hgcd/
+	install -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
+	ln -sf libhgcd.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(LIBDIR)/libhgcd.so
+	install -m 644 $(BUILD)/hgcd.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
+
+uninstall:
+	rm -rf $(DESTDIR)$(INCLUDEDIR)/hgcd
+	rm -f $(DESTDIR)$(LIBDIR)/libhgcd.a $(DESTDIR)$(LIBDIR)/libhgcd.so* $(DESTDIR)$(LIBDIR)/pkgconfig/hgcd.pc
+
+# The main job: the tetra scene of SCENES.md through the C API.
+N ?= 200000
+TICKS ?= 5
+THREADS ?= 0
+$(BUILD)/demo: examples/demo.c $(STATIC) | $(BUILD)
+	$(CC) -std=c99 -O2 -Wall -Iinclude $< -o $@ $(STATIC) -fopenmp -lstdc++ -lm
+
+demo:
+	bash scripts/ensure-deps.sh demo
+	$(MAKE) $(BUILD)/demo
+	$(BUILD)/demo --n $(N) --ticks $(TICKS) --threads $(THREADS)
+
+deps:
+	bash scripts/ensure-deps.sh test
+
+test:
+	bash scripts/ensure-deps.sh test
+	bash scripts/run-tests.sh
+
+bench:
+	bash scripts/ensure-deps.sh bench
+	bash scripts/run-bench.sh
+
+clean:
+	rm -rf $(BUILD) build build-*

@@ -1,0 +1,265 @@
+// The C ABI: argument checks, descriptor checks and exception-to-status
+// translation. No logic lives here; the world does the work.
+#include <cmath>
+#include <cstring>
+#include <new>
+
+#include "hgcd/hgcd.h"
+#include "tags.hpp"
+#include "world.hpp"
+
+struct hgcd_world {
+    hgcd::World impl;
+    explicit hgcd_world(const hgcd_world_desc &d) : impl(d) {}
+};
+
+namespace {
+
+constexpr double kMaxCoordinate = 1e15;
+
+template <class F>
+hgcd_status guarded(hgcd_world *w, const char *what, F &&f) {
+    try {
+        return f();
+    } catch (const std::bad_alloc &) {
+        if (w) return w->impl.fail(HGCD_ERROR_OUT_OF_MEMORY, std::string(what) + ": out of memory");
+        return HGCD_ERROR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        if (w) return w->impl.fail(HGCD_ERROR_INTERNAL, std::string(what) + ": " + e.what());
+        return HGCD_ERROR_INTERNAL;
+    } catch (...) {
+        if (w) return w->impl.fail(HGCD_ERROR_INTERNAL, std::string(what) + ": unknown exception");
+        return HGCD_ERROR_INTERNAL;
+    }
+}
+
+template <class D>
+bool initialised(const D *d) {
+    return d->struct_size == sizeof(D) && d->init_tag == hgcd::kInitTag;
+}
+
+bool finite_in_range(double x) { return std::isfinite(x) && std::fabs(x) <= kMaxCoordinate; }
+
+}  // namespace
+
+extern "C" {
+
+const char *hgcd_status_string(hgcd_status s) {
+    switch (s) {
+        case HGCD_OK: return "HGCD_OK";
+        case HGCD_ERROR_NULL_ARGUMENT: return "HGCD_ERROR_NULL_ARGUMENT";
+        case HGCD_ERROR_INVALID_ARGUMENT: return "HGCD_ERROR_INVALID_ARGUMENT";
+        case HGCD_ERROR_BAD_DESCRIPTOR: return "HGCD_ERROR_BAD_DESCRIPTOR";
+        case HGCD_ERROR_STALE_ID: return "HGCD_ERROR_STALE_ID";
+        case HGCD_ERROR_INVALID_MESH: return "HGCD_ERROR_INVALID_MESH";
+        case HGCD_ERROR_MESH_IN_USE: return "HGCD_ERROR_MESH_IN_USE";
+        case HGCD_ERROR_OUT_OF_MEMORY: return "HGCD_ERROR_OUT_OF_MEMORY";
+        case HGCD_ERROR_CAPACITY: return "HGCD_ERROR_CAPACITY";
+        case HGCD_ERROR_NOT_SUPPORTED: return "HGCD_ERROR_NOT_SUPPORTED";
+        case HGCD_ERROR_INTERNAL: return "HGCD_ERROR_INTERNAL";
+        default: return "HGCD_ERROR_UNKNOWN";
+    }
+}
+
+uint32_t hgcd_version(void) {
+    return (uint32_t(HGCD_VERSION_MAJOR) << 16) | (uint32_t(HGCD_VERSION_MINOR) << 8) |
+           uint32_t(HGCD_VERSION_PATCH);
+}
+
+#define HGCD_STR2(x) #x
+#define HGCD_STR(x) HGCD_STR2(x)
+const char *hgcd_version_string(void) {
+    return HGCD_STR(HGCD_VERSION_MAJOR) "." HGCD_STR(HGCD_VERSION_MINOR) "." HGCD_STR(HGCD_VERSION_PATCH);
+}
+
+// ----------------------------------------------------------------- world --
+
+hgcd_world_desc hgcd_world_desc_default(void) {
+    hgcd_world_desc d;
+    std::memset(&d, 0, sizeof(d));
+    d.struct_size = sizeof(d);
+    d.init_tag = hgcd::kInitTag;
+    d.time_step = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        d.bounds_min[k] = 0.0;
+        d.bounds_max[k] = 1.0;
+    }
+    return d;
+}
+
+hgcd_status hgcd_world_create(const hgcd_world_desc *desc, hgcd_world **out_world) {
+    if (!out_world) return HGCD_ERROR_NULL_ARGUMENT;
+    *out_world = nullptr;
+    if (!desc) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!initialised(desc)) return HGCD_ERROR_BAD_DESCRIPTOR;
+    if (!std::isfinite(desc->time_step) || desc->time_step < 0) return HGCD_ERROR_INVALID_ARGUMENT;
+    if (desc->thread_count > 4096) return HGCD_ERROR_INVALID_ARGUMENT;
+    for (int k = 0; k < 3; ++k)
+        if (!finite_in_range(desc->bounds_min[k]) || !finite_in_range(desc->bounds_max[k]) ||
+            !(desc->bounds_min[k] < desc->bounds_max[k]))
+            return HGCD_ERROR_INVALID_ARGUMENT;
+    const double lo = desc->min_cell_size, hi = desc->max_cell_size;
+    if (!std::isfinite(lo) || !std::isfinite(hi) || lo < 0 || hi < 0 || (lo > 0 && hi > 0 && lo > hi))
+        return HGCD_ERROR_INVALID_ARGUMENT;
+    return guarded(nullptr, "world_create", [&] {
+        *out_world = new hgcd_world(*desc);
+        return HGCD_OK;
+    });
+}
+
+void hgcd_world_destroy(hgcd_world *world) { delete world; }
+
+const char *hgcd_world_last_error(const hgcd_world *world) {
+    return world ? world->impl.last_error() : "world is NULL";
+}
+
+uint32_t hgcd_world_body_count(const hgcd_world *world) { return world ? world->impl.body_count() : 0; }
+uint32_t hgcd_world_mesh_count(const hgcd_world *world) { return world ? world->impl.mesh_count() : 0; }
+
+hgcd_status hgcd_world_set_thread_count(hgcd_world *world, uint32_t thread_count) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (thread_count > 4096)
+        return world->impl.fail(HGCD_ERROR_INVALID_ARGUMENT, "world_set_thread_count: more than 4096 threads");
+    world->impl.set_thread_count(thread_count);
+    return HGCD_OK;
+}
+
+hgcd_status hgcd_world_step(hgcd_world *world) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "world_step", [&] { return world->impl.step(); });
+}
+
+hgcd_status hgcd_world_detect(hgcd_world *world) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "world_detect", [&] { return world->impl.detect(); });
+}
+
+hgcd_status hgcd_world_pairs(const hgcd_world *world, const hgcd_pair **out_pairs, size_t *out_count) {
+    if (!world || !out_pairs || !out_count) return HGCD_ERROR_NULL_ARGUMENT;
+    const auto &p = world->impl.pairs();
+    *out_pairs = p.empty() ? nullptr : p.data();
+    *out_count = p.size();
+    return HGCD_OK;
+}
+
+hgcd_status hgcd_world_copy_pairs(const hgcd_world *world, hgcd_pair *buffer, size_t capacity,
+                                  size_t *out_total) {
+    if (!world || !out_total || (!buffer && capacity > 0)) return HGCD_ERROR_NULL_ARGUMENT;
+    const auto &p = world->impl.pairs();
+    const size_t n = p.size() < capacity ? p.size() : capacity;
+    if (n) std::memcpy(buffer, p.data(), n * sizeof(hgcd_pair));
+    *out_total = p.size();
+    return HGCD_OK;
+}
+
+hgcd_status hgcd_world_stats(const hgcd_world *world, hgcd_stats *out_stats) {
+    if (!world || !out_stats) return HGCD_ERROR_NULL_ARGUMENT;
+    size_t size = out_stats->struct_size ? out_stats->struct_size : sizeof(hgcd_stats);
+    if (size < 8) return HGCD_ERROR_BAD_DESCRIPTOR;
+    if (size > sizeof(hgcd_stats)) size = sizeof(hgcd_stats);
+    hgcd_stats s = world->impl.stats();
+    s.struct_size = uint32_t(size);
+    std::memcpy(out_stats, &s, size);
+    return HGCD_OK;
+}
+
+// ---------------------------------------------------------------- meshes --
+
+hgcd_mesh_desc hgcd_mesh_desc_default(void) {
+    hgcd_mesh_desc d;
+    std::memset(&d, 0, sizeof(d));
+    d.struct_size = sizeof(d);
+    d.init_tag = hgcd::kInitTag;
+    return d;
+}
+
+hgcd_status hgcd_mesh_create(hgcd_world *world, const hgcd_mesh_desc *desc, hgcd_mesh *out_mesh) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!desc || !out_mesh) return world->impl.fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc or out_mesh is NULL");
+    if (!initialised(desc))
+        return world->impl.fail(HGCD_ERROR_BAD_DESCRIPTOR,
+                                "mesh_create: descriptor not initialised by hgcd_mesh_desc_default()");
+    return guarded(world, "mesh_create", [&] { return world->impl.create_mesh(*desc, out_mesh); });
+}
+
+hgcd_status hgcd_mesh_destroy(hgcd_world *world, hgcd_mesh mesh) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "mesh_destroy", [&] { return world->impl.destroy_mesh(mesh); });
+}
+
+hgcd_status hgcd_mesh_get_info(const hgcd_world *world, hgcd_mesh mesh, hgcd_mesh_info *out_info) {
+    if (!world || !out_info) return HGCD_ERROR_NULL_ARGUMENT;
+    size_t size = out_info->struct_size ? out_info->struct_size : sizeof(hgcd_mesh_info);
+    if (size < 8) return HGCD_ERROR_BAD_DESCRIPTOR;
+    if (size > sizeof(hgcd_mesh_info)) size = sizeof(hgcd_mesh_info);
+    hgcd_mesh_info info;
+    if (hgcd_status s = world->impl.mesh_info(mesh, &info)) return s;
+    info.struct_size = uint32_t(size);
+    std::memcpy(out_info, &info, size);
+    return HGCD_OK;
+}
+
+// ---------------------------------------------------------------- bodies --
+
+hgcd_body_desc hgcd_body_desc_default(void) {
+    hgcd_body_desc d;
+    std::memset(&d, 0, sizeof(d));
+    d.struct_size = sizeof(d);
+    d.init_tag = hgcd::kInitTag;
+    d.orientation[3] = 1.0;
+    d.scale = 1.0;
+    return d;
+}
+
+hgcd_status hgcd_body_create(hgcd_world *world, const hgcd_body_desc *desc, hgcd_body *out_body) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!desc || !out_body) return world->impl.fail(HGCD_ERROR_NULL_ARGUMENT, "body_create: desc or out_body is NULL");
+    if (!initialised(desc))
+        return world->impl.fail(HGCD_ERROR_BAD_DESCRIPTOR,
+                                "body_create: descriptor not initialised by hgcd_body_desc_default()");
+    return guarded(world, "body_create", [&] { return world->impl.create_body(*desc, out_body); });
+}
+
+hgcd_status hgcd_body_destroy(hgcd_world *world, hgcd_body body) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "body_destroy", [&] { return world->impl.destroy_body(body); });
+}
+
+hgcd_status hgcd_body_set_pose(hgcd_world *world, hgcd_body body, const double *position,
+                               const double *orientation) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "body_set_pose", [&] { return world->impl.set_pose(body, position, orientation); });
+}
+
+hgcd_status hgcd_body_set_velocity(hgcd_world *world, hgcd_body body, const double *velocity) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!velocity) return world->impl.fail(HGCD_ERROR_NULL_ARGUMENT, "body_set_velocity: velocity is NULL");
+    return guarded(world, "body_set_velocity", [&] { return world->impl.set_velocity(body, velocity); });
+}
+
+hgcd_status hgcd_body_get_pose(const hgcd_world *world, hgcd_body body, double *position, double *orientation) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_pose(body, position, orientation);
+}
+
+hgcd_status hgcd_body_get_velocity(const hgcd_world *world, hgcd_body body, double *velocity) {
+    if (!world || !velocity) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_velocity(body, velocity);
+}
+
+hgcd_status hgcd_body_get_mesh(const hgcd_world *world, hgcd_body body, hgcd_mesh *out_mesh) {
+    if (!world || !out_mesh) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_mesh(body, out_mesh);
+}
+
+hgcd_status hgcd_body_get_user_data(const hgcd_world *world, hgcd_body body, uint64_t *out_user_data) {
+    if (!world || !out_user_data) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_user_data(body, out_user_data);
+}
+
+hgcd_status hgcd_body_validate(const hgcd_world *world, hgcd_body body) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.body_valid(body) ? HGCD_OK : HGCD_ERROR_STALE_ID;
+}
+
+}  // extern "C"

@@ -1,0 +1,435 @@
+#include "grid.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+
+namespace hgcd {
+
+namespace {
+
+// Cell coordinates are kept in 42 bits per axis so a key packs into 128 bits.
+// Clamping is monotone and never increases a difference, so two bodies in
+// neighbouring cells stay in neighbouring (or equal) cells: far-away bodies
+// only crowd the border cells, they are never missed.
+constexpr int64_t kCoordLimit = (int64_t(1) << 41) - 2;
+constexpr int64_t kCoordBias = int64_t(1) << 41;
+constexpr int64_t kSaturate = int64_t(1) << 62;
+constexpr size_t kChunk = 1024;
+
+inline int64_t cell_coord(double x, int exponent) {
+    const double v = std::floor(std::ldexp(x, -exponent));  // exact scaling
+    if (v >= double(kSaturate)) return kSaturate;
+    if (v <= -double(kSaturate)) return -kSaturate;
+    return int64_t(v);
+}
+
+inline uint64_t clamp_bias(int64_t c) {
+    c = std::min(std::max(c, -kCoordLimit), kCoordLimit);
+    return uint64_t(c + kCoordBias);
+}
+
+inline CellKey pack(uint64_t z, uint64_t y, uint64_t x) {
+    return (CellKey(z) << 84) | (CellKey(y) << 42) | CellKey(x);
+}
+
+inline CellKey row_offset(int dz, int dy) {
+    // Components stay within [1, 2^42 - 2], so +-1 never carries: modular
+    // arithmetic on the packed key moves exactly one component.
+    return (CellKey(int64_t(dz)) << 84) + (CellKey(int64_t(dy)) << 42);
+}
+
+// Smallest e with 2^e >= d, for finite d > 0.
+inline int ceil_log2(double d) {
+    int k;
+    const double m = std::frexp(d, &k);  // d = m * 2^k, m in [0.5, 1)
+    return m == 0.5 ? k - 1 : k;
+}
+
+inline bool overlap(const Sphere &a, const Sphere &b) {
+    const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+    const double rs = a.r + b.r;
+    return dx * dx + dy * dy + dz * dz <= rs * rs;
+}
+
+inline uint64_t pair_key(uint32_t a, uint32_t b) {
+    return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
+}
+
+template <class T>
+struct ByKey {
+    bool operator()(const T &a, const T &b) const {
+        return a.key < b.key || (a.key == b.key && a.slot < b.slot);
+    }
+};
+
+}  // namespace
+
+CellKey Grid::key_of(uint32_t slot, int level_index) const {
+    const int own = level_[slot];
+    const int shift = std::min(levels_[level_index].exponent - levels_[own].exponent, 63);
+    const int64_t *c = &cell_[3 * size_t(slot)];
+    return pack(clamp_bias(c[2] >> shift), clamp_bias(c[1] >> shift), clamp_bias(c[0] >> shift));
+}
+
+GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
+                             const uint32_t *live_gen, uint32_t slot_count,
+                             const GridLimits &limits, int threads) {
+    GridUpdateStats stats;
+    // Level exponent per slot; INT_MIN: empty slot, INT_MAX: oversize.
+    std::vector<int> exponent(slot_count);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int64_t s = 0; s < int64_t(slot_count); ++s) {
+        if (!live_gen[s]) {
+            exponent[s] = INT_MIN;
+            continue;
+        }
+        int e = std::max(ceil_log2(2 * r_level[s]), limits.min_exponent);
+        // The sphere test radius carries a position-dependent rounding margin;
+        // a body whose test sphere no longer fits its cell width is oversize.
+        if (e > limits.max_exponent || 2 * spheres[s].r > std::ldexp(1.0, e)) e = INT_MAX;
+        exponent[s] = e;
+    }
+    std::vector<int> present;
+    {
+        std::vector<int> sorted;
+        for (uint32_t s = 0; s < slot_count; ++s)
+            if (exponent[s] != INT_MIN && exponent[s] != INT_MAX &&
+                (sorted.empty() || sorted.back() != exponent[s]))
+                sorted.push_back(exponent[s]);
+        std::sort(sorted.begin(), sorted.end());
+        sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+        present = std::move(sorted);
+    }
+    bool same_levels = built_ && present.size() == levels_.size();
+    for (size_t i = 0; same_levels && i < present.size(); ++i)
+        same_levels = levels_[i].exponent == present[i];
+
+    level_.resize(slot_count, kNone);
+    gen_.resize(slot_count, 0);
+    cell_.resize(3 * size_t(slot_count), 0);
+
+    auto level_index = [&](int e) -> int16_t {
+        if (e == INT_MIN) return kNone;
+        if (e == INT_MAX) return kOversize;
+        return int16_t(std::lower_bound(present.begin(), present.end(), e) - present.begin());
+    };
+
+    if (!same_levels) {
+        levels_.clear();
+        levels_.resize(present.size());
+        for (size_t i = 0; i < present.size(); ++i) levels_[i].exponent = present[i];
+#pragma omp parallel for num_threads(threads) schedule(static)
+        for (int64_t s = 0; s < int64_t(slot_count); ++s) {
+            level_[s] = level_index(exponent[s]);
+            gen_[s] = live_gen[s];
+            if (level_[s] >= 0) {
+                const int e = exponent[s];
+                cell_[3 * s] = cell_coord(spheres[s].x, e);
+                cell_[3 * s + 1] = cell_coord(spheres[s].y, e);
+                cell_[3 * s + 2] = cell_coord(spheres[s].z, e);
+            }
+        }
+        rebuild(slot_count, threads);
+        stats.rebuilt = true;
+        stats.moved = slot_count;
+    } else {
+        // Bodies whose membership changed (new, destroyed, or changed level).
+        std::vector<uint32_t> changed;
+        std::vector<uint8_t> changed_flag(slot_count, 0);
+        std::vector<std::vector<uint32_t>> changed_local(threads);
+#pragma omp parallel num_threads(threads)
+        {
+            auto &mine = changed_local[omp_get_thread_num()];
+#pragma omp for schedule(static)
+            for (int64_t s = 0; s < int64_t(slot_count); ++s) {
+                const int16_t li = level_index(exponent[s]);
+                if (li != level_[s] || gen_[s] != live_gen[s]) {
+                    mine.push_back(uint32_t(s));
+                    changed_flag[s] = 1;
+                }
+                level_[s] = li;
+                gen_[s] = live_gen[s];
+                if (li >= 0) {
+                    const int e = exponent[s];
+                    cell_[3 * s] = cell_coord(spheres[s].x, e);
+                    cell_[3 * s + 1] = cell_coord(spheres[s].y, e);
+                    cell_[3 * s + 2] = cell_coord(spheres[s].z, e);
+                }
+            }
+        }
+        for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
+        std::sort(changed.begin(), changed.end());
+        for (size_t li = 0; li < levels_.size(); ++li) {
+            update_list(levels_[li].residents, int(li), false, changed_flag, threads, stats);
+            update_list(levels_[li].guests, int(li), true, changed_flag, threads, stats);
+        }
+        // Bodies new to a list.
+        for (size_t li = 0; li < levels_.size(); ++li) {
+            for (int g = 0; g < 2; ++g) {
+                List &list = g ? levels_[li].guests : levels_[li].residents;
+                std::vector<Entry> add;
+                for (uint32_t s : changed) {
+                    const int16_t own = level_[s];
+                    const bool member = g ? (own >= 0 && own < int(li)) : own == int(li);
+                    if (member) add.push_back({key_of(s, int(li)), s, gen_[s]});
+                }
+                if (add.empty()) continue;
+                stats.moved += add.size();
+                std::sort(add.begin(), add.end(), ByKey<Entry>());
+                std::vector<Entry> merged(list.entries.size() + add.size());
+                std::merge(list.entries.begin(), list.entries.end(), add.begin(), add.end(),
+                           merged.begin(), ByKey<Entry>());
+                list.entries.swap(merged);
+            }
+        }
+    }
+    oversize_.clear();
+    for (uint32_t s = 0; s < slot_count; ++s)
+        if (level_[s] == kOversize) oversize_.push_back(s);
+    for (auto &lv : levels_) {
+        gather(lv.residents, spheres, threads);
+        gather(lv.guests, spheres, threads);
+        double rmax = 0;
+        for (const Sphere &sp : lv.residents.spheres) rmax = std::max(rmax, sp.r);
+        lv.max_radius = rmax;
+    }
+    built_ = true;
+    return stats;
+}
+
+void Grid::rebuild(uint32_t slot_count, int threads) {
+    for (uint32_t s = 0; s < slot_count; ++s) {
+        const int16_t own = level_[s];
+        if (own < 0) continue;
+        levels_[own].residents.entries.push_back({key_of(s, own), s, gen_[s]});
+        for (size_t li = size_t(own) + 1; li < levels_.size(); ++li)
+            levels_[li].guests.entries.push_back({key_of(s, int(li)), s, gen_[s]});
+    }
+    const int64_t lists = int64_t(2 * levels_.size());
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (int64_t k = 0; k < lists; ++k) {
+        List &list = (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents;
+        std::sort(list.entries.begin(), list.entries.end(), ByKey<Entry>());
+    }
+}
+
+// Drops entries of bodies that left the list and re-keys those that changed
+// cell, keeping the array sorted.
+void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_t> &changed,
+                       int threads, GridUpdateStats &stats) {
+    std::vector<Entry> &entries = list.entries;
+    const int64_t m = int64_t(entries.size());
+    if (m == 0) return;
+    // 0 keep, 1 drop, 2 re-key
+    std::vector<uint8_t> action(m);
+    std::vector<std::vector<Entry>> rekey_local(threads);
+    size_t dropped = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : dropped)
+    {
+        auto &mine = rekey_local[omp_get_thread_num()];
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < m; ++k) {
+            const Entry &en = entries[k];
+            const uint32_t s = en.slot;
+            // A body whose membership changed is dropped from every list and
+            // re-entered afresh in the lists it now belongs to.
+            const int16_t own = level_[s];
+            const bool member = !changed[s] && gen_[s] == en.gen &&
+                                (guests ? (own >= 0 && own < li) : own == li);
+            if (!member) {
+                action[k] = 1;
+                ++dropped;
+                continue;
+            }
+            const CellKey key = key_of(s, li);
+            if (key == en.key) {
+                action[k] = 0;
+            } else {
+                action[k] = 2;
+                ++dropped;
+                mine.push_back({key, s, en.gen});
+            }
+        }
+    }
+    if (dropped == 0) return;
+    std::vector<Entry> rekeyed;
+    for (auto &v : rekey_local) rekeyed.insert(rekeyed.end(), v.begin(), v.end());
+    stats.moved += rekeyed.size();
+    std::sort(rekeyed.begin(), rekeyed.end(), ByKey<Entry>());
+    std::vector<Entry> kept;
+    kept.reserve(size_t(m) - dropped);
+    for (int64_t k = 0; k < m; ++k)
+        if (action[k] == 0) kept.push_back(entries[k]);
+    std::vector<Entry> merged(kept.size() + rekeyed.size());
+    std::merge(kept.begin(), kept.end(), rekeyed.begin(), rekeyed.end(), merged.begin(),
+               ByKey<Entry>());
+    entries.swap(merged);
+}
+
+void Grid::gather(List &list, const Sphere *spheres, int threads) {
+    const int64_t m = int64_t(list.entries.size());
+    list.spheres.resize(size_t(m));
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int64_t k = 0; k < m; ++k) list.spheres[k] = spheres[list.entries[k].slot];
+}
+
+void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
+                           std::vector<uint64_t> &out) const {
+    const std::vector<Entry> &E = lv.residents.entries;
+    const std::vector<Sphere> &S = lv.residents.spheres;
+    const size_t m = E.size();
+    // The later half of the 3x3 rows: (dz, dy) after (0, 0) in key order.
+    static const int rows[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+    CellKey off[4];
+    size_t cur[4];
+    for (int r = 0; r < 4; ++r) {
+        off[r] = row_offset(rows[r][0], rows[r][1]);
+        const CellKey lo = E[begin].key + off[r] - 1;
+        cur[r] = size_t(std::lower_bound(E.begin(), E.end(), lo,
+                                         [](const Entry &e, CellKey k) { return e.key < k; }) -
+                        E.begin());
+    }
+    for (size_t i = begin; i < end; ++i) {
+        const CellKey K = E[i].key;
+        const Sphere &a = S[i];
+        const uint32_t si = E[i].slot;
+        for (size_t j = i + 1; j < m && E[j].key <= K + 1; ++j)
+            if (overlap(a, S[j])) out.push_back(pair_key(si, E[j].slot));
+        for (int r = 0; r < 4; ++r) {
+            const CellKey lo = K + off[r] - 1, hi = K + off[r] + 1;
+            size_t j = cur[r];
+            while (j < m && E[j].key < lo) ++j;
+            cur[r] = j;
+            for (; j < m && E[j].key <= hi; ++j)
+                if (overlap(a, S[j])) out.push_back(pair_key(si, E[j].slot));
+        }
+    }
+}
+
+void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
+                        std::vector<uint64_t> &out) const {
+    const std::vector<Entry> &G = lv.guests.entries;
+    const std::vector<Sphere> &GS = lv.guests.spheres;
+    const std::vector<Entry> &E = lv.residents.entries;
+    const std::vector<Sphere> &S = lv.residents.spheres;
+    const size_t m = E.size();
+    if (m == 0) return;
+    CellKey off[9];
+    size_t cur[9];
+    for (int r = 0; r < 9; ++r) {
+        off[r] = row_offset(r / 3 - 1, r % 3 - 1);
+        const CellKey lo = G[begin].key + off[r] - 1;
+        cur[r] = size_t(std::lower_bound(E.begin(), E.end(), lo,
+                                         [](const Entry &e, CellKey k) { return e.key < k; }) -
+                        E.begin());
+    }
+    for (size_t i = begin; i < end; ++i) {
+        const CellKey K = G[i].key;
+        const Sphere &a = GS[i];
+        const uint32_t si = G[i].slot;
+        for (int r = 0; r < 9; ++r) {
+            const CellKey lo = K + off[r] - 1, hi = K + off[r] + 1;
+            size_t j = cur[r];
+            while (j < m && E[j].key < lo) ++j;
+            cur[r] = j;
+            for (; j < m && E[j].key <= hi; ++j)
+                if (overlap(a, S[j])) out.push_back(pair_key(si, E[j].slot));
+        }
+    }
+}
+
+void Grid::query_oversize(uint32_t slot, const Sphere *spheres,
+                          std::vector<uint64_t> &out) const {
+    const Sphere &o = spheres[slot];
+    for (const Level &lv : levels_) {
+        const std::vector<Entry> &E = lv.residents.entries;
+        const std::vector<Sphere> &S = lv.residents.spheres;
+        const size_t m = E.size();
+        if (m == 0) continue;
+        const double ext = o.r + lv.max_radius;
+        const int e = lv.exponent;
+        const uint64_t lx = clamp_bias(cell_coord(o.x - ext, e)), hx = clamp_bias(cell_coord(o.x + ext, e));
+        const uint64_t ly = clamp_bias(cell_coord(o.y - ext, e)), hy = clamp_bias(cell_coord(o.y + ext, e));
+        const uint64_t lz = clamp_bias(cell_coord(o.z - ext, e)), hz = clamp_bias(cell_coord(o.z + ext, e));
+        const double rows = double(hz - lz + 1) * double(hy - ly + 1);
+        if (rows * 32 >= double(m)) {
+            for (size_t j = 0; j < m; ++j)
+                if (overlap(o, S[j])) out.push_back(pair_key(slot, E[j].slot));
+            continue;
+        }
+        for (uint64_t z = lz; z <= hz; ++z) {
+            for (uint64_t y = ly; y <= hy; ++y) {
+                const CellKey lo = pack(z, y, lx), hi = pack(z, y, hx);
+                size_t j = size_t(std::lower_bound(E.begin(), E.end(), lo,
+                                                   [](const Entry &en, CellKey k) { return en.key < k; }) -
+                                  E.begin());
+                for (; j < m && E[j].key <= hi; ++j)
+                    if (overlap(o, S[j])) out.push_back(pair_key(slot, E[j].slot));
+            }
+        }
+    }
+}
+
+void Grid::find_pairs(const Sphere *spheres, int threads,
+                      std::vector<std::vector<uint64_t>> &out) const {
+    // Work items: chunks of every resident and guest list, one per oversize
+    // body, and one for the oversize-oversize sweep. Chunks are small and
+    // scheduled dynamically, because dense cells cost far more than sparse ones.
+    struct Item {
+        int kind;  // 0 residents, 1 guests, 2 oversize body, 3 oversize sweep
+        uint32_t level;
+        size_t begin, end;
+    };
+    std::vector<Item> items;
+    for (uint32_t li = 0; li < levels_.size(); ++li) {
+        const size_t nr = levels_[li].residents.entries.size();
+        for (size_t b = 0; b < nr; b += kChunk) items.push_back({0, li, b, std::min(nr, b + kChunk)});
+        const size_t ng = levels_[li].guests.entries.size();
+        if (nr)
+            for (size_t b = 0; b < ng; b += kChunk) items.push_back({1, li, b, std::min(ng, b + kChunk)});
+    }
+    for (size_t k = 0; k < oversize_.size(); ++k) items.push_back({2, 0, k, k + 1});
+    if (oversize_.size() > 1) items.push_back({3, 0, 0, 0});
+
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (int64_t k = 0; k < int64_t(items.size()); ++k) {
+        const Item &it = items[k];
+        std::vector<uint64_t> &mine = out[omp_get_thread_num()];
+        if (it.kind == 0) {
+            sweep_residents(levels_[it.level], it.begin, it.end, mine);
+        } else if (it.kind == 1) {
+            sweep_guests(levels_[it.level], it.begin, it.end, mine);
+        } else if (it.kind == 2) {
+            query_oversize(oversize_[it.begin], spheres, mine);
+        } else {
+            std::vector<uint32_t> order(oversize_);
+            std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+                const double ka = spheres[a].x - spheres[a].r, kb = spheres[b].x - spheres[b].r;
+                return ka < kb || (ka == kb && a < b);
+            });
+            for (size_t i = 0; i < order.size(); ++i) {
+                const Sphere &a = spheres[order[i]];
+                const double reach = a.x + a.r;
+                for (size_t j = i + 1; j < order.size(); ++j) {
+                    const Sphere &b = spheres[order[j]];
+                    if (b.x - b.r > reach) break;
+                    if (overlap(a, b)) mine.push_back(pair_key(order[i], order[j]));
+                }
+            }
+        }
+    }
+}
+
+size_t Grid::memory_bytes() const {
+    size_t bytes = level_.capacity() * sizeof(int16_t) + gen_.capacity() * sizeof(uint32_t) +
+                   cell_.capacity() * sizeof(int64_t) + oversize_.capacity() * sizeof(uint32_t);
+    for (const Level &lv : levels_)
+        bytes += (lv.residents.entries.capacity() + lv.guests.entries.capacity()) * sizeof(Entry) +
+                 (lv.residents.spheres.capacity() + lv.guests.spheres.capacity()) * sizeof(Sphere);
+    return bytes;
+}
+
+}  // namespace hgcd

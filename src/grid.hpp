@@ -1,0 +1,105 @@
+// Broad phase: the hierarchical grid of the paper, stored as sorted arrays.
+//
+// Levels are cubic cells of width 2^e. A body lives on the finest level whose
+// width is at least its bounding sphere's diameter, in the one cell that holds
+// its centre, so any body it overlaps on its own level sits in one of the 3x3x3
+// neighbouring cells. It is also entered as a "guest" in every coarser level
+// (the paper's "noted in every level with larger size"), keyed by the coarse
+// cell of its centre; a guest is compared with the residents of the 3x3x3
+// coarse cells around it. Each pair is thus produced exactly once: same-level
+// pairs from the earlier entry of the sorted order, cross-level pairs from the
+// finer body. Bodies too large for the coarsest allowed level form an
+// oversize set, compared with the residents of every level by range queries
+// and with each other by a sweep on x.
+//
+// Each level keeps its residents and its guests as arrays of (cell key, body)
+// sorted by key, with keys ordered (z, y, x): the three cells x-1..x+1 of a
+// row are contiguous, so a neighbourhood is 9 contiguous runs, found by
+// cursors that only move forward while the bodies are visited in order. No
+// hashing, no pointer chasing, and the parallel pair search only reads.
+// Motion updates the arrays incrementally: bodies whose cell did not change
+// keep their entries; the rest are re-keyed and merged back in one linear pass.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace hgcd {
+
+using CellKey = unsigned __int128;
+
+struct Sphere {
+    double x, y, z, r;
+};
+
+struct GridLimits {
+    int min_exponent;  // INT32_MIN: none
+    int max_exponent;  // INT32_MAX: none
+};
+
+struct GridUpdateStats {
+    uint64_t moved = 0;  // entries re-keyed (resident or guest)
+    bool rebuilt = false;
+};
+
+class Grid {
+  public:
+    // Brings the grid to the current spheres. live_gen[s] is the generation of
+    // the body in slot s, or 0 for an empty slot; r_level[s] is the
+    // position-independent radius that picks the body's level.
+    GridUpdateStats update(const Sphere *spheres, const double *r_level,
+                           const uint32_t *live_gen, uint32_t slot_count,
+                           const GridLimits &limits, int threads);
+
+    // Appends to out[thread] every pair (lo << 32 | hi), lo < hi, of bodies
+    // whose spheres overlap. out must have one vector per thread.
+    void find_pairs(const Sphere *spheres, int threads,
+                    std::vector<std::vector<uint64_t>> &out) const;
+
+    uint32_t level_count() const { return uint32_t(levels_.size()); }
+    uint32_t oversize_count() const { return uint32_t(oversize_.size()); }
+    // Approximate heap bytes held.
+    size_t memory_bytes() const;
+
+  private:
+    struct Entry {
+        CellKey key;
+        uint32_t slot;
+        uint32_t gen;
+    };
+    struct List {
+        std::vector<Entry> entries;   // sorted by (key, slot)
+        std::vector<Sphere> spheres;  // spheres of entries, same order
+    };
+    struct Level {
+        int exponent;
+        List residents;
+        List guests;  // bodies of finer levels, keyed by their cell here
+        double max_radius = 0;
+    };
+    static constexpr int16_t kNone = -1;
+    static constexpr int16_t kOversize = -2;
+
+    void rebuild(uint32_t slot_count, int threads);
+    void update_list(List &list, int level_index, bool guests,
+                     const std::vector<uint8_t> &changed, int threads,
+                     GridUpdateStats &stats);
+    void gather(List &list, const Sphere *spheres, int threads);
+    CellKey key_of(uint32_t slot, int level_index) const;
+    void sweep_residents(const Level &lv, size_t begin, size_t end,
+                         std::vector<uint64_t> &out) const;
+    void sweep_guests(const Level &lv, size_t begin, size_t end,
+                      std::vector<uint64_t> &out) const;
+    void query_oversize(uint32_t slot, const Sphere *spheres,
+                        std::vector<uint64_t> &out) const;
+
+    std::vector<Level> levels_;       // ascending exponent
+    std::vector<uint32_t> oversize_;  // slots, ascending
+    // Per slot, as of the last update.
+    std::vector<int16_t> level_;      // index into levels_, kNone or kOversize
+    std::vector<uint32_t> gen_;       // live generation seen
+    std::vector<int64_t> cell_;       // 3 per slot: cell at its own level
+    bool built_ = false;
+};
+
+}  // namespace hgcd

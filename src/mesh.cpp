@@ -1,0 +1,161 @@
+#include "mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "geometry.hpp"
+
+namespace hgcd {
+
+namespace {
+
+constexpr uint32_t kMaxCount = 1u << 26;
+constexpr double kMaxCoordinate = 1e15;
+// Exact convexity costs triangles x vertices orientation tests; beyond this
+// a mesh is treated as non-convex (still exact, only without the shortcut).
+constexpr uint64_t kConvexCheckBudget = 50'000'000;
+
+uint32_t find_root(std::vector<uint32_t> &parent, uint32_t v) {
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+bool is_degenerate(const double *a, const double *b, const double *c) {
+    // Collinear (or coincident) iff every coordinate-plane projection has zero area.
+    const double pa[3][2] = {{a[0], a[1]}, {a[1], a[2]}, {a[2], a[0]}};
+    const double pb[3][2] = {{b[0], b[1]}, {b[1], b[2]}, {b[2], b[0]}};
+    const double pc[3][2] = {{c[0], c[1]}, {c[1], c[2]}, {c[2], c[0]}};
+    for (int k = 0; k < 3; ++k)
+        if (orient2d(pa[k], pb[k], pc[k]) != 0) return false;
+    return true;
+}
+
+}  // namespace
+
+bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
+                uint32_t triangle_count, Mesh *out, std::string *error) {
+    if (triangle_count == 0) {
+        *error = "mesh has no triangles";
+        return false;
+    }
+    if (vertex_count == 0) {
+        *error = "mesh has no vertices";
+        return false;
+    }
+    if (triangle_count > kMaxCount || vertex_count > kMaxCount) {
+        *error = "mesh too large: at most 2^26 vertices and 2^26 triangles";
+        return false;
+    }
+    for (uint32_t i = 0; i < 3 * vertex_count; ++i) {
+        const double x = vertices[i];
+        if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) {
+            *error = "vertex " + std::to_string(i / 3) + " coordinate " +
+                     std::to_string(i % 3) +
+                     (std::isfinite(x) ? " is beyond 1e15" : " is not finite");
+            return false;
+        }
+    }
+    for (uint32_t i = 0; i < 3 * triangle_count; ++i) {
+        if (triangles[i] >= vertex_count) {
+            *error = "triangle " + std::to_string(i / 3) + " index " +
+                     std::to_string(triangles[i]) + " >= vertex_count " +
+                     std::to_string(vertex_count);
+            return false;
+        }
+    }
+    Mesh m;
+    m.vertex_count = vertex_count;
+    m.triangle_count = triangle_count;
+    m.vertices.assign(vertices, vertices + 3 * size_t(vertex_count));
+    m.triangles.assign(triangles, triangles + 3 * size_t(triangle_count));
+
+    // Bounding sphere about the centre of the vertex box of the used vertices.
+    std::vector<char> used(vertex_count, 0);
+    for (uint32_t v : m.triangles) used[v] = 1;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t v = 0; v < vertex_count; ++v) {
+        if (!used[v]) continue;
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], vertices[3 * v + k]);
+            hi[k] = std::max(hi[k], vertices[3 * v + k]);
+        }
+    }
+    for (int k = 0; k < 3; ++k) m.center[k] = 0.5 * lo[k] + 0.5 * hi[k];
+    double r2 = 0;
+    for (uint32_t v = 0; v < vertex_count; ++v) {
+        if (!used[v]) continue;
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double d = vertices[3 * v + k] - m.center[k];
+            d2 += d * d;
+        }
+        r2 = std::max(r2, d2);
+    }
+    // Inflate by a relative margin far above the rounding of the sum above.
+    m.radius = std::sqrt(r2) * (1 + 1e-12);
+
+    // Degenerate triangles and connected components (union-find on vertices).
+    std::vector<uint32_t> parent(vertex_count);
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (uint32_t t = 0; t < triangle_count; ++t) {
+        const uint32_t *f = &m.triangles[3 * t];
+        if (is_degenerate(&vertices[3 * f[0]], &vertices[3 * f[1]], &vertices[3 * f[2]]))
+            ++m.degenerate_count;
+        for (int k = 1; k < 3; ++k) {
+            const uint32_t a = find_root(parent, f[0]), b = find_root(parent, f[k]);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    }
+    for (uint32_t v = 0; v < vertex_count; ++v)
+        if (used[v] && find_root(parent, v) == v) m.component_vertices.push_back(v);
+
+    // Closed: every undirected edge appears an even number of times.
+    std::vector<uint64_t> edges;
+    edges.reserve(3 * size_t(triangle_count));
+    for (uint32_t t = 0; t < triangle_count; ++t) {
+        const uint32_t *f = &m.triangles[3 * t];
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = f[k], b = f[(k + 1) % 3];
+            if (a == b) continue;  // a repeated index adds no edge
+            if (a > b) std::swap(a, b);
+            edges.push_back((uint64_t(a) << 32) | b);
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    bool closed = !edges.empty();
+    for (size_t i = 0; i < edges.size() && closed;) {
+        size_t j = i;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        if ((j - i) % 2) closed = false;
+        i = j;
+    }
+    m.closed = closed;
+
+    // Convex: closed, and every vertex on one consistent side of every face.
+    if (closed && m.degenerate_count < triangle_count &&
+        uint64_t(triangle_count) * vertex_count <= kConvexCheckBudget) {
+        int sign = 0;
+        bool convex = true;
+        for (uint32_t t = 0; t < triangle_count && convex; ++t) {
+            const uint32_t *f = &m.triangles[3 * t];
+            const double *a = &vertices[3 * f[0]], *b = &vertices[3 * f[1]], *c = &vertices[3 * f[2]];
+            for (uint32_t v = 0; v < vertex_count && convex; ++v) {
+                if (!used[v]) continue;
+                const int s = orient3d(a, b, c, &vertices[3 * v]);
+                if (s == 0) continue;
+                if (sign == 0) sign = s;
+                else if (s != sign) convex = false;
+            }
+        }
+        m.convex = convex && sign != 0;
+        m.inward_sign = m.convex ? sign : 0;
+    }
+    *out = std::move(m);
+    return true;
+}
+
+}  // namespace hgcd

@@ -1,0 +1,31 @@
+// A shared shape: local vertices and triangles, and what hgcd works out about
+// it once at creation (closedness, convexity, components, bounding sphere).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hgcd {
+
+struct Mesh {
+    std::vector<double> vertices;     // xyz per vertex, mesh frame
+    std::vector<uint32_t> triangles;  // 3 indices per triangle
+    uint32_t vertex_count = 0;
+    uint32_t triangle_count = 0;
+    bool closed = false;  // every edge shared by an even number of triangles
+    bool convex = false;  // closed and all vertices behind/on every face plane
+    int inward_sign = 0;  // orient3d sign of interior points w.r.t. faces (convex only)
+    uint32_t degenerate_count = 0;
+    // One vertex per connected component that some triangle uses: if two
+    // surfaces do not cross, each component lies wholly inside or outside.
+    std::vector<uint32_t> component_vertices;
+    double center[3] = {0, 0, 0};  // centre of the vertex box
+    double radius = 0;             // reaches every vertex from center
+};
+
+// Checks and analyses the arrays, filling *out. Returns false with a message
+// naming the problem when the data is refused.
+bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
+                uint32_t triangle_count, Mesh *out, std::string *error);
+
+}  // namespace hgcd

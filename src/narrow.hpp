@@ -1,0 +1,35 @@
+// Narrow phase: the exact collision test of two bodies.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "mesh.hpp"
+
+namespace hgcd {
+
+struct BodyPose {
+    const Mesh *mesh;
+    const double *position;     // 3
+    const double *orientation;  // 4, x y z w
+    double scale;
+};
+
+enum class Contact { None, Surface, Containment };
+
+// Per-thread buffers, reused across pairs so the hot loop does not allocate.
+struct NarrowScratch {
+    std::vector<double> world_a, world_b;
+    std::vector<double> box_b;     // 6 per listed triangle of b: min xyz, max xyz
+    std::vector<uint32_t> tri_b;   // triangles of b that reach a's box
+    uint64_t triangle_tests = 0;
+    uint64_t exact_tests = 0;
+};
+
+// Exact: true when the closed solids of a and b share a point (surfaces meet,
+// or one closed mesh holds a component of the other).
+Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch);
+
+// World-space vertices of a body into out (3 per vertex) and their box.
+void world_vertices(const BodyPose &body, std::vector<double> &out, double *box);
+
+}  // namespace hgcd

@@ -1,0 +1,477 @@
+#include "world.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <new>
+
+#include "narrow.hpp"
+#include "transform.hpp"
+
+namespace hgcd {
+
+namespace {
+
+constexpr uint32_t kCounterBits = 24;
+constexpr uint32_t kCounterMask = (1u << kCounterBits) - 1;
+constexpr uint32_t kMaxSlots = 0x7FFFFFFEu;
+constexpr double kMaxCoordinate = 1e15;
+constexpr double kUnitTolerance = 1e-6;
+// Level radius: the largest stretch an accepted quaternion can give is
+// 1 + 2e-6 (see rotation_stretch); the rest is slack for rounding margins.
+constexpr double kLevelInflation = 1 + 4e-6;
+
+std::string vec_text(const char *name, int k) {
+    return std::string(name) + "[" + std::to_string(k) + "]";
+}
+
+int exponent_at_least(double size) {  // smallest e with 2^e >= size
+    int k;
+    const double m = std::frexp(size, &k);
+    return m == 0.5 ? k - 1 : k;
+}
+
+int exponent_at_most(double size) {  // largest e with 2^e <= size
+    int k;
+    std::frexp(size, &k);
+    return k - 1;
+}
+
+}  // namespace
+
+World::World(const hgcd_world_desc &d)
+    : thread_count_(d.thread_count), time_step_(d.time_step), reflect_(d.reflect_at_bounds != 0) {
+    const uint64_t h = uint64_t(reinterpret_cast<uintptr_t>(this) >> 4) * 0x9E3779B97F4A7C15ull;
+    tag_ = uint32_t(h >> 56);
+    for (int k = 0; k < 3; ++k) {
+        bounds_min_[k] = d.bounds_min[k];
+        bounds_max_[k] = d.bounds_max[k];
+    }
+    limits_.min_exponent = d.min_cell_size > 0 ? exponent_at_least(d.min_cell_size) : INT_MIN;
+    limits_.max_exponent = d.max_cell_size > 0 ? exponent_at_most(d.max_cell_size) : INT_MAX;
+    stats_.struct_size = sizeof(stats_);
+}
+
+hgcd_status World::fail(hgcd_status status, std::string message) const {
+    last_error_ = std::move(message);
+    return status;
+}
+
+int World::threads() const {
+    return thread_count_ ? int(thread_count_) : std::max(1, omp_get_num_procs());
+}
+
+int64_t World::live_mesh(hgcd_mesh id) const {
+    if (id.index >= mesh_alive_.size() || !mesh_alive_[id.index] || mesh_gen_[id.index] != id.generation)
+        return -1;
+    return id.index;
+}
+
+int64_t World::live_body(hgcd_body id) const {
+    if (id.index >= live_gen_.size() || live_gen_[id.index] == 0 || live_gen_[id.index] != id.generation)
+        return -1;
+    return id.index;
+}
+
+hgcd_status World::check_body(hgcd_body id, const char *what, int64_t *slot) const {
+    *slot = live_body(id);
+    if (*slot < 0)
+        return fail(HGCD_ERROR_STALE_ID, std::string(what) + ": body {" + std::to_string(id.index) +
+                                             ", " + std::to_string(id.generation) +
+                                             "} is not a live body of this world");
+    return HGCD_OK;
+}
+
+hgcd_status World::check_pose(const char *what, const double *position,
+                              const double *orientation) const {
+    if (position)
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(position[k]) || std::fabs(position[k]) > kMaxCoordinate)
+                return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                            std::string(what) + ": " + vec_text("position", k) +
+                                (std::isfinite(position[k]) ? " is beyond 1e15" : " is not finite"));
+    if (orientation) {
+        double n2 = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!std::isfinite(orientation[k]))
+                return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                            std::string(what) + ": " + vec_text("orientation", k) + " is not finite");
+            n2 += orientation[k] * orientation[k];
+        }
+        if (!(std::fabs(n2 - 1.0) <= kUnitTolerance))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                        std::string(what) + ": orientation is not a unit quaternion (squared norm " +
+                            std::to_string(n2) + ", must be within 1e-6 of 1)");
+    }
+    return HGCD_OK;
+}
+
+// ---------------------------------------------------------------- meshes --
+
+hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
+    if (!d.vertices || !d.triangles)
+        return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: vertices or triangles is NULL");
+    if (live_meshes_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "mesh_create: too many meshes");
+    Mesh m;
+    std::string error;
+    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error))
+        return fail(HGCD_ERROR_INVALID_MESH, "mesh_create: " + error);
+    uint32_t slot;
+    if (!mesh_free_.empty()) {
+        slot = mesh_free_.back();
+        meshes_[slot] = std::move(m);
+        mesh_free_.pop_back();
+    } else {
+        slot = uint32_t(meshes_.size());
+        meshes_.reserve(meshes_.size() + 1);
+        mesh_gen_.reserve(meshes_.size() + 1);
+        mesh_alive_.reserve(meshes_.size() + 1);
+        mesh_users_.reserve(meshes_.size() + 1);
+        meshes_.push_back(std::move(m));
+        mesh_gen_.push_back(tag_ << kCounterBits);
+        mesh_alive_.push_back(0);
+        mesh_users_.push_back(0);
+    }
+    mesh_gen_[slot] = (tag_ << kCounterBits) | ((mesh_gen_[slot] + 1) & kCounterMask);
+    mesh_alive_[slot] = 1;
+    mesh_users_[slot] = 0;
+    ++live_meshes_;
+    *out = hgcd_mesh{slot, mesh_gen_[slot]};
+    return HGCD_OK;
+}
+
+hgcd_status World::destroy_mesh(hgcd_mesh id) {
+    const int64_t slot = live_mesh(id);
+    if (slot < 0) return fail(HGCD_ERROR_STALE_ID, "mesh_destroy: not a live mesh of this world");
+    if (mesh_users_[slot])
+        return fail(HGCD_ERROR_MESH_IN_USE, "mesh_destroy: " + std::to_string(mesh_users_[slot]) +
+                                                " bodies still use mesh " + std::to_string(slot));
+    mesh_free_.reserve(mesh_free_.size() + 1);
+    mesh_alive_[slot] = 0;
+    meshes_[slot] = Mesh();
+    --live_meshes_;
+    // A slot whose generation counter would wrap is retired, so no id is reused.
+    if ((mesh_gen_[slot] & kCounterMask) != kCounterMask) mesh_free_.push_back(uint32_t(slot));
+    return HGCD_OK;
+}
+
+hgcd_status World::mesh_info(hgcd_mesh id, hgcd_mesh_info *out) const {
+    const int64_t slot = live_mesh(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    const Mesh &m = meshes_[slot];
+    hgcd_mesh_info info{};
+    info.struct_size = sizeof(info);
+    info.vertex_count = m.vertex_count;
+    info.triangle_count = m.triangle_count;
+    info.closed = m.closed;
+    info.convex = m.convex;
+    info.component_count = uint32_t(m.component_vertices.size());
+    info.degenerate_triangle_count = m.degenerate_count;
+    info.body_count = mesh_users_[slot];
+    for (int k = 0; k < 3; ++k) info.center[k] = m.center[k];
+    info.radius = m.radius;
+    *out = info;
+    return HGCD_OK;
+}
+
+// ---------------------------------------------------------------- bodies --
+
+hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
+    const int64_t mesh = live_mesh(d.mesh);
+    if (mesh < 0) return fail(HGCD_ERROR_STALE_ID, "body_create: desc.mesh is not a live mesh of this world");
+    if (hgcd_status s = check_pose("body_create", d.position, d.orientation)) return s;
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(d.velocity[k]))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_create: " + vec_text("velocity", k) + " is not finite");
+    const Mesh &m = meshes_[mesh];
+    const double reach = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
+    if (!std::isfinite(d.scale) || !(d.scale > 0) || d.scale * reach > kMaxCoordinate)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    "body_create: scale must be finite, > 0 and keep the mesh within 1e15");
+    if (live_bodies_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "body_create: too many bodies");
+
+    uint32_t slot;
+    const bool reuse = !body_free_.empty();
+    if (reuse) {
+        slot = body_free_.back();
+    } else {
+        // Reserve everything first: a failed allocation then changes nothing.
+        const size_t n = live_gen_.size() + 1;
+        position_.reserve(3 * n);
+        orientation_.reserve(4 * n);
+        velocity_.reserve(3 * n);
+        scale_.reserve(n);
+        body_mesh_.reserve(n);
+        user_data_.reserve(n);
+        body_gen_.reserve(n);
+        live_gen_.reserve(n);
+        r_level_.reserve(n);
+        sphere_.reserve(n);
+        slot = uint32_t(live_gen_.size());
+        position_.resize(3 * n);
+        orientation_.resize(4 * n);
+        velocity_.resize(3 * n);
+        scale_.resize(n);
+        body_mesh_.resize(n);
+        user_data_.resize(n);
+        body_gen_.resize(n, tag_ << kCounterBits);
+        live_gen_.resize(n, 0);
+        r_level_.resize(n);
+        sphere_.resize(n);
+    }
+    if (reuse) body_free_.pop_back();
+    for (int k = 0; k < 3; ++k) {
+        position_[3 * size_t(slot) + k] = d.position[k];
+        velocity_[3 * size_t(slot) + k] = d.velocity[k];
+    }
+    for (int k = 0; k < 4; ++k) orientation_[4 * size_t(slot) + k] = d.orientation[k];
+    scale_[slot] = d.scale;
+    body_mesh_[slot] = uint32_t(mesh);
+    user_data_[slot] = d.user_data;
+    r_level_[slot] = d.scale * m.radius * kLevelInflation;
+    body_gen_[slot] = (tag_ << kCounterBits) | ((body_gen_[slot] + 1) & kCounterMask);
+    live_gen_[slot] = body_gen_[slot];
+    ++mesh_users_[mesh];
+    ++live_bodies_;
+    *out = hgcd_body{slot, body_gen_[slot]};
+    return HGCD_OK;
+}
+
+hgcd_status World::destroy_body(hgcd_body id) {
+    int64_t slot;
+    if (hgcd_status s = check_body(id, "body_destroy", &slot)) return s;
+    body_free_.reserve(body_free_.size() + 1);
+    live_gen_[slot] = 0;
+    --mesh_users_[body_mesh_[slot]];
+    --live_bodies_;
+    if ((body_gen_[slot] & kCounterMask) != kCounterMask) body_free_.push_back(uint32_t(slot));
+    return HGCD_OK;
+}
+
+hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {
+    int64_t slot;
+    if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
+    if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
+    if (position)
+        for (int k = 0; k < 3; ++k) position_[3 * slot + k] = position[k];
+    if (orientation)
+        for (int k = 0; k < 4; ++k) orientation_[4 * slot + k] = orientation[k];
+    return HGCD_OK;
+}
+
+hgcd_status World::set_velocity(hgcd_body id, const double *velocity) {
+    int64_t slot;
+    if (hgcd_status s = check_body(id, "body_set_velocity", &slot)) return s;
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(velocity[k]))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_set_velocity: " + vec_text("velocity", k) + " is not finite");
+    for (int k = 0; k < 3; ++k) velocity_[3 * slot + k] = velocity[k];
+    return HGCD_OK;
+}
+
+hgcd_status World::get_pose(hgcd_body id, double *position, double *orientation) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    if (position)
+        for (int k = 0; k < 3; ++k) position[k] = position_[3 * slot + k];
+    if (orientation)
+        for (int k = 0; k < 4; ++k) orientation[k] = orientation_[4 * slot + k];
+    return HGCD_OK;
+}
+
+hgcd_status World::get_velocity(hgcd_body id, double *velocity) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    for (int k = 0; k < 3; ++k) velocity[k] = velocity_[3 * slot + k];
+    return HGCD_OK;
+}
+
+hgcd_status World::get_mesh(hgcd_body id, hgcd_mesh *out) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    const uint32_t m = body_mesh_[slot];
+    *out = hgcd_mesh{m, mesh_gen_[m]};
+    return HGCD_OK;
+}
+
+hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    *out = user_data_[slot];
+    return HGCD_OK;
+}
+
+// ----------------------------------------------------------------- ticks --
+
+void World::compute_spheres(int threads) {
+    const int64_t n = int64_t(live_gen_.size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int64_t s = 0; s < n; ++s) {
+        if (!live_gen_[s]) {
+            sphere_[s] = Sphere{0, 0, 0, 0};
+            continue;
+        }
+        const Mesh &m = meshes_[body_mesh_[s]];
+        const double *q = &orientation_[4 * s];
+        const double *c = &position_[3 * s];
+        const Rotation r = rotation_of(q);
+        double center[3];
+        transform_point(r, c, scale_[s], m.center, center);
+        const double stretch = rotation_stretch(q);
+        const double reach = scale_[s] * stretch * m.radius;
+        // The world vertices and this centre carry rounding errors of a few
+        // ulps of the coordinates involved; the margin covers them with room.
+        const double local = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
+        const double margin =
+            1e-14 * (std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]) + scale_[s] * stretch * local);
+        sphere_[s] = Sphere{center[0], center[1], center[2], (reach + margin) * (1 + 1e-9)};
+    }
+}
+
+hgcd_status World::detect() {
+    pairs_.clear();
+    const uint32_t struct_size = stats_.struct_size;
+    stats_ = hgcd_stats{};
+    stats_.struct_size = struct_size;
+    const int T = threads();
+    const double t0 = omp_get_wtime();
+    try {
+        compute_spheres(T);
+        const uint32_t slots = uint32_t(live_gen_.size());
+        const GridUpdateStats us =
+            grid_.update(sphere_.data(), r_level_.data(), live_gen_.data(), slots, limits_, T);
+        const double t1 = omp_get_wtime();
+
+        std::vector<std::vector<uint64_t>> found(T);
+        grid_.find_pairs(sphere_.data(), T, found);
+        std::vector<size_t> offset(T + 1, 0);
+        for (int t = 0; t < T; ++t) offset[t + 1] = offset[t] + found[t].size();
+        const double t2 = omp_get_wtime();
+
+        // Narrow phase over the candidates of every thread's list.
+        std::vector<std::vector<uint64_t>> hits(T);
+        std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0);
+        const int64_t total = int64_t(offset[T]);
+#pragma omp parallel num_threads(T)
+        {
+            const int me = omp_get_thread_num();
+            NarrowScratch scratch;
+            std::vector<uint64_t> &mine = hits[me];
+#pragma omp for schedule(dynamic, 512)
+            for (int64_t k = 0; k < total; ++k) {
+                const int t = int(std::upper_bound(offset.begin(), offset.end(), size_t(k)) - offset.begin()) - 1;
+                const uint64_t key = found[t][size_t(k) - offset[t]];
+                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                const BodyPose pa{&meshes_[body_mesh_[a]], &position_[3 * size_t(a)],
+                                  &orientation_[4 * size_t(a)], scale_[a]};
+                const BodyPose pb{&meshes_[body_mesh_[b]], &position_[3 * size_t(b)],
+                                  &orientation_[4 * size_t(b)], scale_[b]};
+                const Contact c = collide(pa, pb, scratch);
+                if (c != Contact::None) {
+                    mine.push_back(key);
+                    if (c == Contact::Containment) ++containment[me];
+                }
+            }
+            tri_tests[me] = scratch.triangle_tests;
+            exact[me] = scratch.exact_tests;
+        }
+        std::vector<uint64_t> all;
+        size_t count = 0;
+        for (auto &h : hits) count += h.size();
+        all.reserve(count);
+        for (auto &h : hits) all.insert(all.end(), h.begin(), h.end());
+        std::sort(all.begin(), all.end());
+        pairs_.resize(all.size());
+        for (size_t k = 0; k < all.size(); ++k) {
+            const uint32_t a = uint32_t(all[k] >> 32), b = uint32_t(all[k]);
+            pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
+        }
+        const double t3 = omp_get_wtime();
+
+        stats_.level_count = grid_.level_count();
+        stats_.oversize_count = grid_.oversize_count();
+        stats_.thread_count = uint32_t(T);
+        stats_.moved_bodies = us.moved;
+        stats_.candidate_pairs = uint64_t(total);
+        for (int t = 0; t < T; ++t) {
+            stats_.narrow_tests += exact[t];
+            stats_.triangle_tests += tri_tests[t];
+            stats_.containment_pairs += containment[t];
+        }
+        stats_.colliding_pairs = pairs_.size();
+        stats_.update_seconds = t1 - t0;
+        stats_.broad_seconds = t2 - t1;
+        stats_.narrow_seconds = t3 - t2;
+        stats_.total_seconds = t3 - t0;
+    } catch (...) {
+        // The grid may be half updated: drop it, the next detect rebuilds it.
+        grid_ = Grid();
+        pairs_.clear();
+        stats_ = hgcd_stats{};
+        stats_.struct_size = struct_size;
+        throw;
+    }
+    return HGCD_OK;
+}
+
+hgcd_status World::step() {
+    const int T = threads();
+    const double t0 = omp_get_wtime();
+    const int64_t n = int64_t(live_gen_.size());
+    const double dt = time_step_;
+    // First check that every move stays finite and in range, then move: a
+    // refused step moves nothing.
+    int64_t bad = -1;
+#pragma omp parallel for num_threads(T) schedule(static) reduction(max : bad)
+    for (int64_t s = 0; s < n; ++s) {
+        if (!live_gen_[s]) continue;
+        for (int k = 0; k < 3; ++k) {
+            const double x = position_[3 * s + k] + velocity_[3 * s + k] * dt;
+            if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, s);
+        }
+    }
+    if (bad >= 0 && !reflect_)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    "world_step: body " + std::to_string(bad) + " would leave the coordinate range (|x| <= 1e15)");
+#pragma omp parallel for num_threads(T) schedule(static)
+    for (int64_t s = 0; s < n; ++s) {
+        if (!live_gen_[s]) continue;
+        for (int k = 0; k < 3; ++k) {
+            double &c = position_[3 * s + k];
+            double &v = velocity_[3 * s + k];
+            double x = c + v * dt;
+            if (reflect_) {
+                if (x < bounds_min_[k]) {
+                    x = 2 * bounds_min_[k] - x;
+                    v = -v;
+                } else if (x > bounds_max_[k]) {
+                    x = 2 * bounds_max_[k] - x;
+                    v = -v;
+                }
+                // A move longer than the box is clamped rather than leaving it.
+                x = std::min(std::max(x, bounds_min_[k]), bounds_max_[k]);
+            }
+            c = x;
+        }
+    }
+    const double motion = omp_get_wtime() - t0;
+    const hgcd_status s = detect();
+    stats_.motion_seconds = motion;
+    stats_.total_seconds += motion;
+    return s;
+}
+
+size_t World::memory_bytes() const {
+    size_t bytes = grid_.memory_bytes() + pairs_.capacity() * sizeof(hgcd_pair);
+    bytes += (position_.capacity() + orientation_.capacity() + velocity_.capacity() + scale_.capacity() +
+              r_level_.capacity()) * sizeof(double);
+    bytes += (body_mesh_.capacity() + body_gen_.capacity() + live_gen_.capacity()) * sizeof(uint32_t);
+    bytes += user_data_.capacity() * sizeof(uint64_t) + sphere_.capacity() * sizeof(Sphere);
+    for (const Mesh &m : meshes_)
+        bytes += m.vertices.capacity() * sizeof(double) + m.triangles.capacity() * sizeof(uint32_t);
+    return bytes;
+}
+
+}  // namespace hgcd

@@ -1,0 +1,95 @@
+// The world: meshes, bodies (structure of arrays, indexed by slot), the grid,
+// and one tick's results. Every method validates its values and ids, leaves
+// the world unchanged when it fails, and records the reason in last_error.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "grid.hpp"
+#include "hgcd/hgcd.h"
+#include "mesh.hpp"
+
+namespace hgcd {
+
+class World {
+  public:
+    explicit World(const hgcd_world_desc &desc);
+
+    hgcd_status create_mesh(const hgcd_mesh_desc &desc, hgcd_mesh *out);
+    hgcd_status destroy_mesh(hgcd_mesh id);
+    hgcd_status mesh_info(hgcd_mesh id, hgcd_mesh_info *out) const;
+
+    hgcd_status create_body(const hgcd_body_desc &desc, hgcd_body *out);
+    hgcd_status destroy_body(hgcd_body id);
+    hgcd_status set_pose(hgcd_body id, const double *position, const double *orientation);
+    hgcd_status set_velocity(hgcd_body id, const double *velocity);
+    hgcd_status get_pose(hgcd_body id, double *position, double *orientation) const;
+    hgcd_status get_velocity(hgcd_body id, double *velocity) const;
+    hgcd_status get_mesh(hgcd_body id, hgcd_mesh *out) const;
+    hgcd_status get_user_data(hgcd_body id, uint64_t *out) const;
+    bool body_valid(hgcd_body id) const { return live_body(id) >= 0; }
+
+    hgcd_status step();
+    hgcd_status detect();
+    void set_thread_count(uint32_t n) { thread_count_ = n; }
+
+    const std::vector<hgcd_pair> &pairs() const { return pairs_; }
+    const hgcd_stats &stats() const { return stats_; }
+    uint32_t body_count() const { return live_bodies_; }
+    uint32_t mesh_count() const { return live_meshes_; }
+
+    // Records a message and returns status, for the shim's argument checks too.
+    hgcd_status fail(hgcd_status status, std::string message) const;
+    const char *last_error() const { return last_error_.c_str(); }
+
+    // Every mesh and position-independent state of the body in slot s, for
+    // the narrow phase and tests.
+    size_t memory_bytes() const;
+
+  private:
+    int64_t live_body(hgcd_body id) const;
+    int64_t live_mesh(hgcd_mesh id) const;
+    hgcd_status check_body(hgcd_body id, const char *what, int64_t *slot) const;
+    hgcd_status check_pose(const char *what, const double *position,
+                           const double *orientation) const;
+    void compute_spheres(int threads);
+    int threads() const;
+
+    // Ids: generation = world tag (8 bits) << 24 | counter (24 bits, >= 1).
+    uint32_t tag_;
+    uint32_t thread_count_;
+    double time_step_;
+    bool reflect_;
+    double bounds_min_[3], bounds_max_[3];
+    GridLimits limits_;
+
+    // Meshes, by slot.
+    std::vector<Mesh> meshes_;
+    std::vector<uint32_t> mesh_gen_;
+    std::vector<uint8_t> mesh_alive_;
+    std::vector<uint32_t> mesh_users_;
+    std::vector<uint32_t> mesh_free_;
+    uint32_t live_meshes_ = 0;
+
+    // Bodies, by slot (structure of arrays).
+    std::vector<double> position_;     // 3
+    std::vector<double> orientation_;  // 4
+    std::vector<double> velocity_;     // 3
+    std::vector<double> scale_;
+    std::vector<uint32_t> body_mesh_;  // mesh slot
+    std::vector<uint64_t> user_data_;
+    std::vector<uint32_t> body_gen_;   // last generation handed out in the slot
+    std::vector<uint32_t> live_gen_;   // body_gen_ if alive, else 0
+    std::vector<double> r_level_;      // radius that picks the grid level
+    std::vector<Sphere> sphere_;       // this tick's test spheres
+    std::vector<uint32_t> body_free_;  // stack of reusable slots
+    uint32_t live_bodies_ = 0;
+
+    Grid grid_;
+    std::vector<hgcd_pair> pairs_;
+    hgcd_stats stats_{};
+    mutable std::string last_error_;
+};
+
+}  // namespace hgcd

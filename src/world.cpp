@@ -125,10 +125,13 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
         mesh_free_.pop_back();
     } else {
         slot = uint32_t(meshes_.size());
-        meshes_.reserve(meshes_.size() + 1);
-        mesh_gen_.reserve(meshes_.size() + 1);
-        mesh_alive_.reserve(meshes_.size() + 1);
-        mesh_users_.reserve(meshes_.size() + 1);
+        const size_t cap = std::max<size_t>(8, 2 * meshes_.size());
+        if (meshes_.capacity() <= meshes_.size()) {
+            mesh_gen_.reserve(cap);
+            mesh_alive_.reserve(cap);
+            mesh_users_.reserve(cap);
+            meshes_.reserve(cap);
+        }
         meshes_.push_back(std::move(m));
         mesh_gen_.push_back(tag_ << kCounterBits);
         mesh_alive_.push_back(0);
@@ -148,7 +151,7 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
     if (mesh_users_[slot])
         return fail(HGCD_ERROR_MESH_IN_USE, "mesh_destroy: " + std::to_string(mesh_users_[slot]) +
                                                 " bodies still use mesh " + std::to_string(slot));
-    mesh_free_.reserve(mesh_free_.size() + 1);
+    if (mesh_free_.capacity() == mesh_free_.size()) mesh_free_.reserve(2 * mesh_free_.size() + 8);
     mesh_alive_[slot] = 0;
     meshes_[slot] = Mesh();
     --live_meshes_;
@@ -197,18 +200,22 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     if (reuse) {
         slot = body_free_.back();
     } else {
-        // Reserve everything first: a failed allocation then changes nothing.
+        // Reserve everything first (growing geometrically): a failed
+        // allocation then changes nothing.
         const size_t n = live_gen_.size() + 1;
-        position_.reserve(3 * n);
-        orientation_.reserve(4 * n);
-        velocity_.reserve(3 * n);
-        scale_.reserve(n);
-        body_mesh_.reserve(n);
-        user_data_.reserve(n);
-        body_gen_.reserve(n);
-        live_gen_.reserve(n);
-        r_level_.reserve(n);
-        sphere_.reserve(n);
+        if (live_gen_.capacity() < n) {
+            const size_t cap = std::max<size_t>(16, 2 * live_gen_.capacity());
+            position_.reserve(3 * cap);
+            orientation_.reserve(4 * cap);
+            velocity_.reserve(3 * cap);
+            scale_.reserve(cap);
+            body_mesh_.reserve(cap);
+            user_data_.reserve(cap);
+            body_gen_.reserve(cap);
+            r_level_.reserve(cap);
+            sphere_.reserve(cap);
+            live_gen_.reserve(cap);  // last: its capacity says all are reserved
+        }
         slot = uint32_t(live_gen_.size());
         position_.resize(3 * n);
         orientation_.resize(4 * n);
@@ -242,7 +249,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
 hgcd_status World::destroy_body(hgcd_body id) {
     int64_t slot;
     if (hgcd_status s = check_body(id, "body_destroy", &slot)) return s;
-    body_free_.reserve(body_free_.size() + 1);
+    if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
     live_gen_[slot] = 0;
     --mesh_users_[body_mesh_[slot]];
     --live_bodies_;

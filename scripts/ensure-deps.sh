@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs the Debian packages a target needs, when it can (root or sudo);
+# otherwise prints exactly what to run. Usage: ensure-deps.sh demo|test|bench
+set -euo pipefail
+target=${1:-test}
+
+# command-or-file to check : Debian package
+need=("g++:g++" "make:make")
+case "$target" in
+  demo) ;;
+  test)
+    need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
+           "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/gmp.h:libgmp-dev"
+           "/usr/include/ccd/ccd.h:libccd-dev" "bindgen:bindgen" "clang:clang"
+           "valgrind:valgrind" "cargo:cargo") ;;
+  bench)
+    need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
+           "/usr/include/ccd/ccd.h:libccd-dev"
+           "/usr/include/fcl/config.h:libfcl-dev" "/usr/include/bullet/btBulletCollisionCommon.h:libbullet-dev"
+           "/usr/include/ode/ode.h:libode-dev" "python3:python3") ;;
+  *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;;
+esac
+
+missing=()
+for item in "${need[@]}"; do
+  what=${item%%:*}; pkg=${item##*:}
+  if [[ $what == /* ]]; then [[ -e $what ]] || missing+=("$pkg")
+  else command -v "$what" >/dev/null 2>&1 || missing+=("$pkg"); fi
+done
+[[ ${#missing[@]} -eq 0 ]] && exit 0
+
+echo "hgcd: installing missing Debian packages: ${missing[*]}" >&2
+if [[ $(id -u) -eq 0 ]]; then sudo=""
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then sudo="sudo"
+else
+  echo "hgcd: cannot install as $(id -un). Run:" >&2
+  echo "  sudo apt-get update && sudo apt-get install -y ${missing[*]}" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

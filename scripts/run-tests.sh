@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Every test of hgcd: the CMocka suites through meson (optimised build), the
+# same suites under AddressSanitizer + UndefinedBehaviorSanitizer, the plain
+# Makefile build and install, and the Rust bindings. Called by `make test`.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
+jobs=$(nproc 2>/dev/null || echo 2)
+
+step() { printf '\n== %s\n' "$*"; }
+
+step "meson build and tests (debugoptimized)"
+[ -f build/build.ninja ] || meson setup build --buildtype=debugoptimized >/dev/null
+meson compile -C build >/dev/null
+meson test -C build --print-errorlogs --num-processes "$jobs"
+
+step "tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+[ -f build-asan/build.ninja ] || meson setup build-asan --buildtype=debugoptimized \
+    -Db_sanitize=address,undefined -Db_lundef=false -Dcpp_args=-fno-sanitize-recover=undefined \
+    -Dc_args=-fno-sanitize-recover=undefined >/dev/null
+meson compile -C build-asan >/dev/null
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    HGCD_TEST_TETRA_N=5000 meson test -C build-asan --print-errorlogs --num-processes "$jobs" \
+    --timeout-multiplier 3
+
+step "plain Makefile build, install into a staging directory, link a program against it"
+make -s lib
+stage=$(mktemp -d)
+make -s install DESTDIR="$stage" PREFIX=/usr >/dev/null
+test -f "$stage/usr/lib/pkgconfig/hgcd.pc"
+test -L "$stage/usr/lib/libhgcd.so.0"
+cc -std=c99 -I"$stage/usr/include" examples/demo.c -o "$stage/demo" -L"$stage/usr/lib" -lhgcd
+LD_LIBRARY_PATH="$stage/usr/lib" "$stage/demo" --n 20000 --ticks 1 --threads 2 | tail -n 2
+rm -rf "$stage"
+
+if [ -x bindings/rust/test.sh ]; then
+    step "Rust bindings"
+    bindings/rust/test.sh
+fi
+
+printf '\nall hgcd tests passed\n'

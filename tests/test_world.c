@@ -1,0 +1,562 @@
+/* The whole pipeline (grid + narrow phase) against the independent
+ * brute-force oracle (tests/oracle.c: every body pair, every triangle pair,
+ * containment, in exact rationals), on random scenes with every kind of mesh,
+ * exact touching configurations, bodies larger than the coarsest level,
+ * incremental motion, removal, and the tetra scene of SCENES.md. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include <hgcd/hgcd.h>
+
+#include "oracle.h"
+
+/* ------------------------------------------------------------- shapes -- */
+
+enum { SHAPE_TETRA, SHAPE_CUBE, SHAPE_DENTED, SHAPE_TRIANGLE, SHAPE_BOWL, SHAPE_NEEDLE, SHAPE_TWIN, SHAPE_COUNT };
+
+static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
+                                -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
+/* 12 outward triangles; the first 10 (all but the top, z = +1) also form the bowl. */
+static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, /* bottom */ 0, 1, 5, 0, 5, 4, /* y- */
+                                  1, 2, 6, 1, 6, 5, /* x+ */ 2, 3, 7, 2, 7, 6, /* y+ */
+                                  3, 0, 4, 3, 4, 7, /* x- */ 4, 5, 6, 4, 6, 7 /* top */};
+/* Cube whose top is dented down to a vertex at the centre: closed, not convex. */
+static const double dented_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1,
+                                  1,  -1, 1,  1, 1, 1,  -1, 1, 1,  0, 0, -0.25};
+static const uint32_t dented_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
+                                    2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8};
+static const double triangle_v[] = {-1.5, -1, 0, 1.5, -1, 0.25, 0, 1.5, -0.25};
+static const uint32_t triangle_t[] = {0, 1, 2};
+/* Zero-area triangles only: a segment along x and a point. */
+static const double needle_v[] = {-1.5, 0, 0, 0, 0, 0, 1.5, 0, 0, 0.5, 0.5, 0.5};
+static const uint32_t needle_t[] = {0, 1, 2, 3, 3, 3};
+/* Two separate tetrahedra in one closed mesh (two components). */
+static const double twin_v[] = {0.5,  0.5,  0.5,  0.5,  -0.5, -0.5, -0.5, 0.5,  -0.5, -0.5, -0.5, 0.5,
+                                2.5,  0.5,  0.5,  2.5,  -0.5, -0.5, 1.5,  0.5,  -0.5, 1.5,  -0.5, 0.5};
+static const uint32_t twin_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 4, 5, 6, 4, 7, 5, 4, 6, 7, 5, 7, 6};
+
+static oracle_mesh shapes[SHAPE_COUNT] = {
+    {tetra_v, tetra_t, 4, 4, 1},   {cube_v, cube_t, 8, 12, 1},    {dented_v, dented_t, 9, 14, 1},
+    {triangle_v, triangle_t, 3, 1, 0}, {cube_v, cube_t, 8, 10, 0}, {needle_v, needle_t, 4, 2, 0},
+    {twin_v, twin_t, 8, 8, 1},
+};
+
+/* -------------------------------------------------------------- scene -- */
+
+typedef struct {
+    uint64_t s;
+} rng;
+static uint64_t next(rng *r) {
+    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+static double unif(rng *r) { return (double)(next(r) >> 11) * 0x1.0p-53; }
+
+/* A scene mirrored on the test side: what the oracle is given. */
+typedef struct {
+    hgcd_world *w;
+    hgcd_mesh mesh[SHAPE_COUNT];
+    size_t cap;
+    int *shape;        /* per slot, -1 if no live body */
+    hgcd_body *id;     /* per slot */
+    double *pos, *quat, *scale;
+} scene;
+
+static void scene_init(scene *sc, size_t cap, const hgcd_world_desc *wd) {
+    memset(sc, 0, sizeof *sc);
+    assert_int_equal(hgcd_world_create(wd, &sc->w), HGCD_OK);
+    for (int k = 0; k < SHAPE_COUNT; ++k) {
+        hgcd_mesh_desc md = hgcd_mesh_desc_default();
+        md.vertices = shapes[k].verts;
+        md.triangles = shapes[k].tris;
+        md.vertex_count = shapes[k].vertex_count;
+        md.triangle_count = shapes[k].triangle_count;
+        assert_int_equal(hgcd_mesh_create(sc->w, &md, &sc->mesh[k]), HGCD_OK);
+    }
+    sc->cap = cap;
+    sc->shape = malloc(cap * sizeof(int));
+    sc->id = calloc(cap, sizeof(hgcd_body));
+    sc->pos = calloc(3 * cap, sizeof(double));
+    sc->quat = calloc(4 * cap, sizeof(double));
+    sc->scale = calloc(cap, sizeof(double));
+    for (size_t i = 0; i < cap; ++i) sc->shape[i] = -1;
+}
+
+static void scene_free(scene *sc) {
+    hgcd_world_destroy(sc->w);
+    free(sc->shape);
+    free(sc->id);
+    free(sc->pos);
+    free(sc->quat);
+    free(sc->scale);
+}
+
+/* Exact rotations (entries 0, +-1 in R) give exactly touching faces and edges. */
+static const double exact_quats[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0},
+                                        {0, 0, 1, 0}, {0.5, 0.5, 0.5, 0.5}, {-0.5, 0.5, -0.5, 0.5}};
+
+static void random_pose(rng *r, double side, int snap, double *p, double *q) {
+    for (int k = 0; k < 3; ++k) {
+        p[k] = side * unif(r);
+        if (snap) p[k] = floor(p[k] * 2) / 2; /* multiples of 0.5 */
+    }
+    if (snap) {
+        memcpy(q, exact_quats[next(r) % 6], 4 * sizeof(double));
+    } else {
+        const double u1 = unif(r), u2 = unif(r), u3 = unif(r);
+        q[0] = sqrt(1 - u1) * sin(6.283185307179586 * u2);
+        q[1] = sqrt(1 - u1) * cos(6.283185307179586 * u2);
+        q[2] = sqrt(u1) * sin(6.283185307179586 * u3);
+        q[3] = sqrt(u1) * cos(6.283185307179586 * u3);
+    }
+}
+
+static void add(scene *sc, int shape, const double *p, const double *q, double scale) {
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    bd.mesh = sc->mesh[shape];
+    memcpy(bd.position, p, sizeof bd.position);
+    memcpy(bd.orientation, q, sizeof bd.orientation);
+    bd.scale = scale;
+    hgcd_body b;
+    assert_int_equal(hgcd_body_create(sc->w, &bd, &b), HGCD_OK);
+    assert_true(b.index < sc->cap);
+    sc->shape[b.index] = shape;
+    sc->id[b.index] = b;
+    memcpy(&sc->pos[3 * b.index], p, 3 * sizeof(double));
+    memcpy(&sc->quat[4 * b.index], q, 4 * sizeof(double));
+    sc->scale[b.index] = scale;
+}
+
+static void remove_body(scene *sc, size_t slot) {
+    assert_int_equal(hgcd_body_destroy(sc->w, sc->id[slot]), HGCD_OK);
+    sc->shape[slot] = -1;
+}
+
+static void move(scene *sc, size_t slot, const double *p, const double *q) {
+    assert_int_equal(hgcd_body_set_pose(sc->w, sc->id[slot], p, q), HGCD_OK);
+    memcpy(&sc->pos[3 * slot], p, 3 * sizeof(double));
+    if (q) memcpy(&sc->quat[4 * slot], q, 4 * sizeof(double));
+}
+
+/* Detects and compares with the oracle, pair by pair. Returns the count. */
+static size_t check_against_oracle(scene *sc) {
+    assert_int_equal(hgcd_world_detect(sc->w), HGCD_OK);
+    size_t live = 0;
+    size_t *slot_of = malloc(sc->cap * sizeof(size_t));
+    const oracle_mesh **meshes = malloc(sc->cap * sizeof(*meshes));
+    double *p = malloc(3 * sc->cap * sizeof(double)), *q = malloc(4 * sc->cap * sizeof(double));
+    double *s = malloc(sc->cap * sizeof(double));
+    for (size_t i = 0; i < sc->cap; ++i) {
+        if (sc->shape[i] < 0) continue;
+        slot_of[live] = i;
+        meshes[live] = &shapes[sc->shape[i]];
+        memcpy(&p[3 * live], &sc->pos[3 * i], 3 * sizeof(double));
+        memcpy(&q[4 * live], &sc->quat[4 * i], 4 * sizeof(double));
+        s[live] = sc->scale[i];
+        ++live;
+    }
+    const size_t n = oracle_colliding_pairs(live, meshes, p, q, s, NULL, 0);
+    uint32_t *expect = malloc((2 * n + 2) * sizeof(uint32_t));
+    assert_int_equal(oracle_colliding_pairs(live, meshes, p, q, s, expect, n), n);
+    const hgcd_pair *got;
+    size_t count;
+    assert_int_equal(hgcd_world_pairs(sc->w, &got, &count), HGCD_OK);
+    size_t mismatches = 0;
+    for (size_t k = 0; k < n || k < count; ++k) {
+        const int has_e = k < n, has_g = k < count;
+        const size_t ea = has_e ? slot_of[expect[2 * k]] : 0, eb = has_e ? slot_of[expect[2 * k + 1]] : 0;
+        if (!has_e || !has_g || got[k].a.index != ea || got[k].b.index != eb) {
+            if (mismatches++ < 5)
+                fprintf(stderr, "pair %zu: hgcd (%u, %u)%s, oracle (%zu, %zu)%s\n", k, has_g ? got[k].a.index : 0,
+                        has_g ? got[k].b.index : 0, has_g ? "" : " none", ea, eb, has_e ? "" : " none");
+        }
+        if (has_g) {
+            assert_int_equal(got[k].a.generation, sc->id[got[k].a.index].generation);
+            assert_int_equal(got[k].b.generation, sc->id[got[k].b.index].generation);
+        }
+    }
+    assert_int_equal(mismatches, 0);
+    assert_int_equal(count, n);
+    free(expect);
+    free(slot_of);
+    free(meshes);
+    free(p);
+    free(q);
+    free(s);
+    return n;
+}
+
+static void fill_random(scene *sc, rng *r, size_t n, double side, int snap, double smin, double smax) {
+    for (size_t i = 0; i < n; ++i) {
+        double p[3], q[4];
+        random_pose(r, side, snap, p, q);
+        const int shape = (int)(next(r) % SHAPE_COUNT);
+        double scale = smin + (smax - smin) * unif(r);
+        if (snap) scale = 0.5 + 0.5 * (double)(next(r) % 3); /* 0.5, 1, 1.5: exact contacts */
+        add(sc, shape, p, q, scale);
+    }
+}
+
+/* -------------------------------------------------------------- tests -- */
+
+static void test_random_scenes(void **state) {
+    (void)state;
+    size_t total = 0;
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+        rng r = {seed};
+        scene sc;
+        hgcd_world_desc wd = hgcd_world_desc_default();
+        wd.thread_count = (uint32_t)(seed % 3) + 1;
+        scene_init(&sc, 400, &wd);
+        fill_random(&sc, &r, 400, 30, 0, 0.2, 3.0);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 200); /* the scenes are dense enough to mean something */
+}
+
+static void test_exact_contacts(void **state) {
+    (void)state;
+    /* Positions on a 0.5 grid, axis-aligned exact rotations and scales in
+     * {0.5, 1, 1.5}: faces, edges and vertices touch exactly, coplanar faces
+     * overlap, and the oracle decides every such case exactly. */
+    size_t total = 0;
+    for (uint64_t seed = 10; seed < 16; ++seed) {
+        rng r = {seed};
+        scene sc;
+        hgcd_world_desc wd = hgcd_world_desc_default();
+        scene_init(&sc, 300, &wd);
+        fill_random(&sc, &r, 300, 12, 1, 0, 0);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 500);
+}
+
+static void test_hand_built_pairs(void **state) {
+    (void)state;
+    scene sc;
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    scene_init(&sc, 16, &wd);
+    const double id[4] = {0, 0, 0, 1};
+    const double o[3] = {0, 0, 0};
+    const double face[3] = {2, 0, 0};      /* cube touching cube face to face */
+    const double far[3] = {40, 40, 40};
+    const double near_far[3] = {40.5, 40, 40};
+    add(&sc, SHAPE_CUBE, o, id, 1);         /* 0 */
+    add(&sc, SHAPE_CUBE, face, id, 1);      /* 1: touches 0 exactly */
+    add(&sc, SHAPE_TETRA, o, id, 0.25);     /* 2: inside cube 0 (containment) */
+    add(&sc, SHAPE_TRIANGLE, far, id, 0.1); /* 3: open triangle inside cube 4 */
+    add(&sc, SHAPE_CUBE, far, id, 1);       /* 4 */
+    add(&sc, SHAPE_BOWL, near_far, id, 3);  /* 5: open bowl around cube 4, surfaces apart? */
+    const size_t n = check_against_oracle(&sc);
+    const hgcd_pair *p;
+    size_t count;
+    assert_int_equal(hgcd_world_pairs(sc.w, &p, &count), HGCD_OK);
+    /* (0,1) touch, (0,2) containment, (3,4) open surface inside a closed solid. */
+    int seen01 = 0, seen02 = 0, seen34 = 0, seen12 = 0;
+    for (size_t k = 0; k < count; ++k) {
+        seen01 |= p[k].a.index == 0 && p[k].b.index == 1;
+        seen02 |= p[k].a.index == 0 && p[k].b.index == 2;
+        seen34 |= p[k].a.index == 3 && p[k].b.index == 4;
+        seen12 |= p[k].a.index == 1 && p[k].b.index == 2;
+    }
+    assert_true(seen01 && seen02 && seen34);
+    assert_false(seen12);
+    assert_true(n >= 3);
+    hgcd_stats st;
+    st.struct_size = sizeof st;
+    assert_int_equal(hgcd_world_stats(sc.w, &st), HGCD_OK);
+    assert_true(st.containment_pairs >= 2);
+    scene_free(&sc);
+}
+
+static void test_oversize_and_cell_limits(void **state) {
+    (void)state;
+    /* The same random scene with bodies up to 40 units across, under the
+     * adaptive grid, a grid capped at cell width 1 (most bodies oversize),
+     * and a grid with a large minimum cell. All must match the oracle. */
+    const double limits[3][2] = {{0, 0}, {0, 1}, {8, 0}};
+    for (int k = 0; k < 3; ++k) {
+        rng r = {77};
+        scene sc;
+        hgcd_world_desc wd = hgcd_world_desc_default();
+        wd.min_cell_size = limits[k][0];
+        wd.max_cell_size = limits[k][1];
+        scene_init(&sc, 300, &wd);
+        fill_random(&sc, &r, 280, 60, 0, 0.1, 1.0);
+        for (int i = 0; i < 20; ++i) { /* a few giants */
+            double p[3], q[4];
+            random_pose(&r, 60, 0, p, q);
+            add(&sc, (int)(next(&r) % SHAPE_COUNT), p, q, 5 + 15 * unif(&r));
+        }
+        check_against_oracle(&sc);
+        hgcd_stats st;
+        st.struct_size = sizeof st;
+        assert_int_equal(hgcd_world_stats(sc.w, &st), HGCD_OK);
+        if (k == 1) assert_true(st.oversize_count > 100);
+        if (k == 0) assert_int_equal(st.oversize_count, 0);
+        scene_free(&sc);
+    }
+}
+
+static void test_incremental_motion(void **state) {
+    (void)state;
+    /* Bodies teleported across many cells, nudged within cells, removed and
+     * re-created (reusing slots), over several ticks: every tick matches. */
+    rng r = {99};
+    scene sc;
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.thread_count = 2;
+    scene_init(&sc, 400, &wd);
+    fill_random(&sc, &r, 300, 25, 0, 0.2, 2.5);
+    check_against_oracle(&sc);
+    for (int tick = 0; tick < 8; ++tick) {
+        for (size_t i = 0; i < sc.cap; ++i) {
+            if (sc.shape[i] < 0) continue;
+            const uint64_t what = next(&r) % 10;
+            double p[3], q[4];
+            if (what == 0) { /* teleport */
+                random_pose(&r, 25, 0, p, q);
+                move(&sc, i, p, q);
+            } else if (what < 4) { /* nudge */
+                for (int k = 0; k < 3; ++k) p[k] = sc.pos[3 * i + k] + 0.3 * (unif(&r) - 0.5);
+                move(&sc, i, p, NULL);
+            } else if (what == 4 && tick % 2 == 0) {
+                remove_body(&sc, i);
+            }
+        }
+        for (int k = 0; k < 20; ++k) { /* re-create into freed slots */
+            double p[3], q[4];
+            random_pose(&r, 25, 0, p, q);
+            add(&sc, (int)(next(&r) % SHAPE_COUNT), p, q, 0.2 + 2.3 * unif(&r));
+        }
+        check_against_oracle(&sc);
+    }
+    /* One body marched across the whole scene in small steps. */
+    size_t walker = 0;
+    while (sc.shape[walker] < 0) ++walker;
+    for (int stepi = 0; stepi < 40; ++stepi) {
+        double p[3] = {-2 + 0.8 * stepi, 12.5, 12.5};
+        move(&sc, walker, p, NULL);
+        check_against_oracle(&sc);
+    }
+    scene_free(&sc);
+}
+
+static void test_step_matches_oracle(void **state) {
+    (void)state;
+    /* Motion through hgcd_world_step (reflecting at the bounds), mirrored on
+     * the test side with the SCENES.md formula. */
+    rng r = {5};
+    scene sc;
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.reflect_at_bounds = 1;
+    for (int k = 0; k < 3; ++k) {
+        wd.bounds_min[k] = 0;
+        wd.bounds_max[k] = 20;
+    }
+    scene_init(&sc, 250, &wd);
+    fill_random(&sc, &r, 250, 20, 0, 0.3, 2.0);
+    double *vel = malloc(3 * 250 * sizeof(double));
+    for (size_t i = 0; i < 250; ++i) {
+        for (int k = 0; k < 3; ++k) vel[3 * i + k] = 1.5 * (2 * unif(&r) - 1);
+        assert_int_equal(hgcd_body_set_velocity(sc.w, sc.id[i], &vel[3 * i]), HGCD_OK);
+    }
+    for (int tick = 0; tick < 6; ++tick) {
+        assert_int_equal(hgcd_world_step(sc.w), HGCD_OK);
+        for (size_t k = 0; k < 3 * 250; ++k) {
+            double x = sc.pos[k] + vel[k];
+            if (x < 0) { x = -x; vel[k] = -vel[k]; }
+            else if (x > 20) { x = 2 * 20.0 - x; vel[k] = -vel[k]; }
+            sc.pos[k] = x;
+        }
+        for (size_t i = 0; i < 250; ++i) {
+            double p[3];
+            assert_int_equal(hgcd_body_get_pose(sc.w, sc.id[i], p, NULL), HGCD_OK);
+            assert_memory_equal(p, &sc.pos[3 * i], sizeof p);
+        }
+        check_against_oracle(&sc);
+    }
+    free(vel);
+    scene_free(&sc);
+}
+
+/* Builds the tetra scene of SCENES.md in a world with the given threads. */
+static hgcd_world *tetra_world(uint64_t n, uint32_t threads, double *centers, double *scales, double *quats) {
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.thread_count = threads;
+    hgcd_world *w;
+    assert_int_equal(hgcd_world_create(&wd, &w), HGCD_OK);
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    double v[12];
+    uint32_t t[12];
+    hgcd_scene_tetra_unit_mesh(v, t);
+    md.vertices = v;
+    md.triangles = t;
+    md.vertex_count = 4;
+    md.triangle_count = 4;
+    hgcd_mesh m;
+    assert_int_equal(hgcd_mesh_create(w, &md, &m), HGCD_OK);
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    bd.mesh = m;
+    for (uint64_t i = 0; i < n; ++i) {
+        memcpy(bd.position, &centers[3 * i], sizeof bd.position);
+        memcpy(bd.orientation, &quats[4 * i], sizeof bd.orientation);
+        bd.scale = scales[i];
+        hgcd_body b;
+        assert_int_equal(hgcd_body_create(w, &bd, &b), HGCD_OK);
+        assert_int_equal(b.index, (uint32_t)i);
+    }
+    return w;
+}
+
+static void test_tetra_scene(void **state) {
+    (void)state;
+    const char *env = getenv("HGCD_TEST_TETRA_N");
+    const uint64_t n = env ? strtoull(env, NULL, 10) : 20000;
+    hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
+    sd.n = n;
+    double *c = malloc(3 * n * sizeof(double)), *s = malloc(n * sizeof(double));
+    double *q = malloc(4 * n * sizeof(double));
+    assert_int_equal(hgcd_scene_tetra_generate(&sd, c, NULL, s, q, NULL), HGCD_OK);
+    hgcd_world *w = tetra_world(n, 2, c, s, q);
+    assert_int_equal(hgcd_world_detect(w), HGCD_OK);
+    const hgcd_pair *p;
+    size_t count;
+    assert_int_equal(hgcd_world_pairs(w, &p, &count), HGCD_OK);
+
+    oracle_mesh tm = {tetra_v, tetra_t, 4, 4, 1};
+    const oracle_mesh **meshes = malloc(n * sizeof(*meshes));
+    for (uint64_t i = 0; i < n; ++i) meshes[i] = &tm;
+    const size_t expect_n = oracle_colliding_pairs(n, meshes, c, q, s, NULL, 0);
+    uint32_t *expect = malloc((2 * expect_n + 2) * sizeof(uint32_t));
+    oracle_colliding_pairs(n, meshes, c, q, s, expect, expect_n);
+    assert_int_equal(count, expect_n);
+    for (size_t k = 0; k < count; ++k) {
+        assert_int_equal(p[k].a.index, expect[2 * k]);
+        assert_int_equal(p[k].b.index, expect[2 * k + 1]);
+    }
+    printf("tetra n = %llu seed 1: %zu colliding pairs, equal to the oracle\n", (unsigned long long)n, count);
+    hgcd_world_destroy(w);
+    free(meshes);
+    free(expect);
+    free(c);
+    free(s);
+    free(q);
+}
+
+static void test_thread_counts_identical(void **state) {
+    (void)state;
+    /* Pairs are bit-identical, in order, for 1, 2, 3 and 8 threads, on the
+     * tetra scene and on a mixed random scene with oversize bodies. */
+    const uint64_t n = 30000;
+    hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
+    sd.n = n;
+    sd.side = 100; /* denser than the default at this n */
+    double *c = malloc(3 * n * sizeof(double)), *s = malloc(n * sizeof(double));
+    double *q = malloc(4 * n * sizeof(double));
+    assert_int_equal(hgcd_scene_tetra_generate(&sd, c, NULL, s, q, NULL), HGCD_OK);
+    hgcd_pair *first = NULL;
+    size_t first_n = 0;
+    const uint32_t threads[4] = {1, 2, 3, 8};
+    for (int k = 0; k < 4; ++k) {
+        hgcd_world *w = tetra_world(n, threads[k], c, s, q);
+        assert_int_equal(hgcd_world_detect(w), HGCD_OK);
+        const hgcd_pair *p;
+        size_t count;
+        assert_int_equal(hgcd_world_pairs(w, &p, &count), HGCD_OK);
+        assert_true(count > 1000);
+        if (k == 0) {
+            first = malloc(count * sizeof *first);
+            memcpy(first, p, count * sizeof *first);
+            first_n = count;
+        } else {
+            assert_int_equal(count, first_n);
+            assert_memory_equal(p, first, count * sizeof *first);
+        }
+        hgcd_world_destroy(w);
+    }
+    free(first);
+
+    uint32_t *hash = NULL;
+    for (int k = 0; k < 4; ++k) {
+        rng r = {123};
+        scene sc;
+        hgcd_world_desc wd = hgcd_world_desc_default();
+        wd.thread_count = threads[k];
+        wd.max_cell_size = 2;
+        scene_init(&sc, 2000, &wd);
+        fill_random(&sc, &r, 2000, 60, 0, 0.2, 4);
+        assert_int_equal(hgcd_world_detect(sc.w), HGCD_OK);
+        const hgcd_pair *p;
+        size_t count;
+        assert_int_equal(hgcd_world_pairs(sc.w, &p, &count), HGCD_OK);
+        assert_true(count > 100);
+        if (!hash) {
+            hash = malloc((count + 1) * sizeof *first * 2);
+            hash[0] = (uint32_t)count;
+            memcpy(hash + 1, p, count * sizeof *p);
+        } else {
+            assert_int_equal(hash[0], count);
+            assert_memory_equal(hash + 1, p, count * sizeof *p);
+        }
+        scene_free(&sc);
+    }
+    free(hash);
+    free(c);
+    free(s);
+    free(q);
+}
+
+static void test_tetra_reference_counts(void **state) {
+    (void)state;
+    /* SCENES.md's reference answers (exact, computed independently). */
+    static const struct { uint64_t n, pairs, containment; } ref[] = {{100000, 4266, 30}, {200000, 17201, 151}};
+    for (int k = 0; k < 2; ++k) {
+        const uint64_t n = ref[k].n;
+        hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
+        sd.n = n;
+        double *c = malloc(3 * n * sizeof(double)), *s = malloc(n * sizeof(double));
+        double *q = malloc(4 * n * sizeof(double));
+        assert_int_equal(hgcd_scene_tetra_generate(&sd, c, NULL, s, q, NULL), HGCD_OK);
+        hgcd_world *w = tetra_world(n, 0, c, s, q);
+        assert_int_equal(hgcd_world_detect(w), HGCD_OK);
+        hgcd_stats st;
+        st.struct_size = sizeof st;
+        assert_int_equal(hgcd_world_stats(w, &st), HGCD_OK);
+        assert_int_equal(st.colliding_pairs, ref[k].pairs);
+        assert_int_equal(st.containment_pairs, ref[k].containment);
+        hgcd_world_destroy(w);
+        free(c);
+        free(s);
+        free(q);
+    }
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hand_built_pairs),
+        cmocka_unit_test(test_random_scenes),
+        cmocka_unit_test(test_exact_contacts),
+        cmocka_unit_test(test_oversize_and_cell_limits),
+        cmocka_unit_test(test_incremental_motion),
+        cmocka_unit_test(test_step_matches_oracle),
+        cmocka_unit_test(test_thread_counts_identical),
+        cmocka_unit_test(test_tetra_scene),
+        cmocka_unit_test(test_tetra_reference_counts),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -27,4 +27,23 @@ bool point_in_closed_mesh(const double *p, const double *verts,
                           const uint32_t *tris, uint32_t tri_count,
                           const double *box_min, const double *box_max);
 
+// Mesh-solid test for a closed convex mesh: every vertex lies on the side of
+// each face plane whose orient3d(face, vertex) sign is inward_sign (or on the
+// plane). Precondition: p is not on the surface. True if p is inside, i.e. for
+// every face orient3d(face, p) is inward_sign or 0 (zero-area faces give 0
+// and so never exclude p).
+bool point_in_convex_closed_mesh(const double *p, const double *verts,
+                                 const uint32_t *tris, uint32_t tri_count,
+                                 int inward_sign);
+
+// True if the closed segment [e0, e1] (possibly a single point) meets the
+// closed triangle (t0, t1, t2) (possibly degenerate). Exact.
+bool segment_triangle_intersect(const double *e0, const double *e1,
+                                const double *t0, const double *t1,
+                                const double *t2);
+
+// True if a, b, c are collinear (zero-area triangle, including coincident
+// points). Exact.
+bool collinear3d(const double *a, const double *b, const double *c);
+
 }  // namespace hgcd

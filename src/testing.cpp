@@ -1,0 +1,54 @@
+// C entry points onto the internal geometry, for the C test programs.
+#include "testing.h"
+
+#include <cstddef>
+
+#include "geometry.hpp"
+
+extern "C" {
+
+int hgcdi_orient3d(const double *a, const double *b, const double *c,
+                   const double *d) {
+    return hgcd::orient3d(a, b, c, d);
+}
+
+int hgcdi_orient2d(const double *a, const double *b, const double *c) {
+    return hgcd::orient2d(a, b, c);
+}
+
+int hgcdi_tri_tri(const double p[9], const double q[9]) {
+    return hgcd::tri_tri_intersect(p, p + 3, p + 6, q, q + 3, q + 6) ? 1 : 0;
+}
+
+int hgcdi_segment_triangle(const double e0[3], const double e1[3],
+                           const double t[9]) {
+    return hgcd::segment_triangle_intersect(e0, e1, t, t + 3, t + 6) ? 1 : 0;
+}
+
+int hgcdi_point_in_closed_mesh(const double p[3], const double *verts,
+                               uint32_t vertex_count, const uint32_t *tris,
+                               uint32_t tri_count) {
+    if (vertex_count == 0) return 0;
+    double lo[3] = {verts[0], verts[1], verts[2]};
+    double hi[3] = {verts[0], verts[1], verts[2]};
+    for (uint32_t i = 1; i < vertex_count; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            double v = verts[3 * std::size_t(i) + k];
+            if (v < lo[k]) lo[k] = v;
+            if (v > hi[k]) hi[k] = v;
+        }
+    }
+    return hgcd::point_in_closed_mesh(p, verts, tris, tri_count, lo, hi) ? 1
+                                                                          : 0;
+}
+
+int hgcdi_point_in_convex(const double p[3], const double *verts,
+                          const uint32_t *tris, uint32_t tri_count,
+                          int inward_sign) {
+    return hgcd::point_in_convex_closed_mesh(p, verts, tris, tri_count,
+                                             inward_sign)
+               ? 1
+               : 0;
+}
+
+}  // extern "C"

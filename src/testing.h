@@ -1,0 +1,37 @@
+/* Internal test surface of hgcd's exact geometry (not part of the public
+ * API). These symbols are visible in the static library only; the shared
+ * library exports hgcd_* alone. Plain C so the C tests can call them. */
+#ifndef HGCD_TESTING_H
+#define HGCD_TESTING_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Exact sign of det[a-d; b-d; c-d] (+1, 0, -1). */
+int hgcdi_orient3d(const double *a, const double *b, const double *c,
+                   const double *d);
+/* Exact sign of det[a-c; b-c] in 2D. */
+int hgcdi_orient2d(const double *a, const double *b, const double *c);
+/* 1 if the closed triangles p (p[0..8]) and q share a point, else 0. */
+int hgcdi_tri_tri(const double p[9], const double q[9]);
+/* 1 if the closed segment [e0, e1] meets the closed triangle t[0..8]. */
+int hgcdi_segment_triangle(const double e0[3], const double e1[3],
+                           const double t[9]);
+/* Parity point-in-solid test for a closed mesh; the box is computed from all
+ * vertex_count vertices. p must not lie on the surface. */
+int hgcdi_point_in_closed_mesh(const double p[3], const double *verts,
+                               uint32_t vertex_count, const uint32_t *tris,
+                               uint32_t tri_count);
+/* Convex closed mesh test (see geometry.hpp point_in_convex_closed_mesh). */
+int hgcdi_point_in_convex(const double p[3], const double *verts,
+                          const uint32_t *tris, uint32_t tri_count,
+                          int inward_sign);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HGCD_TESTING_H */

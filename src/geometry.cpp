@@ -606,16 +606,35 @@ inline void plane_prepare(PlaneFilter &pf, const double *t0, const double *t1,
     pf.an[2] = std::fabs(e) + std::fabs(f);
 }
 
-// Exact sign of orient3d(t0, t1, t2, x).
-inline int plane_side(const PlaneFilter &pf, const double *x) {
-    double dx = x[0] - pf.t0[0], dy = x[1] - pf.t0[1], dz = x[2] - pf.t0[2];
-    double det = -((dx * pf.n[0] + dy * pf.n[1]) + dz * pf.n[2]);
-    double perm = (std::fabs(dx) * pf.an[0] + std::fabs(dy) * pf.an[1]) +
-                  std::fabs(dz) * pf.an[2];
-    double bound = kO3dBound * perm + kSlack;
-    if (det > bound) return 1;
-    if (-det > bound) return -1;
-    return orient3d_exact(pf.t0, pf.t1, pf.t2, x);
+// Exact signs of orient3d(t0, t1, t2, x_i) for three points. The three
+// filters are evaluated together with one combined (non-short-circuit)
+// certainty test, so the common case has a single well-predicted branch.
+inline void plane_sides3(const PlaneFilter &pf, const double *x0,
+                         const double *x1, const double *x2, int *s) {
+    const double *x[3] = {x0, x1, x2};
+    double det[3], bound[3];
+    for (int i = 0; i < 3; ++i) {
+        double dx = x[i][0] - pf.t0[0], dy = x[i][1] - pf.t0[1],
+               dz = x[i][2] - pf.t0[2];
+        det[i] = -((dx * pf.n[0] + dy * pf.n[1]) + dz * pf.n[2]);
+        double perm = (std::fabs(dx) * pf.an[0] + std::fabs(dy) * pf.an[1]) +
+                      std::fabs(dz) * pf.an[2];
+        bound[i] = kO3dBound * perm + kSlack;
+    }
+    bool sure = (std::fabs(det[0]) > bound[0]) &
+                (std::fabs(det[1]) > bound[1]) &
+                (std::fabs(det[2]) > bound[2]);
+    if (sure) {
+        s[0] = sgn(det[0]);
+        s[1] = sgn(det[1]);
+        s[2] = sgn(det[2]);
+        return;
+    }
+    for (int i = 0; i < 3; ++i) {
+        s[i] = std::fabs(det[i]) > bound[i]
+                   ? sgn(det[i])
+                   : orient3d_exact(pf.t0, pf.t1, pf.t2, x[i]);
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -879,15 +898,17 @@ bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
 
     PlaneFilter pq;
     plane_prepare(pq, q0, q1, q2);
-    int sp0 = plane_side(pq, p0), sp1 = plane_side(pq, p1),
-        sp2 = plane_side(pq, p2);
-    if (sp0 == sp1 && sp1 == sp2 && sp0 != 0) return false;
+    int sp[3];
+    plane_sides3(pq, p0, p1, p2, sp);
+    int sp0 = sp[0], sp1 = sp[1], sp2 = sp[2];
+    if ((sp0 == sp1) & (sp1 == sp2) & (sp0 != 0)) return false;
 
     PlaneFilter pp;
     plane_prepare(pp, p0, p1, p2);
-    int sq0 = plane_side(pp, q0), sq1 = plane_side(pp, q1),
-        sq2 = plane_side(pp, q2);
-    if (sq0 == sq1 && sq1 == sq2 && sq0 != 0) return false;
+    int sq[3];
+    plane_sides3(pp, q0, q1, q2, sq);
+    int sq0 = sq[0], sq1 = sq[1], sq2 = sq[2];
+    if ((sq0 == sq1) & (sq1 == sq2) & (sq0 != 0)) return false;
 
     if ((sp0 == 0 && sp1 == 0 && sp2 == 0) ||
         (sq0 == 0 && sq1 == 0 && sq2 == 0)) {

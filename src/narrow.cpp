@@ -1,6 +1,7 @@
 #include "narrow.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "geometry.hpp"
 #include "transform.hpp"
@@ -43,6 +44,44 @@ inline void triangle_box(const double *v, const uint32_t *t, double *box) {
     }
 }
 
+// Is there a face of the convex mesh `ca` (world vertices wa) with every
+// vertex of the other body certainly strictly outside its plane? Then the
+// other body, which lies in the convex hull of its vertices, is disjoint from
+// `ca`. The sign of each orientation determinant is trusted only when it
+// exceeds the rounding error bound of its evaluation (Shewchuk's orient3d
+// bound (7 + 56 eps) eps * permanent, rounded up to 1e-15 * permanent);
+// otherwise that face proves nothing, so this test never changes an answer.
+bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const double *wb) {
+    constexpr double kBound = 1e-15;
+    const double inward = ca.inward_sign;
+    for (uint32_t t = 0; t < ca.triangle_count; ++t) {
+        const uint32_t *f = &ca.triangles[3 * size_t(t)];
+        const double *a = &wa[3 * size_t(f[0])], *b = &wa[3 * size_t(f[1])], *c = &wa[3 * size_t(f[2])];
+        const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+        const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+        // orient3d(a, b, c, d) = -(d - a) . (u x v)
+        const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+        const double px = std::fabs(uy * vz) + std::fabs(uz * vy);
+        const double py = std::fabs(uz * vx) + std::fabs(ux * vz);
+        const double pz = std::fabs(ux * vy) + std::fabs(uy * vx);
+        bool all_outside = true;
+        for (uint32_t v = 0; v < mb.vertex_count && all_outside; ++v) {
+            const double *d = &wb[3 * size_t(v)];
+            const double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+            const double det = -(wx * nx + wy * ny + wz * nz);
+            const double perm = std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz;
+            // Outside: orient3d has the sign opposite to the interior's.
+            all_outside = -inward * det > kBound * perm;
+        }
+        if (all_outside) return true;
+    }
+    return false;
+}
+
+// The face test costs faces x vertices; beyond this it is left to the
+// triangle tests, which prune by boxes.
+constexpr uint64_t kFaceTestBudget = 4096;
+
 // Is some component of `inner` (world vertices wv) inside the closed mesh
 // `outer` (world vertices wo)? Only asked once the surfaces are disjoint, so
 // no tested vertex lies on the outer surface.
@@ -73,6 +112,12 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s) {
     ++s.exact_tests;
     const Mesh &ma = *a.mesh, &mb = *b.mesh;
     const double *wa = s.world_a.data(), *wb = s.world_b.data();
+    if (ma.convex && uint64_t(ma.triangle_count) * mb.vertex_count <= kFaceTestBudget &&
+        separated_by_face(ma, wa, mb, wb))
+        return Contact::None;
+    if (mb.convex && uint64_t(mb.triangle_count) * ma.vertex_count <= kFaceTestBudget &&
+        separated_by_face(mb, wb, ma, wa))
+        return Contact::None;
 
     // Triangles of b that reach a's box, with their boxes.
     s.tri_b.clear();

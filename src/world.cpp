@@ -205,10 +205,8 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         const size_t n = live_gen_.size() + 1;
         if (live_gen_.capacity() < n) {
             const size_t cap = std::max<size_t>(16, 2 * live_gen_.capacity());
-            position_.reserve(3 * cap);
-            orientation_.reserve(4 * cap);
+            place_.reserve(cap);
             velocity_.reserve(3 * cap);
-            scale_.reserve(cap);
             body_mesh_.reserve(cap);
             user_data_.reserve(cap);
             body_gen_.reserve(cap);
@@ -217,10 +215,8 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             live_gen_.reserve(cap);  // last: its capacity says all are reserved
         }
         slot = uint32_t(live_gen_.size());
-        position_.resize(3 * n);
-        orientation_.resize(4 * n);
+        place_.resize(n);
         velocity_.resize(3 * n);
-        scale_.resize(n);
         body_mesh_.resize(n);
         user_data_.resize(n);
         body_gen_.resize(n, tag_ << kCounterBits);
@@ -230,11 +226,11 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     }
     if (reuse) body_free_.pop_back();
     for (int k = 0; k < 3; ++k) {
-        position_[3 * size_t(slot) + k] = d.position[k];
+        place_[slot].position[k] = d.position[k];
         velocity_[3 * size_t(slot) + k] = d.velocity[k];
     }
-    for (int k = 0; k < 4; ++k) orientation_[4 * size_t(slot) + k] = d.orientation[k];
-    scale_[slot] = d.scale;
+    for (int k = 0; k < 4; ++k) place_[slot].orientation[k] = d.orientation[k];
+    place_[slot].scale = d.scale;
     body_mesh_[slot] = uint32_t(mesh);
     user_data_[slot] = d.user_data;
     r_level_[slot] = d.scale * m.radius * kLevelInflation;
@@ -262,9 +258,9 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     if (position)
-        for (int k = 0; k < 3; ++k) position_[3 * slot + k] = position[k];
+        for (int k = 0; k < 3; ++k) place_[slot].position[k] = position[k];
     if (orientation)
-        for (int k = 0; k < 4; ++k) orientation_[4 * slot + k] = orientation[k];
+        for (int k = 0; k < 4; ++k) place_[slot].orientation[k] = orientation[k];
     return HGCD_OK;
 }
 
@@ -282,9 +278,9 @@ hgcd_status World::get_pose(hgcd_body id, double *position, double *orientation)
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;
     if (position)
-        for (int k = 0; k < 3; ++k) position[k] = position_[3 * slot + k];
+        for (int k = 0; k < 3; ++k) position[k] = place_[slot].position[k];
     if (orientation)
-        for (int k = 0; k < 4; ++k) orientation[k] = orientation_[4 * slot + k];
+        for (int k = 0; k < 4; ++k) orientation[k] = place_[slot].orientation[k];
     return HGCD_OK;
 }
 
@@ -321,18 +317,19 @@ void World::compute_spheres(int threads) {
             continue;
         }
         const Mesh &m = meshes_[body_mesh_[s]];
-        const double *q = &orientation_[4 * s];
-        const double *c = &position_[3 * s];
+        const Placement &pl = place_[s];
+        const double *q = pl.orientation;
+        const double *c = pl.position;
         const Rotation r = rotation_of(q);
         double center[3];
-        transform_point(r, c, scale_[s], m.center, center);
+        transform_point(r, c, pl.scale, m.center, center);
         const double stretch = rotation_stretch(q);
-        const double reach = scale_[s] * stretch * m.radius;
+        const double reach = pl.scale * stretch * m.radius;
         // The world vertices and this centre carry rounding errors of a few
         // ulps of the coordinates involved; the margin covers them with room.
         const double local = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
         const double margin =
-            1e-14 * (std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]) + scale_[s] * stretch * local);
+            1e-14 * (std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]) + pl.scale * stretch * local);
         sphere_[s] = Sphere{center[0], center[1], center[2], (reach + margin) * (1 + 1e-9)};
     }
 }
@@ -353,14 +350,22 @@ hgcd_status World::detect() {
 
         std::vector<std::vector<uint64_t>> found(T);
         grid_.find_pairs(sphere_.data(), T, found);
-        std::vector<size_t> offset(T + 1, 0);
-        for (int t = 0; t < T; ++t) offset[t + 1] = offset[t] + found[t].size();
+        std::vector<uint64_t> candidates;
+        {
+            size_t total = 0;
+            for (auto &f : found) total += f.size();
+            candidates.reserve(total);
+            for (auto &f : found) {
+                candidates.insert(candidates.end(), f.begin(), f.end());
+                std::vector<uint64_t>().swap(f);
+            }
+        }
         const double t2 = omp_get_wtime();
 
         // Narrow phase over the candidates of every thread's list.
         std::vector<std::vector<uint64_t>> hits(T);
         std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0);
-        const int64_t total = int64_t(offset[T]);
+        const int64_t total = int64_t(candidates.size());
 #pragma omp parallel num_threads(T)
         {
             const int me = omp_get_thread_num();
@@ -368,13 +373,16 @@ hgcd_status World::detect() {
             std::vector<uint64_t> &mine = hits[me];
 #pragma omp for schedule(dynamic, 512)
             for (int64_t k = 0; k < total; ++k) {
-                const int t = int(std::upper_bound(offset.begin(), offset.end(), size_t(k)) - offset.begin()) - 1;
-                const uint64_t key = found[t][size_t(k) - offset[t]];
+                if (k + 8 < total) {  // the bodies of a later pair, to hide the latency
+                    const uint64_t ahead = candidates[size_t(k) + 8];
+                    __builtin_prefetch(&place_[ahead >> 32]);
+                    __builtin_prefetch(&place_[uint32_t(ahead)]);
+                }
+                const uint64_t key = candidates[size_t(k)];
                 const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
-                const BodyPose pa{&meshes_[body_mesh_[a]], &position_[3 * size_t(a)],
-                                  &orientation_[4 * size_t(a)], scale_[a]};
-                const BodyPose pb{&meshes_[body_mesh_[b]], &position_[3 * size_t(b)],
-                                  &orientation_[4 * size_t(b)], scale_[b]};
+                const Placement &la = place_[a], &lb = place_[b];
+                const BodyPose pa{&meshes_[body_mesh_[a]], la.position, la.orientation, la.scale};
+                const BodyPose pb{&meshes_[body_mesh_[b]], lb.position, lb.orientation, lb.scale};
                 const Contact c = collide(pa, pb, scratch);
                 if (c != Contact::None) {
                     mine.push_back(key);
@@ -435,7 +443,7 @@ hgcd_status World::step() {
     for (int64_t s = 0; s < n; ++s) {
         if (!live_gen_[s]) continue;
         for (int k = 0; k < 3; ++k) {
-            const double x = position_[3 * s + k] + velocity_[3 * s + k] * dt;
+            const double x = place_[s].position[k] + velocity_[3 * s + k] * dt;
             if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, s);
         }
     }
@@ -446,7 +454,7 @@ hgcd_status World::step() {
     for (int64_t s = 0; s < n; ++s) {
         if (!live_gen_[s]) continue;
         for (int k = 0; k < 3; ++k) {
-            double &c = position_[3 * s + k];
+            double &c = place_[s].position[k];
             double &v = velocity_[3 * s + k];
             double x = c + v * dt;
             if (reflect_) {
@@ -472,8 +480,8 @@ hgcd_status World::step() {
 
 size_t World::memory_bytes() const {
     size_t bytes = grid_.memory_bytes() + pairs_.capacity() * sizeof(hgcd_pair);
-    bytes += (position_.capacity() + orientation_.capacity() + velocity_.capacity() + scale_.capacity() +
-              r_level_.capacity()) * sizeof(double);
+    bytes += place_.capacity() * sizeof(Placement);
+    bytes += (velocity_.capacity() + r_level_.capacity()) * sizeof(double);
     bytes += (body_mesh_.capacity() + body_gen_.capacity() + live_gen_.capacity()) * sizeof(uint32_t);
     bytes += user_data_.capacity() * sizeof(uint64_t) + sphere_.capacity() * sizeof(Sphere);
     for (const Mesh &m : meshes_)

@@ -73,10 +73,14 @@ class World {
     uint32_t live_meshes_ = 0;
 
     // Bodies, by slot (structure of arrays).
-    std::vector<double> position_;     // 3
-    std::vector<double> orientation_;  // 4
+    // What the narrow phase reads per body, in one cache line.
+    struct alignas(64) Placement {
+        double position[3];
+        double orientation[4];  // x y z w
+        double scale;
+    };
+    std::vector<Placement> place_;
     std::vector<double> velocity_;     // 3
-    std::vector<double> scale_;
     std::vector<uint32_t> body_mesh_;  // mesh slot
     std::vector<uint64_t> user_data_;
     std::vector<uint32_t> body_gen_;   // last generation handed out in the slot

@@ -81,8 +81,6 @@ trap 'rm -f "$tmp" "$tmp.raw"' EXIT
         --allowlist-function 'hgcd_.*' \
         --allowlist-type 'hgcd_.*' \
         --allowlist-var 'HGCD_.*' \
-        --use-core \
-        --ctypes-prefix '::core::ffi' \
         --size_t-is-usize \
         --no-prepend-enum-name \
         --translate-enum-integer-types \

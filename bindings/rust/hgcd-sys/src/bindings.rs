@@ -3,9 +3,9 @@
 pub const HGCD_VERSION_MAJOR: u32 = 0;
 pub const HGCD_VERSION_MINOR: u32 = 1;
 pub const HGCD_VERSION_PATCH: u32 = 0;
-pub type __int32_t = ::core::ffi::c_int;
-pub type __uint32_t = ::core::ffi::c_uint;
-pub type __uint64_t = ::core::ffi::c_ulong;
+pub type __int32_t = ::std::os::raw::c_int;
+pub type __uint32_t = ::std::os::raw::c_uint;
+pub type __uint64_t = ::std::os::raw::c_ulong;
 #[doc = " Result of every fallible call: HGCD_OK or one of the negative codes."]
 pub type hgcd_status = i32;
 pub const HGCD_OK: hgcd_status_code = 0;
@@ -37,7 +37,7 @@ pub type hgcd_status_code = i32;
 extern "C" {
     #[doc = " Static name of a status code (\"HGCD_ERROR_STALE_ID\"); never NULL. Unknown"]
     #[doc = "  codes give \"HGCD_ERROR_UNKNOWN\"."]
-    pub fn hgcd_status_string(status: hgcd_status) -> *const ::core::ffi::c_char;
+    pub fn hgcd_status_string(status: hgcd_status) -> *const ::std::os::raw::c_char;
 }
 extern "C" {
     #[doc = " The run-time version as (major << 16) | (minor << 8) | patch."]
@@ -45,7 +45,7 @@ extern "C" {
 }
 extern "C" {
     #[doc = " The run-time version as a static string, \"0.1.0\"."]
-    pub fn hgcd_version_string() -> *const ::core::ffi::c_char;
+    pub fn hgcd_version_string() -> *const ::std::os::raw::c_char;
 }
 #[repr(C)]
 #[derive(Debug)]
@@ -62,21 +62,21 @@ pub struct hgcd_mesh {
 #[test]
 fn bindgen_test_layout_hgcd_mesh() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_mesh>(),
+        ::std::mem::size_of::<hgcd_mesh>(),
         8usize,
         concat!("Size of: ", stringify!(hgcd_mesh))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_mesh>(),
+        ::std::mem::align_of::<hgcd_mesh>(),
         4usize,
         concat!("Alignment of ", stringify!(hgcd_mesh))
     );
     fn test_field_index() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).index) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).index) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -91,9 +91,9 @@ fn bindgen_test_layout_hgcd_mesh() {
     fn test_field_generation() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).generation) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).generation) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -116,21 +116,21 @@ pub struct hgcd_body {
 #[test]
 fn bindgen_test_layout_hgcd_body() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_body>(),
+        ::std::mem::size_of::<hgcd_body>(),
         8usize,
         concat!("Size of: ", stringify!(hgcd_body))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_body>(),
+        ::std::mem::align_of::<hgcd_body>(),
         4usize,
         concat!("Alignment of ", stringify!(hgcd_body))
     );
     fn test_field_index() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).index) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).index) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -145,9 +145,9 @@ fn bindgen_test_layout_hgcd_body() {
     fn test_field_generation() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).generation) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).generation) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -170,21 +170,21 @@ pub struct hgcd_pair {
 #[test]
 fn bindgen_test_layout_hgcd_pair() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_pair>(),
+        ::std::mem::size_of::<hgcd_pair>(),
         16usize,
         concat!("Size of: ", stringify!(hgcd_pair))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_pair>(),
+        ::std::mem::align_of::<hgcd_pair>(),
         4usize,
         concat!("Alignment of ", stringify!(hgcd_pair))
     );
     fn test_field_a() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_pair>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).a) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).a) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -199,9 +199,9 @@ fn bindgen_test_layout_hgcd_pair() {
     fn test_field_b() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_pair>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).b) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).b) as usize - ptr as usize
             },
             8usize,
             concat!(
@@ -251,21 +251,21 @@ pub struct hgcd_world_desc {
 #[test]
 fn bindgen_test_layout_hgcd_world_desc() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_world_desc>(),
+        ::std::mem::size_of::<hgcd_world_desc>(),
         88usize,
         concat!("Size of: ", stringify!(hgcd_world_desc))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_world_desc>(),
+        ::std::mem::align_of::<hgcd_world_desc>(),
         8usize,
         concat!("Alignment of ", stringify!(hgcd_world_desc))
     );
     fn test_field_struct_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -280,9 +280,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_init_tag() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -297,9 +297,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_thread_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).thread_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).thread_count) as usize - ptr as usize
             },
             8usize,
             concat!(
@@ -314,9 +314,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_reflect_at_bounds() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).reflect_at_bounds) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).reflect_at_bounds) as usize - ptr as usize
             },
             12usize,
             concat!(
@@ -331,9 +331,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_time_step() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).time_step) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).time_step) as usize - ptr as usize
             },
             16usize,
             concat!(
@@ -348,9 +348,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_bounds_min() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).bounds_min) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).bounds_min) as usize - ptr as usize
             },
             24usize,
             concat!(
@@ -365,9 +365,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_bounds_max() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).bounds_max) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).bounds_max) as usize - ptr as usize
             },
             48usize,
             concat!(
@@ -382,9 +382,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_min_cell_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).min_cell_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).min_cell_size) as usize - ptr as usize
             },
             72usize,
             concat!(
@@ -399,9 +399,9 @@ fn bindgen_test_layout_hgcd_world_desc() {
     fn test_field_max_cell_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).max_cell_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).max_cell_size) as usize - ptr as usize
             },
             80usize,
             concat!(
@@ -437,7 +437,7 @@ extern "C" {
     #[doc = "  world, or \"\" if none failed yet. The string is owned by the world and valid"]
     #[doc = "  until the next non-const call on it."]
     #[doc = "  NULL world gives a static message."]
-    pub fn hgcd_world_last_error(world: *const hgcd_world) -> *const ::core::ffi::c_char;
+    pub fn hgcd_world_last_error(world: *const hgcd_world) -> *const ::std::os::raw::c_char;
 }
 extern "C" {
     #[doc = " Number of live bodies and meshes. NULL world gives 0."]
@@ -529,21 +529,21 @@ pub struct hgcd_stats {
 #[test]
 fn bindgen_test_layout_hgcd_stats() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_stats>(),
+        ::std::mem::size_of::<hgcd_stats>(),
         104usize,
         concat!("Size of: ", stringify!(hgcd_stats))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_stats>(),
+        ::std::mem::align_of::<hgcd_stats>(),
         8usize,
         concat!("Alignment of ", stringify!(hgcd_stats))
     );
     fn test_field_struct_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -558,9 +558,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_level_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).level_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).level_count) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -575,9 +575,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_oversize_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).oversize_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).oversize_count) as usize - ptr as usize
             },
             8usize,
             concat!(
@@ -592,9 +592,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_thread_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).thread_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).thread_count) as usize - ptr as usize
             },
             12usize,
             concat!(
@@ -609,9 +609,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_moved_bodies() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).moved_bodies) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).moved_bodies) as usize - ptr as usize
             },
             16usize,
             concat!(
@@ -626,9 +626,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_candidate_pairs() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).candidate_pairs) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).candidate_pairs) as usize - ptr as usize
             },
             24usize,
             concat!(
@@ -643,9 +643,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_narrow_tests() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).narrow_tests) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).narrow_tests) as usize - ptr as usize
             },
             32usize,
             concat!(
@@ -660,9 +660,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_triangle_tests() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).triangle_tests) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).triangle_tests) as usize - ptr as usize
             },
             40usize,
             concat!(
@@ -677,9 +677,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_colliding_pairs() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).colliding_pairs) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).colliding_pairs) as usize - ptr as usize
             },
             48usize,
             concat!(
@@ -694,9 +694,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_containment_pairs() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).containment_pairs) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).containment_pairs) as usize - ptr as usize
             },
             56usize,
             concat!(
@@ -711,9 +711,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_motion_seconds() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).motion_seconds) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).motion_seconds) as usize - ptr as usize
             },
             64usize,
             concat!(
@@ -728,9 +728,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_update_seconds() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).update_seconds) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).update_seconds) as usize - ptr as usize
             },
             72usize,
             concat!(
@@ -745,9 +745,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_broad_seconds() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).broad_seconds) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).broad_seconds) as usize - ptr as usize
             },
             80usize,
             concat!(
@@ -762,9 +762,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_narrow_seconds() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).narrow_seconds) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).narrow_seconds) as usize - ptr as usize
             },
             88usize,
             concat!(
@@ -779,9 +779,9 @@ fn bindgen_test_layout_hgcd_stats() {
     fn test_field_total_seconds() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).total_seconds) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).total_seconds) as usize - ptr as usize
             },
             96usize,
             concat!(
@@ -817,21 +817,21 @@ pub struct hgcd_mesh_desc {
 #[test]
 fn bindgen_test_layout_hgcd_mesh_desc() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_mesh_desc>(),
+        ::std::mem::size_of::<hgcd_mesh_desc>(),
         32usize,
         concat!("Size of: ", stringify!(hgcd_mesh_desc))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_mesh_desc>(),
+        ::std::mem::align_of::<hgcd_mesh_desc>(),
         8usize,
         concat!("Alignment of ", stringify!(hgcd_mesh_desc))
     );
     fn test_field_struct_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -846,9 +846,9 @@ fn bindgen_test_layout_hgcd_mesh_desc() {
     fn test_field_init_tag() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -863,9 +863,9 @@ fn bindgen_test_layout_hgcd_mesh_desc() {
     fn test_field_vertices() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).vertices) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).vertices) as usize - ptr as usize
             },
             8usize,
             concat!(
@@ -880,9 +880,9 @@ fn bindgen_test_layout_hgcd_mesh_desc() {
     fn test_field_triangles() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).triangles) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).triangles) as usize - ptr as usize
             },
             16usize,
             concat!(
@@ -897,9 +897,9 @@ fn bindgen_test_layout_hgcd_mesh_desc() {
     fn test_field_vertex_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).vertex_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).vertex_count) as usize - ptr as usize
             },
             24usize,
             concat!(
@@ -914,9 +914,9 @@ fn bindgen_test_layout_hgcd_mesh_desc() {
     fn test_field_triangle_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).triangle_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).triangle_count) as usize - ptr as usize
             },
             28usize,
             concat!(
@@ -977,21 +977,21 @@ pub struct hgcd_mesh_info {
 #[test]
 fn bindgen_test_layout_hgcd_mesh_info() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_mesh_info>(),
+        ::std::mem::size_of::<hgcd_mesh_info>(),
         64usize,
         concat!("Size of: ", stringify!(hgcd_mesh_info))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_mesh_info>(),
+        ::std::mem::align_of::<hgcd_mesh_info>(),
         8usize,
         concat!("Alignment of ", stringify!(hgcd_mesh_info))
     );
     fn test_field_struct_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -1006,9 +1006,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_vertex_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).vertex_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).vertex_count) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -1023,9 +1023,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_triangle_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).triangle_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).triangle_count) as usize - ptr as usize
             },
             8usize,
             concat!(
@@ -1040,9 +1040,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_closed() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).closed) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).closed) as usize - ptr as usize
             },
             12usize,
             concat!(
@@ -1057,9 +1057,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_convex() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).convex) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).convex) as usize - ptr as usize
             },
             16usize,
             concat!(
@@ -1074,9 +1074,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_component_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).component_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).component_count) as usize - ptr as usize
             },
             20usize,
             concat!(
@@ -1091,9 +1091,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_degenerate_triangle_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).degenerate_triangle_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).degenerate_triangle_count) as usize - ptr as usize
             },
             24usize,
             concat!(
@@ -1108,9 +1108,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_body_count() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).body_count) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).body_count) as usize - ptr as usize
             },
             28usize,
             concat!(
@@ -1125,9 +1125,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_center() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).center) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).center) as usize - ptr as usize
             },
             32usize,
             concat!(
@@ -1142,9 +1142,9 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     fn test_field_radius() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).radius) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).radius) as usize - ptr as usize
             },
             56usize,
             concat!(
@@ -1195,21 +1195,21 @@ pub struct hgcd_body_desc {
 #[test]
 fn bindgen_test_layout_hgcd_body_desc() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_body_desc>(),
+        ::std::mem::size_of::<hgcd_body_desc>(),
         112usize,
         concat!("Size of: ", stringify!(hgcd_body_desc))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_body_desc>(),
+        ::std::mem::align_of::<hgcd_body_desc>(),
         8usize,
         concat!("Alignment of ", stringify!(hgcd_body_desc))
     );
     fn test_field_struct_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -1224,9 +1224,9 @@ fn bindgen_test_layout_hgcd_body_desc() {
     fn test_field_init_tag() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -1241,9 +1241,9 @@ fn bindgen_test_layout_hgcd_body_desc() {
     fn test_field_mesh() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).mesh) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).mesh) as usize - ptr as usize
             },
             8usize,
             concat!(
@@ -1258,9 +1258,9 @@ fn bindgen_test_layout_hgcd_body_desc() {
     fn test_field_position() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).position) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).position) as usize - ptr as usize
             },
             16usize,
             concat!(
@@ -1275,9 +1275,9 @@ fn bindgen_test_layout_hgcd_body_desc() {
     fn test_field_orientation() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).orientation) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).orientation) as usize - ptr as usize
             },
             40usize,
             concat!(
@@ -1292,9 +1292,9 @@ fn bindgen_test_layout_hgcd_body_desc() {
     fn test_field_velocity() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).velocity) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).velocity) as usize - ptr as usize
             },
             72usize,
             concat!(
@@ -1309,9 +1309,9 @@ fn bindgen_test_layout_hgcd_body_desc() {
     fn test_field_scale() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).scale) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).scale) as usize - ptr as usize
             },
             96usize,
             concat!(
@@ -1326,9 +1326,9 @@ fn bindgen_test_layout_hgcd_body_desc() {
     fn test_field_user_data() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).user_data) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).user_data) as usize - ptr as usize
             },
             104usize,
             concat!(
@@ -1436,21 +1436,21 @@ pub struct hgcd_scene_tetra_desc {
 #[test]
 fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     assert_eq!(
-        ::core::mem::size_of::<hgcd_scene_tetra_desc>(),
+        ::std::mem::size_of::<hgcd_scene_tetra_desc>(),
         56usize,
         concat!("Size of: ", stringify!(hgcd_scene_tetra_desc))
     );
     assert_eq!(
-        ::core::mem::align_of::<hgcd_scene_tetra_desc>(),
+        ::std::mem::align_of::<hgcd_scene_tetra_desc>(),
         8usize,
         concat!("Alignment of ", stringify!(hgcd_scene_tetra_desc))
     );
     fn test_field_struct_size() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).struct_size) as usize - ptr as usize
             },
             0usize,
             concat!(
@@ -1465,9 +1465,9 @@ fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     fn test_field_init_tag() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).init_tag) as usize - ptr as usize
             },
             4usize,
             concat!(
@@ -1482,9 +1482,9 @@ fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     fn test_field_n() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).n) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).n) as usize - ptr as usize
             },
             8usize,
             concat!(
@@ -1499,9 +1499,9 @@ fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     fn test_field_seed() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).seed) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).seed) as usize - ptr as usize
             },
             16usize,
             concat!(
@@ -1516,9 +1516,9 @@ fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     fn test_field_side() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).side) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).side) as usize - ptr as usize
             },
             24usize,
             concat!(
@@ -1533,9 +1533,9 @@ fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     fn test_field_rmin() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).rmin) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).rmin) as usize - ptr as usize
             },
             32usize,
             concat!(
@@ -1550,9 +1550,9 @@ fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     fn test_field_rmax() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).rmax) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).rmax) as usize - ptr as usize
             },
             40usize,
             concat!(
@@ -1567,9 +1567,9 @@ fn bindgen_test_layout_hgcd_scene_tetra_desc() {
     fn test_field_vmax() {
         assert_eq!(
             unsafe {
-                let uninit = ::core::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
+                let uninit = ::std::mem::MaybeUninit::<hgcd_scene_tetra_desc>::uninit();
                 let ptr = uninit.as_ptr();
-                ::core::ptr::addr_of!((*ptr).vmax) as usize - ptr as usize
+                ::std::ptr::addr_of!((*ptr).vmax) as usize - ptr as usize
             },
             48usize,
             concat!(

@@ -9,7 +9,6 @@
 //! Everything here is `unsafe` to use and follows the C contract documented
 //! in the header; the `hgcd` crate is the safe wrapper. `build.rs` decides
 //! which `libhgcd` is linked (see the crate README for the search order).
-#![cfg_attr(not(test), no_std)]
 #![allow(non_upper_case_globals, non_camel_case_types, non_snake_case)]
 #![allow(clippy::all)]
 #![allow(rustdoc::broken_intra_doc_links, rustdoc::bare_urls)]

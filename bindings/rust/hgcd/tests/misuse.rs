@@ -485,10 +485,37 @@ fn versions_agree() {
 
 #[test]
 fn pair_layout_matches_c() {
-    use std::mem::{align_of, offset_of, size_of};
+    use std::mem::{align_of, size_of};
     assert_eq!(size_of::<Pair>(), size_of::<sys::hgcd_pair>());
     assert_eq!(align_of::<Pair>(), align_of::<sys::hgcd_pair>());
-    assert_eq!(offset_of!(Pair, b), offset_of!(sys::hgcd_pair, b));
+    // Field offsets, via a real value (no offset_of!: Rust 1.63 compatible).
+    let p = Pair {
+        a: BodyId::NULL,
+        b: BodyId::NULL,
+    };
+    let base = &p as *const Pair as usize;
+    assert_eq!(&p.a as *const BodyId as usize - base, 0);
+    assert_eq!(&p.b as *const BodyId as usize - base, 8);
+    let raw = sys::hgcd_pair {
+        a: BodyId::NULL.to_raw(),
+        b: BodyId::NULL.to_raw(),
+    };
+    let raw_base = &raw as *const sys::hgcd_pair as usize;
+    assert_eq!(&raw.b as *const sys::hgcd_body as usize - raw_base, 8);
+    // A slice of C pairs reads back as the same ids.
+    let c_pairs = [sys::hgcd_pair {
+        a: sys::hgcd_body {
+            index: 1,
+            generation: 2,
+        },
+        b: sys::hgcd_body {
+            index: 3,
+            generation: 4,
+        },
+    }];
+    let rust: &[Pair] = unsafe { std::slice::from_raw_parts(c_pairs.as_ptr().cast::<Pair>(), 1) };
+    assert_eq!(rust[0].indices(), (1, 3));
+    assert_eq!((rust[0].a.generation(), rust[0].b.generation()), (2, 4));
     assert_eq!(
         size_of::<Option<World>>(),
         size_of::<*mut sys::hgcd_world>()

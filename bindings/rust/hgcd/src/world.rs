@@ -96,10 +96,14 @@ impl World {
         // SAFETY: both pointers are valid for the call.
         let status = unsafe { sys::hgcd_world_create(&raw_desc, &mut raw) };
         if status != sys::HGCD_OK {
-            return Err(Error::from_status(
-                status,
-                "world_create: invalid world descriptor",
-            ));
+            // There is no world to hold a message: say what can be said.
+            let message = if status == sys::HGCD_ERROR_INVALID_ARGUMENT {
+                "world_create: a descriptor value is out of range (non-finite or negative \
+                 time_step, bounds_min >= bounds_max, bad cell sizes, too many threads)"
+            } else {
+                "world_create"
+            };
+            return Err(Error::from_status(status, message));
         }
         match NonNull::new(raw) {
             Some(raw) => Ok(World { raw }),

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstring>
 
 namespace hgcd {
 
@@ -19,11 +20,24 @@ constexpr int64_t kCoordBias = int64_t(1) << 41;
 constexpr int64_t kSaturate = int64_t(1) << 62;
 constexpr size_t kChunk = 1024;
 
+// 2^k for |k| < 1000, built from the exponent bits (no libm call).
+inline double pow2(int k) {
+    const uint64_t bits = uint64_t(k + 1023) << 52;
+    double d;
+    std::memcpy(&d, &bits, sizeof d);
+    return d;
+}
+
 inline int64_t cell_coord(double x, int exponent) {
-    const double v = std::floor(std::ldexp(x, -exponent));  // exact scaling
-    if (v >= double(kSaturate)) return kSaturate;
-    if (v <= -double(kSaturate)) return -kSaturate;
-    return int64_t(v);
+    // x * 2^-e is exact (a power-of-two scale) unless it leaves the normal
+    // range, where ldexp keeps it exact too.
+    const double v = exponent > -1000 && exponent < 1000 ? x * pow2(-exponent)
+                                                           : std::ldexp(x, -exponent);
+    if (!(v < double(kSaturate))) return kSaturate;
+    if (!(v > -double(kSaturate))) return -kSaturate;
+    // floor without a libm call (baseline x86-64 has no rounding instruction)
+    const int64_t t = int64_t(v);
+    return t - (v < double(t));
 }
 
 inline uint64_t clamp_bias(int64_t c) {

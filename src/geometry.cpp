@@ -891,32 +891,34 @@ bool segment_triangle_intersect(const double *e0, const double *e1,
 //    X_ab <= X_ac iff g = -1, and Y_ab >= Y_ac iff f = -1. With (lo, hi) the
 //    endpoints so ordered, the segments overlap iff X_lo <= Y_hi and
 //    Y_lo <= X_hi: two more orientation tests (the Guigue-Devillers idea).
-bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
-                       const double *q0, const double *q1, const double *q2) {
-    const double *p[3] = {p0, p1, p2};
-    const double *q[3] = {q0, q1, q2};
+namespace {
 
-    PlaneFilter pq;
-    plane_prepare(pq, q0, q1, q2);
-    int sp[3];
-    plane_sides3(pq, p0, p1, p2, sp);
-    int sp0 = sp[0], sp1 = sp[1], sp2 = sp[2];
-    if ((sp0 == sp1) & (sp1 == sp2) & (sp0 != 0)) return false;
+inline double min2(double a, double b) { return b < a ? b : a; }
+inline double max2(double a, double b) { return a < b ? b : a; }
 
-    PlaneFilter pp;
-    plane_prepare(pp, p0, p1, p2);
-    int sq[3];
-    plane_sides3(pp, q0, q1, q2, sq);
-    int sq0 = sq[0], sq1 = sq[1], sq2 = sq[2];
-    if ((sq0 == sq1) & (sq1 == sq2) & (sq0 != 0)) return false;
+// Boxes of the two triangles are disjoint (exact comparisons).
+inline bool boxes_disjoint(const double *const *p, const double *const *q) {
+    bool apart = false;
+    for (int k = 0; k < 3; ++k) {
+        double plo = min2(min2(p[0][k], p[1][k]), p[2][k]);
+        double phi = max2(max2(p[0][k], p[1][k]), p[2][k]);
+        double qlo = min2(min2(q[0][k], q[1][k]), q[2][k]);
+        double qhi = max2(max2(q[0][k], q[1][k]), q[2][k]);
+        apart |= (phi < qlo) | (qhi < plo);
+    }
+    return apart;
+}
 
-    if ((sp0 == 0 && sp1 == 0 && sp2 == 0) ||
-        (sq0 == 0 && sq1 == 0 && sq2 == 0)) {
+// Steps 2-3 of tri_tri_intersect, given both sign triples (neither all
+// equal and non-zero).
+inline bool tri_tri_finish(const double *const *p, const double *const *q,
+                           const int *sp, const int *sq) {
+    if ((sp[0] == 0 && sp[1] == 0 && sp[2] == 0) ||
+        (sq[0] == 0 && sq[1] == 0 && sq[2] == 0)) {
         return tri_tri_general(p, q);
     }
-
-    int ap = kApex.v[(sp0 + 1) * 9 + (sp1 + 1) * 3 + (sp2 + 1)];
-    int aq = kApex.v[(sq0 + 1) * 9 + (sq1 + 1) * 3 + (sq2 + 1)];
+    int ap = kApex.v[(sp[0] + 1) * 9 + (sp[1] + 1) * 3 + (sp[2] + 1)];
+    int aq = kApex.v[(sq[0] + 1) * 9 + (sq[1] + 1) * 3 + (sq[2] + 1)];
     int a = ap % 3, f = ap >= 3 ? 1 : -1;
     int b = aq % 3, g = aq >= 3 ? 1 : -1;
     const double *pa = p[a], *pb = p[(a + 1) % 3], *pc = p[(a + 2) % 3];
@@ -925,6 +927,105 @@ bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
     const double *qlo = f < 0 ? qc : qb, *qhi = f < 0 ? qb : qc;
     if (orient3d_filtered(pa, plo, qa, qhi) < 0) return false;
     return orient3d_filtered(pa, phi, qa, qlo) <= 0;
+}
+
+inline bool all_same_nonzero(const int *s) {
+    return (s[0] == s[1]) & (s[1] == s[2]) & (s[0] != 0);
+}
+
+}  // namespace
+
+// Triangle-triangle test.
+//
+// 0. Disjoint bounding boxes: no contact (exact, cheap, rejects about half of
+//    the triangle pairs of box-overlapping tetrahedra).
+// 1. Plane-side rejection: if the three vertices of one triangle are strictly
+//    on one side of the other's plane there is no contact.
+// 2. If all vertices of one triangle lie on the other's plane, the triangles
+//    are coplanar or one of them has zero area: general exact path.
+// 3. Otherwise both triangles are proper and their planes cross in a line L.
+//    Each triangle meets L in a segment (possibly a point): S_P = [X_ab, X_ac]
+//    where a is P's apex vertex (alone on its side of Q's plane, after
+//    flipping) and X_ab is where edge a-b meets Q's plane; likewise S_Q. The
+//    triangles meet iff S_P and S_Q overlap. Ordering along L needs no
+//    constructed points: with P's apex on the positive side of Q's plane (after
+//    the flip f) and Q's apex on the positive side of P's plane (flip g),
+//    sign orient3d(p_a, p_x, q_a, q_y) = sign of (Y_y - X_x) along one fixed
+//    direction of L (X_x on edge a-x of P, Y_y on edge a-y of Q). [Proof: an
+//    orientation-preserving affine map sends P's plane to z=0, Q's to y=0,
+//    with the apex sides to y>0 and z>0; writing p_a = X + l u,
+//    p_x = X - m u (u = (u1, u2, 0), u2 > 0), q_a = Y + r w, q_y = Y - s w
+//    (w = (w1, 0, w3), w3 > 0), the determinant expands to
+//    (l+m)(r+s) u2 w3 (Y_1 - X_1).] In those coordinates, the order of the
+//    two crossing points of each triangle follows from its orientation:
+//    X_ab <= X_ac iff g = -1, and Y_ab >= Y_ac iff f = -1. With (lo, hi) the
+//    endpoints so ordered, the segments overlap iff X_lo <= Y_hi and
+//    Y_lo <= X_hi: two more orientation tests (the Guigue-Devillers idea).
+bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
+                       const double *q0, const double *q1, const double *q2) {
+    const double *p[3] = {p0, p1, p2};
+    const double *q[3] = {q0, q1, q2};
+    if (boxes_disjoint(p, q)) return false;
+
+    PlaneFilter pq;
+    plane_prepare(pq, q0, q1, q2);
+    int sp[3];
+    plane_sides3(pq, p0, p1, p2, sp);
+    if (all_same_nonzero(sp)) return false;
+
+    PlaneFilter pp;
+    plane_prepare(pp, p0, p1, p2);
+    int sq[3];
+    plane_sides3(pp, q0, q1, q2, sq);
+    if (all_same_nonzero(sq)) return false;
+
+    return tri_tri_finish(p, q, sp, sq);
+}
+
+void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
+                      const double *v2) {
+    t.v[0] = v0;
+    t.v[1] = v1;
+    t.v[2] = v2;
+    PlaneFilter pf;
+    plane_prepare(pf, v0, v1, v2);
+    for (int k = 0; k < 3; ++k) {
+        t.n[k] = pf.n[k];
+        t.an[k] = pf.an[k];
+        t.lo[k] = min2(min2(v0[k], v1[k]), v2[k]);
+        t.hi[k] = max2(max2(v0[k], v1[k]), v2[k]);
+    }
+}
+
+bool tri_tri_intersect(const PreparedTriangle &p, const PreparedTriangle &q) {
+    bool apart = false;
+    for (int k = 0; k < 3; ++k) {
+        apart |= (p.hi[k] < q.lo[k]) | (q.hi[k] < p.lo[k]);
+    }
+    if (apart) return false;
+    PlaneFilter pq;
+    pq.t0 = q.v[0];
+    pq.t1 = q.v[1];
+    pq.t2 = q.v[2];
+    for (int k = 0; k < 3; ++k) {
+        pq.n[k] = q.n[k];
+        pq.an[k] = q.an[k];
+    }
+    int sp[3];
+    plane_sides3(pq, p.v[0], p.v[1], p.v[2], sp);
+    if (all_same_nonzero(sp)) return false;
+    PlaneFilter pp;
+    pp.t0 = p.v[0];
+    pp.t1 = p.v[1];
+    pp.t2 = p.v[2];
+    for (int k = 0; k < 3; ++k) {
+        pp.n[k] = p.n[k];
+        pp.an[k] = p.an[k];
+    }
+    int sq[3];
+    plane_sides3(pp, q.v[0], q.v[1], q.v[2], sq);
+    if (all_same_nonzero(sq)) return false;
+    return tri_tri_finish(p.v, q.v, sp, sq);
 }
 
 // ---------------------------------------------------------------------------

@@ -19,6 +19,22 @@ int orient2d(const double *a, const double *b, const double *c);
 bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
                        const double *q0, const double *q1, const double *q2);
 
+// A triangle with its plane filter data and box computed once, for callers
+// that test one triangle against several others (e.g. the 16 face pairs of
+// two tetrahedra). The vertex pointers must stay valid while it is used.
+struct PreparedTriangle {
+    const double *v[3];
+    double n[3];   // rounded normal (v1-v0) x (v2-v0), filter use only
+    double an[3];  // filter permanents of n's components
+    double lo[3], hi[3];  // exact bounding box
+};
+
+void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
+                      const double *v2);
+
+// Same answer as tri_tri_intersect on the triangles' vertices.
+bool tri_tri_intersect(const PreparedTriangle &p, const PreparedTriangle &q);
+
 // Parity test: true if p lies inside the solid bounded by the closed mesh
 // (every edge shared by an even number of triangles). Precondition: p is not
 // on the mesh surface (the caller has shown the surfaces disjoint). verts are

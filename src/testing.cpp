@@ -20,6 +20,13 @@ int hgcdi_tri_tri(const double p[9], const double q[9]) {
     return hgcd::tri_tri_intersect(p, p + 3, p + 6, q, q + 3, q + 6) ? 1 : 0;
 }
 
+int hgcdi_tri_tri_prepared(const double p[9], const double q[9]) {
+    hgcd::PreparedTriangle a, b;
+    hgcd::prepare_triangle(a, p, p + 3, p + 6);
+    hgcd::prepare_triangle(b, q, q + 3, q + 6);
+    return hgcd::tri_tri_intersect(a, b) ? 1 : 0;
+}
+
 int hgcdi_segment_triangle(const double e0[3], const double e1[3],
                            const double t[9]) {
     return hgcd::segment_triangle_intersect(e0, e1, t, t + 3, t + 6) ? 1 : 0;

@@ -150,35 +150,58 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         stats.rebuilt = true;
         stats.moved = slot_count;
     } else {
-        // Bodies whose membership changed (new, destroyed, or changed level).
+        // Per body: 0 same cell, 1 moved to another cell of the same level,
+        // 2 membership changed (new, destroyed, slot reused, or other level).
+        // A body whose own cell is unchanged keeps every coarser cell too, so
+        // only flagged bodies touch the lists.
+        std::vector<uint8_t> flag(slot_count, 0);
         std::vector<uint32_t> changed;
-        std::vector<uint8_t> changed_flag(slot_count, 0);
         std::vector<std::vector<uint32_t>> changed_local(threads);
+        const size_t L = levels_.size();
+        std::vector<uint64_t> touched(L, 0);
 #pragma omp parallel num_threads(threads)
         {
             auto &mine = changed_local[omp_get_thread_num()];
+            std::vector<uint64_t> my_touched(L, 0);
 #pragma omp for schedule(static)
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 const int16_t li = level_index(exponent[s]);
-                if (li != level_[s] || gen_[s] != live_gen[s]) {
-                    mine.push_back(uint32_t(s));
-                    changed_flag[s] = 1;
-                }
-                level_[s] = li;
-                gen_[s] = live_gen[s];
+                int64_t c[3] = {0, 0, 0};
                 if (li >= 0) {
                     const int e = exponent[s];
-                    cell_[3 * s] = cell_coord(spheres[s].x, e);
-                    cell_[3 * s + 1] = cell_coord(spheres[s].y, e);
-                    cell_[3 * s + 2] = cell_coord(spheres[s].z, e);
+                    c[0] = cell_coord(spheres[s].x, e);
+                    c[1] = cell_coord(spheres[s].y, e);
+                    c[2] = cell_coord(spheres[s].z, e);
                 }
+                int64_t *old = &cell_[3 * s];
+                uint8_t f = 0;
+                if (li != level_[s] || gen_[s] != live_gen[s]) {
+                    f = 2;
+                    mine.push_back(uint32_t(s));
+                } else if (li >= 0 && (c[0] != old[0] || c[1] != old[1] || c[2] != old[2])) {
+                    f = 1;
+                }
+                if (f) {
+                    if (level_[s] >= 0) ++my_touched[level_[s]];
+                    if (li >= 0) ++my_touched[li];
+                }
+                flag[s] = f;
+                level_[s] = li;
+                gen_[s] = live_gen[s];
+                old[0] = c[0];
+                old[1] = c[1];
+                old[2] = c[2];
             }
+#pragma omp critical
+            for (size_t l = 0; l < L; ++l) touched[l] += my_touched[l];
         }
         for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
         std::sort(changed.begin(), changed.end());
-        for (size_t li = 0; li < levels_.size(); ++li) {
-            update_list(levels_[li].residents, int(li), false, changed_flag, threads, stats);
-            update_list(levels_[li].guests, int(li), true, changed_flag, threads, stats);
+        uint64_t finer = 0;  // flagged bodies on levels below li
+        for (size_t li = 0; li < L; ++li) {
+            if (touched[li]) update_list(levels_[li].residents, int(li), flag, threads, stats);
+            if (finer) update_list(levels_[li].guests, int(li), flag, threads, stats);
+            finer += touched[li];
         }
         // Bodies new to a list.
         for (size_t li = 0; li < levels_.size(); ++li) {
@@ -232,8 +255,11 @@ void Grid::rebuild(uint32_t slot_count, int threads) {
 
 // Drops entries of bodies that left the list and re-keys those that changed
 // cell, keeping the array sorted.
-void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_t> &changed,
-                       int threads, GridUpdateStats &stats) {
+// Drops the entries of bodies whose membership changed (flag 2) and re-keys
+// those of bodies that moved (flag 1) if their cell at this level changed,
+// keeping the array sorted.
+void Grid::update_list(List &list, int li, const std::vector<uint8_t> &flag, int threads,
+                       GridUpdateStats &stats) {
     std::vector<Entry> &entries = list.entries;
     const int64_t m = int64_t(entries.size());
     if (m == 0) return;
@@ -247,25 +273,19 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 #pragma omp for schedule(static)
         for (int64_t k = 0; k < m; ++k) {
             const Entry &en = entries[k];
-            const uint32_t s = en.slot;
-            // A body whose membership changed is dropped from every list and
-            // re-entered afresh in the lists it now belongs to.
-            const int16_t own = level_[s];
-            const bool member = !changed[s] && gen_[s] == en.gen &&
-                                (guests ? (own >= 0 && own < li) : own == li);
-            if (!member) {
-                action[k] = 1;
-                ++dropped;
-                continue;
+            const uint8_t f = flag[en.slot];
+            uint8_t act = 0;
+            if (f == 2) {
+                act = 1;
+            } else if (f == 1) {
+                const CellKey key = key_of(en.slot, li);
+                if (key != en.key) {
+                    act = 2;
+                    mine.push_back({key, en.slot, en.gen});
+                }
             }
-            const CellKey key = key_of(s, li);
-            if (key == en.key) {
-                action[k] = 0;
-            } else {
-                action[k] = 2;
-                ++dropped;
-                mine.push_back({key, s, en.gen});
-            }
+            action[k] = act;
+            dropped += act != 0;
         }
     }
     if (dropped == 0) return;

@@ -81,9 +81,8 @@ class Grid {
     static constexpr int16_t kOversize = -2;
 
     void rebuild(uint32_t slot_count, int threads);
-    void update_list(List &list, int level_index, bool guests,
-                     const std::vector<uint8_t> &changed, int threads,
-                     GridUpdateStats &stats);
+    void update_list(List &list, int level_index, const std::vector<uint8_t> &flag,
+                     int threads, GridUpdateStats &stats);
     void gather(List &list, const Sphere *spheres, int threads);
     CellKey key_of(uint32_t slot, int level_index) const;
     void sweep_residents(const Level &lv, size_t begin, size_t end,

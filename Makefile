@@ -53,7 +53,7 @@ $(SHARED): $(OBJS) src/hgcd.map
 	ln -sf $(SONAME) $(BUILD)/libhgcd.so
 
 $(BUILD)/hgcd.pc: Makefile
-	printf 'prefix=%s\nlibdir=%s\nincludedir=%s\n\nName: hgcd\nDescription: Parallel exact collision detection between many triangle meshes\nVersion: %s\nLibs: -L$${libdir} -lhgcd\nLibs.private: -fopenmp -lstdc++ -lm\nCflags: -I$${includedir}\n' \
+	printf 'prefix=%s\nlibdir=%s\nincludedir=%s\n\nName: hgcd\nDescription: Parallel exact collision detection between many triangle meshes\nVersion: %s\nLibs: -L$${libdir} -lhgcd\nLibs.private: -lgomp -lstdc++ -lm\nCflags: -I$${includedir}\n' \
 	  '$(PREFIX)' '$(LIBDIR)' '$(INCLUDEDIR)' '$(VERSION)' > $@
 
 install: lib $(BUILD)/hgcd.pc

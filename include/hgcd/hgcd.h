@@ -160,7 +160,8 @@ typedef struct hgcd_world_desc {
     uint32_t struct_size;
     /** Set by hgcd_world_desc_default(); catches uninitialised descriptors. */
     uint32_t init_tag;
-    /** OpenMP threads per parallel region; 0 (default) = all cores. */
+    /** OpenMP threads per parallel region; 0 (default) = all cores.
+     *  At most 4096 (more is INVALID_ARGUMENT). */
     uint32_t thread_count;
     /** Non-zero: hgcd_world_step reflects bodies at the bounds box, as the
      *  reference scenes do (a coordinate that leaves [min, max] is mirrored
@@ -210,14 +211,15 @@ HGCD_API uint32_t hgcd_world_body_count(const hgcd_world *world);
 HGCD_API uint32_t hgcd_world_mesh_count(const hgcd_world *world);
 
 /** Sets the number of OpenMP threads per parallel region (0 = all cores).
- *  Errors: NULL_ARGUMENT. */
+ *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (more than 4096). */
 HGCD_API hgcd_status hgcd_world_set_thread_count(hgcd_world *world,
                                                  uint32_t thread_count);
 
 /** Moves every body by velocity * time_step (reflecting at the bounds when
- *  the descriptor asked for it), then detects as hgcd_world_detect does.
- *  If a move would make a coordinate non-finite, nothing moves and
- *  INVALID_ARGUMENT is returned.
+ *  the descriptor asked for it; a move longer than the box is clamped into
+ *  it), then detects as hgcd_world_detect does. Without reflection, if a move
+ *  would take a coordinate beyond 1e15 in magnitude (or make it non-finite),
+ *  nothing moves and INVALID_ARGUMENT is returned naming the body.
  *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY. */
 HGCD_API hgcd_status hgcd_world_step(hgcd_world *world);
 

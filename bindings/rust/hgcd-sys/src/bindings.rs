@@ -224,6 +224,7 @@ pub struct hgcd_world_desc {
     #[doc = " Set by hgcd_world_desc_default(); catches uninitialised descriptors."]
     pub init_tag: u32,
     #[doc = " OpenMP threads per parallel region; 0 (default) = all cores."]
+    #[doc = "  At most 4096 (more is INVALID_ARGUMENT)."]
     pub thread_count: u32,
     #[doc = " Non-zero: hgcd_world_step reflects bodies at the bounds box, as the"]
     #[doc = "  reference scenes do (a coordinate that leaves [min, max] is mirrored"]
@@ -448,14 +449,15 @@ extern "C" {
 }
 extern "C" {
     #[doc = " Sets the number of OpenMP threads per parallel region (0 = all cores)."]
-    #[doc = "  Errors: NULL_ARGUMENT."]
+    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (more than 4096)."]
     pub fn hgcd_world_set_thread_count(world: *mut hgcd_world, thread_count: u32) -> hgcd_status;
 }
 extern "C" {
     #[doc = " Moves every body by velocity * time_step (reflecting at the bounds when"]
-    #[doc = "  the descriptor asked for it), then detects as hgcd_world_detect does."]
-    #[doc = "  If a move would make a coordinate non-finite, nothing moves and"]
-    #[doc = "  INVALID_ARGUMENT is returned."]
+    #[doc = "  the descriptor asked for it; a move longer than the box is clamped into"]
+    #[doc = "  it), then detects as hgcd_world_detect does. Without reflection, if a move"]
+    #[doc = "  would take a coordinate beyond 1e15 in magnitude (or make it non-finite),"]
+    #[doc = "  nothing moves and INVALID_ARGUMENT is returned naming the body."]
     #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY."]
     pub fn hgcd_world_step(world: *mut hgcd_world) -> hgcd_status;
 }

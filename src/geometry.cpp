@@ -211,12 +211,12 @@ inline int diff_expansion(double a, double b, double *h) {
     return n;
 }
 
-// h = e * f for elen <= 2 and flen <= 16 (all our uses); h has room for
-// 2 * elen * flen components (at most 64).
+// h = e * f for elen <= 2 or flen <= 2 (all our uses: one factor is always
+// a difference of two doubles) and the other of at most 16 components; h has
+// room for 2 * elen * flen components (at most 64).
 int expansion_mul_small(int elen, const double *e, int flen, const double *f,
                         double *h) {
-    // Scale the longer one by each component of the shorter one.
-    if (elen > flen) {
+    if (elen > flen) {  // scale the longer one by the shorter one's parts
         const double *t = e;
         e = f;
         f = t;
@@ -224,19 +224,12 @@ int expansion_mul_small(int elen, const double *e, int flen, const double *f,
         elen = flen;
         flen = tn;
     }
-    // Now elen <= flen, elen <= 2 in all our uses (we assert by size).
-    double part[32];
-    double acc[64];
-    int accn = 0;
-    for (int i = 0; i < elen; ++i) {
-        int pn = scale_expansion(flen, f, e[i], part);
-        double tmp[64];
-        int tn = expansion_sum(accn, acc, pn, part, tmp);
-        for (int k = 0; k < tn; ++k) acc[k] = tmp[k];
-        accn = tn;
-    }
-    for (int k = 0; k < accn; ++k) h[k] = acc[k];
-    return accn;
+    if (elen == 0) return 0;
+    if (elen == 1) return scale_expansion(flen, f, e[0], h);
+    double p0[32], p1[32];  // elen == 2, flen <= 16
+    int n0 = scale_expansion(flen, f, e[0], p0);
+    int n1 = scale_expansion(flen, f, e[1], p1);
+    return expansion_sum(n0, p0, n1, p1, h);
 }
 
 // ---------------------------------------------------------------------------
@@ -443,6 +436,10 @@ Range classify(const double *x, int count, int &scale_exp) {
         if (a != 0 && a < mn) mn = a;
     }
     if (mx == 0) return Range::kZero;
+    if (mx < 0x1p251 && mn >= 0x1p-250) {
+        scale_exp = 0;
+        return Range::kDirect;
+    }
     int emax = std::ilogb(mx), emin = std::ilogb(mn);
     if (emax <= 250 && emin >= -250) {
         scale_exp = 0;
@@ -464,22 +461,24 @@ int orient3d_expansion(const double *x /*12*/) {
         cdn[k] = diff_expansion(x[6 + k], x[9 + k], cd[k]);
     }
     // Sizes: products of two differences <= 8, minors <= 16, terms <= 64,
-    // sum of three terms <= 192.
-    double acc[192];
-    int accn = 0;
+    // sum of three terms <= 192. When every difference is exact (a single
+    // component, the usual case for coplanar data on a grid) the sizes are
+    // 2, 4, 8 and 24.
+    double term[3][64];
+    int tn[3];
     for (int k = 0; k < 3; ++k) {
         int i1 = (k + 1) % 3, i2 = (k + 2) % 3;
-        double m1[8], m2[8], minor[16], term[64], tmp[192];
+        double m1[8], m2[8], minor[16];
         int n1 = expansion_mul_small(bdn[i1], bd[i1], cdn[i2], cd[i2], m1);
         int n2 = expansion_mul_small(bdn[i2], bd[i2], cdn[i1], cd[i1], m2);
         negate(n2, m2);
         int nm = expansion_sum(n1, m1, n2, m2, minor);
-        int nt = expansion_mul_small(adn[k], ad[k], nm, minor, term);
-        int ns = expansion_sum(accn, acc, nt, term, tmp);
-        for (int i = 0; i < ns; ++i) acc[i] = tmp[i];
-        accn = ns;
+        tn[k] = expansion_mul_small(adn[k], ad[k], nm, minor, term[k]);
     }
-    return expansion_sign(accn, acc);
+    double t01[128], all[192];
+    int n01 = expansion_sum(tn[0], term[0], tn[1], term[1], t01);
+    int n = expansion_sum(n01, t01, tn[2], term[2], all);
+    return expansion_sign(n, all);
 }
 
 int orient2d_expansion(const double *x /*6*/) {
@@ -972,6 +971,9 @@ bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
     int sp[3];
     plane_sides3(pq, p0, p1, p2, sp);
     if (all_same_nonzero(sp)) return false;
+    // P in Q's plane (or Q of zero area): coplanar or degenerate, and the
+    // signs of Q against P's plane are not needed.
+    if ((sp[0] == 0) & (sp[1] == 0) & (sp[2] == 0)) return tri_tri_general(p, q);
 
     PlaneFilter pp;
     plane_prepare(pp, p0, p1, p2);
@@ -1014,6 +1016,7 @@ bool tri_tri_intersect(const PreparedTriangle &p, const PreparedTriangle &q) {
     int sp[3];
     plane_sides3(pq, p.v[0], p.v[1], p.v[2], sp);
     if (all_same_nonzero(sp)) return false;
+    if ((sp[0] == 0) & (sp[1] == 0) & (sp[2] == 0)) return tri_tri_general(p.v, q.v);
     PlaneFilter pp;
     pp.t0 = p.v[0];
     pp.t1 = p.v[1];

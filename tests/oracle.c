@@ -508,6 +508,7 @@ int oracle_mesh_is_closed(const uint32_t *tris, uint32_t tri_count) {
         }
     }
     qsort(e, n, sizeof(uint64_t), cmp_u64);
+    if (n == 0) closed = 0; /* no edge at all: bounds nothing */
     for (i = 0; i < n; i = j) {
         for (j = i; j < n && e[j] == e[i]; j++) {}
         if ((j - i) % 2) { closed = 0; break; }

@@ -37,8 +37,8 @@ int oracle_point_in_closed_mesh(const double p[3], const double *verts,
                                 uint32_t tri_count);
 
 /* 1 if every undirected edge {u, v}, u != v, is used by an even number of
- * triangles. Self-edges {u, u} of index-degenerate triangles are ignored
- * (they bound nothing). */
+ * triangles and there is at least one such edge. Self-edges {u, u} of
+ * index-degenerate triangles are ignored (they bound nothing). */
 int oracle_mesh_is_closed(const uint32_t *tris, uint32_t tri_count);
 
 typedef struct {

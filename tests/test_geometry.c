@@ -864,6 +864,39 @@ static void test_pim_nonconvex(void **state) {
     }
 }
 
+/* Voxel blobs under a rotation (inexact coordinates: general position, no
+ * axis-aligned coincidences); voxel centres stay half a cell from the
+ * surface, so the voxel membership is still the answer. */
+static void test_pim_rotated(void **state) {
+    static vmesh m;
+    unsigned char s[VN * VN * VN];
+    int rep, i;
+    /* rotation from the unit quaternion (1, 2, 3, 4) / sqrt(30) */
+    const double qx = 1 / sqrt(30.0), qy = 2 / sqrt(30.0), qz = 3 / sqrt(30.0), qw = 4 / sqrt(30.0);
+    const double R[3][3] = {
+        {1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)},
+        {2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)},
+        {2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)}};
+    (void)state;
+    for (rep = 0; rep < 4; rep++) {
+        memset(&m, 0, sizeof m);
+        for (i = 0; i < VN * VN * VN; i++) s[i] = irand(2);
+        vm_add(&m, s, 1.0, 0, 0, 0, rep & 1);
+        for (i = 0; i < (int)m.vertex_count; i++) {
+            double *v = m.verts + 3 * i, w[3];
+            int k;
+            for (k = 0; k < 3; k++) w[k] = R[k][0] * v[0] + R[k][1] * v[1] + R[k][2] * v[2] + 100.0;
+            memcpy(v, w, sizeof w);
+        }
+        for (i = 0; i < 400; i++) {
+            int a = irand(VN + 2) - 1, b = irand(VN + 2) - 1, c = irand(VN + 2) - 1, k;
+            double p[3] = {a + 0.5, b + 0.5, c + 0.5}, w[3];
+            for (k = 0; k < 3; k++) w[k] = R[k][0] * p[0] + R[k][1] * p[1] + R[k][2] * p[2] + 100.0;
+            assert_int_equal(check_pim(w, &m), vox_in(s, a, b, c));
+        }
+    }
+}
+
 static void test_pim_nested_shells(void **state) {
     static vmesh m;
     unsigned char outer[VN * VN * VN], inner[VN * VN * VN];
@@ -1095,6 +1128,7 @@ int main(void) {
         cmocka_unit_test(test_pim_cube),
         cmocka_unit_test(test_pim_nonconvex),
         cmocka_unit_test(test_pim_nested_shells),
+        cmocka_unit_test(test_pim_rotated),
         cmocka_unit_test(test_pim_degenerate_ray),
         cmocka_unit_test(test_scene_oracle_small),
         cmocka_unit_test(test_scene_oracle_tetra_reference),

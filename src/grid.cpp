@@ -308,69 +308,109 @@ void Grid::gather(List &list, const Sphere *spheres, int threads) {
     list.spheres.resize(size_t(m));
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (int64_t k = 0; k < m; ++k) list.spheres[k] = spheres[list.entries[k].slot];
+    list.cell_keys.clear();
+    list.cell_start.clear();
+    for (int64_t k = 0; k < m; ++k) {
+        if (k == 0 || list.entries[k].key != list.entries[k - 1].key) {
+            list.cell_keys.push_back(list.entries[k].key);
+            list.cell_start.push_back(uint32_t(k));
+        }
+    }
+    list.cell_start.push_back(uint32_t(m));
 }
+
+namespace {
+
+// First cell at or after `from` whose key is >= target (cells are sorted).
+inline size_t advance(const std::vector<CellKey> &keys, size_t from, CellKey target) {
+    while (from < keys.size() && keys[from] < target) ++from;
+    return from;
+}
+
+inline size_t first_cell(const std::vector<CellKey> &keys, CellKey target) {
+    return size_t(std::lower_bound(keys.begin(), keys.end(), target) - keys.begin());
+}
+
+}  // namespace
 
 void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
                            std::vector<uint64_t> &out) const {
-    const std::vector<Entry> &E = lv.residents.entries;
-    const std::vector<Sphere> &S = lv.residents.spheres;
-    const size_t m = E.size();
+    const List &R = lv.residents;
+    const std::vector<CellKey> &keys = R.cell_keys;
+    const std::vector<uint32_t> &start = R.cell_start;
+    const Sphere *S = R.spheres.data();
+    const Entry *E = R.entries.data();
+    const size_t cells = keys.size();
     // The later half of the 3x3 rows: (dz, dy) after (0, 0) in key order.
     static const int rows[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
     CellKey off[4];
     size_t cur[4];
     for (int r = 0; r < 4; ++r) {
         off[r] = row_offset(rows[r][0], rows[r][1]);
-        const CellKey lo = E[begin].key + off[r] - 1;
-        cur[r] = size_t(std::lower_bound(E.begin(), E.end(), lo,
-                                         [](const Entry &e, CellKey k) { return e.key < k; }) -
-                        E.begin());
+        cur[r] = first_cell(keys, keys[begin] + off[r] - 1);
     }
-    for (size_t i = begin; i < end; ++i) {
-        const CellKey K = E[i].key;
-        const Sphere &a = S[i];
-        const uint32_t si = E[i].slot;
-        for (size_t j = i + 1; j < m && E[j].key <= K + 1; ++j)
-            if (overlap(a, S[j])) out.push_back(pair_key(si, E[j].slot));
+    for (size_t c = begin; c < end; ++c) {
+        const CellKey K = keys[c];
+        const size_t ab = start[c], ae = start[c + 1];
+        // Within the cell: each pair once.
+        for (size_t i = ab; i < ae; ++i)
+            for (size_t j = i + 1; j < ae; ++j)
+                if (overlap(S[i], S[j])) out.push_back(pair_key(E[i].slot, E[j].slot));
+        // The rest: the cell x + 1 of the own row, then the four later rows.
+        size_t runs[5][2];
+        int nruns = 0;
+        if (c + 1 < cells && keys[c + 1] == K + 1) {
+            runs[nruns][0] = start[c + 1];
+            runs[nruns++][1] = start[c + 2];
+        }
         for (int r = 0; r < 4; ++r) {
             const CellKey lo = K + off[r] - 1, hi = K + off[r] + 1;
-            size_t j = cur[r];
-            while (j < m && E[j].key < lo) ++j;
-            cur[r] = j;
-            for (; j < m && E[j].key <= hi; ++j)
-                if (overlap(a, S[j])) out.push_back(pair_key(si, E[j].slot));
+            const size_t first = cur[r] = advance(keys, cur[r], lo);
+            size_t last = first;
+            while (last < cells && keys[last] <= hi) ++last;
+            if (last > first) {
+                runs[nruns][0] = start[first];
+                runs[nruns++][1] = start[last];
+            }
         }
+        for (int r = 0; r < nruns; ++r)
+            for (size_t i = ab; i < ae; ++i) {
+                const Sphere a = S[i];
+                for (size_t j = runs[r][0]; j < runs[r][1]; ++j)
+                    if (overlap(a, S[j])) out.push_back(pair_key(E[i].slot, E[j].slot));
+            }
     }
 }
 
 void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
                         std::vector<uint64_t> &out) const {
-    const std::vector<Entry> &G = lv.guests.entries;
-    const std::vector<Sphere> &GS = lv.guests.spheres;
-    const std::vector<Entry> &E = lv.residents.entries;
-    const std::vector<Sphere> &S = lv.residents.spheres;
-    const size_t m = E.size();
-    if (m == 0) return;
+    const List &G = lv.guests, &R = lv.residents;
+    const std::vector<CellKey> &gkeys = G.cell_keys, &keys = R.cell_keys;
+    const size_t cells = keys.size();
+    if (cells == 0) return;
+    const Sphere *GS = G.spheres.data(), *S = R.spheres.data();
+    const Entry *GE = G.entries.data(), *E = R.entries.data();
     CellKey off[9];
     size_t cur[9];
     for (int r = 0; r < 9; ++r) {
         off[r] = row_offset(r / 3 - 1, r % 3 - 1);
-        const CellKey lo = G[begin].key + off[r] - 1;
-        cur[r] = size_t(std::lower_bound(E.begin(), E.end(), lo,
-                                         [](const Entry &e, CellKey k) { return e.key < k; }) -
-                        E.begin());
+        cur[r] = first_cell(keys, gkeys[begin] + off[r] - 1);
     }
-    for (size_t i = begin; i < end; ++i) {
-        const CellKey K = G[i].key;
-        const Sphere &a = GS[i];
-        const uint32_t si = G[i].slot;
+    for (size_t c = begin; c < end; ++c) {
+        const CellKey K = gkeys[c];
+        const size_t gb = G.cell_start[c], ge = G.cell_start[c + 1];
         for (int r = 0; r < 9; ++r) {
             const CellKey lo = K + off[r] - 1, hi = K + off[r] + 1;
-            size_t j = cur[r];
-            while (j < m && E[j].key < lo) ++j;
-            cur[r] = j;
-            for (; j < m && E[j].key <= hi; ++j)
-                if (overlap(a, S[j])) out.push_back(pair_key(si, E[j].slot));
+            const size_t first = cur[r] = advance(keys, cur[r], lo);
+            size_t last = first;
+            while (last < cells && keys[last] <= hi) ++last;
+            if (last == first) continue;
+            const size_t rb = R.cell_start[first], re = R.cell_start[last];
+            for (size_t i = gb; i < ge; ++i) {
+                const Sphere a = GS[i];
+                for (size_t j = rb; j < re; ++j)
+                    if (overlap(a, S[j])) out.push_back(pair_key(GE[i].slot, E[j].slot));
+            }
         }
     }
 }
@@ -418,12 +458,19 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
         size_t begin, end;
     };
     std::vector<Item> items;
+    // Chunks of whole cells holding about kChunk entries each.
+    auto chunk = [&](const List &list, int kind, uint32_t li) {
+        const size_t cells = list.cell_keys.size();
+        for (size_t b = 0; b < cells;) {
+            size_t e = b + 1;
+            while (e < cells && list.cell_start[e] - list.cell_start[b] < kChunk) ++e;
+            items.push_back({kind, li, b, e});
+            b = e;
+        }
+    };
     for (uint32_t li = 0; li < levels_.size(); ++li) {
-        const size_t nr = levels_[li].residents.entries.size();
-        for (size_t b = 0; b < nr; b += kChunk) items.push_back({0, li, b, std::min(nr, b + kChunk)});
-        const size_t ng = levels_[li].guests.entries.size();
-        if (nr)
-            for (size_t b = 0; b < ng; b += kChunk) items.push_back({1, li, b, std::min(ng, b + kChunk)});
+        chunk(levels_[li].residents, 0, li);
+        if (!levels_[li].residents.entries.empty()) chunk(levels_[li].guests, 1, li);
     }
     for (size_t k = 0; k < oversize_.size(); ++k) items.push_back({2, 0, k, k + 1});
     if (oversize_.size() > 1) items.push_back({3, 0, 0, 0});

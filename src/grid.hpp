@@ -70,6 +70,10 @@ class Grid {
     struct List {
         std::vector<Entry> entries;   // sorted by (key, slot)
         std::vector<Sphere> spheres;  // spheres of entries, same order
+        // The occupied cells: distinct keys in order, and where each cell's
+        // entries start (one more than cells, ending with entries.size()).
+        std::vector<CellKey> cell_keys;
+        std::vector<uint32_t> cell_start;
     };
     struct Level {
         int exponent;
@@ -85,6 +89,7 @@ class Grid {
                      int threads, GridUpdateStats &stats);
     void gather(List &list, const Sphere *spheres, int threads);
     CellKey key_of(uint32_t slot, int level_index) const;
+    // Pairs of the cells [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,
                          std::vector<uint64_t> &out) const;
     void sweep_guests(const Level &lv, size_t begin, size_t end,

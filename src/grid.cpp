@@ -148,7 +148,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         }
         rebuild(slot_count, threads);
         stats.rebuilt = true;
-        stats.moved = slot_count;
+        stats.moved = slot_count;  // every body (re-)entered
     } else {
         // Per body: 0 same cell, 1 moved to another cell of the same level,
         // 2 membership changed (new, destroyed, slot reused, or other level).
@@ -159,7 +159,8 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         std::vector<std::vector<uint32_t>> changed_local(threads);
         const size_t L = levels_.size();
         std::vector<uint64_t> touched(L, 0);
-#pragma omp parallel num_threads(threads)
+        uint64_t flagged = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : flagged)
         {
             auto &mine = changed_local[omp_get_thread_num()];
             std::vector<uint64_t> my_touched(L, 0);
@@ -182,6 +183,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                     f = 1;
                 }
                 if (f) {
+                    ++flagged;
                     if (level_[s] >= 0) ++my_touched[level_[s]];
                     if (li >= 0) ++my_touched[li];
                 }
@@ -198,37 +200,32 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
         std::sort(changed.begin(), changed.end());
         uint64_t finer = 0;  // flagged bodies on levels below li
+        std::vector<uint8_t> dirty(2 * L, 0);
         for (size_t li = 0; li < L; ++li) {
-            if (touched[li]) update_list(levels_[li].residents, int(li), flag, threads, stats);
-            if (finer) update_list(levels_[li].guests, int(li), flag, threads, stats);
+            dirty[2 * li] = touched[li] != 0;
+            dirty[2 * li + 1] = finer != 0;
             finer += touched[li];
         }
-        // Bodies new to a list.
-        for (size_t li = 0; li < levels_.size(); ++li) {
-            for (int g = 0; g < 2; ++g) {
-                List &list = g ? levels_[li].guests : levels_[li].residents;
-                std::vector<Entry> add;
-                for (uint32_t s : changed) {
-                    const int16_t own = level_[s];
-                    const bool member = g ? (own >= 0 && own < int(li)) : own == int(li);
-                    if (member) add.push_back({key_of(s, int(li)), s, gen_[s]});
-                }
-                if (add.empty()) continue;
-                stats.moved += add.size();
-                std::sort(add.begin(), add.end(), ByKey<Entry>());
-                std::vector<Entry> merged(list.entries.size() + add.size());
-                std::merge(list.entries.begin(), list.entries.end(), add.begin(), add.end(),
-                           merged.begin(), ByKey<Entry>());
-                list.entries.swap(merged);
-            }
+        // One parallel region over all lists: each list is updated, gathered
+        // and indexed by one thread (lists are independent).
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+        for (int64_t k = 0; k < int64_t(2 * L); ++k) {
+            Level &lv = levels_[k / 2];
+            List &list = (k & 1) ? lv.guests : lv.residents;
+            if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed);
+            gather(list, spheres);
         }
+        stats.moved = flagged;
+    }
+    if (stats.rebuilt) {
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+        for (int64_t k = 0; k < int64_t(2 * levels_.size()); ++k)
+            gather((k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents, spheres);
     }
     oversize_.clear();
     for (uint32_t s = 0; s < slot_count; ++s)
         if (level_[s] == kOversize) oversize_.push_back(s);
     for (auto &lv : levels_) {
-        gather(lv.residents, spheres, threads);
-        gather(lv.guests, spheres, threads);
         double rmax = 0;
         for (const Sphere &sp : lv.residents.spheres) rmax = std::max(rmax, sp.r);
         lv.max_radius = rmax;
@@ -255,58 +252,38 @@ void Grid::rebuild(uint32_t slot_count, int threads) {
 
 // Drops entries of bodies that left the list and re-keys those that changed
 // cell, keeping the array sorted.
-// Drops the entries of bodies whose membership changed (flag 2) and re-keys
+// Drops the entries of bodies whose membership changed (flag 2), re-keys
 // those of bodies that moved (flag 1) if their cell at this level changed,
-// keeping the array sorted.
-void Grid::update_list(List &list, int li, const std::vector<uint8_t> &flag, int threads,
-                       GridUpdateStats &stats) {
+// and enters the changed bodies that now belong here; the array stays
+// sorted.
+void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_t> &flag,
+                         const std::vector<uint32_t> &changed) {
     std::vector<Entry> &entries = list.entries;
-    const int64_t m = int64_t(entries.size());
-    if (m == 0) return;
-    // 0 keep, 1 drop, 2 re-key
-    std::vector<uint8_t> action(m);
-    std::vector<std::vector<Entry>> rekey_local(threads);
-    size_t dropped = 0;
-#pragma omp parallel num_threads(threads) reduction(+ : dropped)
-    {
-        auto &mine = rekey_local[omp_get_thread_num()];
-#pragma omp for schedule(static)
-        for (int64_t k = 0; k < m; ++k) {
-            const Entry &en = entries[k];
-            const uint8_t f = flag[en.slot];
-            uint8_t act = 0;
-            if (f == 2) {
-                act = 1;
-            } else if (f == 1) {
-                const CellKey key = key_of(en.slot, li);
-                if (key != en.key) {
-                    act = 2;
-                    mine.push_back({key, en.slot, en.gen});
-                }
-            }
-            action[k] = act;
-            dropped += act != 0;
+    std::vector<Entry> kept, add;
+    kept.reserve(entries.size());
+    for (const Entry &en : entries) {
+        const uint8_t f = flag[en.slot];
+        if (f == 0) {
+            kept.push_back(en);
+        } else if (f == 1) {
+            const CellKey key = key_of(en.slot, li);
+            if (key == en.key) kept.push_back(en);
+            else add.push_back({key, en.slot, en.gen});
         }
     }
-    if (dropped == 0) return;
-    std::vector<Entry> rekeyed;
-    for (auto &v : rekey_local) rekeyed.insert(rekeyed.end(), v.begin(), v.end());
-    stats.moved += rekeyed.size();
-    std::sort(rekeyed.begin(), rekeyed.end(), ByKey<Entry>());
-    std::vector<Entry> kept;
-    kept.reserve(size_t(m) - dropped);
-    for (int64_t k = 0; k < m; ++k)
-        if (action[k] == 0) kept.push_back(entries[k]);
-    std::vector<Entry> merged(kept.size() + rekeyed.size());
-    std::merge(kept.begin(), kept.end(), rekeyed.begin(), rekeyed.end(), merged.begin(),
-               ByKey<Entry>());
-    entries.swap(merged);
+    for (uint32_t s : changed) {
+        const int16_t own = level_[s];
+        if (guests ? (own >= 0 && own < li) : own == li) add.push_back({key_of(s, li), s, gen_[s]});
+    }
+    if (add.empty() && kept.size() == entries.size()) return;
+    std::sort(add.begin(), add.end(), ByKey<Entry>());
+    entries.resize(kept.size() + add.size());
+    std::merge(kept.begin(), kept.end(), add.begin(), add.end(), entries.begin(), ByKey<Entry>());
 }
 
-void Grid::gather(List &list, const Sphere *spheres, int threads) {
+void Grid::gather(List &list, const Sphere *spheres) {
     const int64_t m = int64_t(list.entries.size());
     list.spheres.resize(size_t(m));
-#pragma omp parallel for num_threads(threads) schedule(static)
     for (int64_t k = 0; k < m; ++k) list.spheres[k] = spheres[list.entries[k].slot];
     list.cell_keys.clear();
     list.cell_start.clear();

@@ -38,7 +38,7 @@ struct GridLimits {
 };
 
 struct GridUpdateStats {
-    uint64_t moved = 0;  // entries re-keyed (resident or guest)
+    uint64_t moved = 0;  // bodies that changed cell or membership
     bool rebuilt = false;
 };
 
@@ -85,9 +85,9 @@ class Grid {
     static constexpr int16_t kOversize = -2;
 
     void rebuild(uint32_t slot_count, int threads);
-    void update_list(List &list, int level_index, const std::vector<uint8_t> &flag,
-                     int threads, GridUpdateStats &stats);
-    void gather(List &list, const Sphere *spheres, int threads);
+    void update_list(List &list, int level_index, bool guests,
+                       const std::vector<uint8_t> &flag, const std::vector<uint32_t> &changed);
+    static void gather(List &list, const Sphere *spheres);
     CellKey key_of(uint32_t slot, int level_index) const;
     // Pairs of the cells [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,

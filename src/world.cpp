@@ -111,8 +111,8 @@ hgcd_status World::check_pose(const char *what, const double *position,
 // ---------------------------------------------------------------- meshes --
 
 hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
-    if (!d.vertices || !d.triangles)
-        return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: vertices or triangles is NULL");
+    if (!d.vertices) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.vertices is NULL");
+    if (!d.triangles) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.triangles is NULL");
     if (live_meshes_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "mesh_create: too many meshes");
     Mesh m;
     std::string error;
@@ -350,57 +350,67 @@ hgcd_status World::detect() {
 
         std::vector<std::vector<uint64_t>> found(T);
         grid_.find_pairs(sphere_.data(), T, found);
-        std::vector<uint64_t> candidates;
-        {
-            size_t total = 0;
-            for (auto &f : found) total += f.size();
-            candidates.reserve(total);
-            for (auto &f : found) {
-                candidates.insert(candidates.end(), f.begin(), f.end());
-                std::vector<uint64_t>().swap(f);
-            }
+        // Narrow phase straight over every thread's candidate list, in
+        // chunks scheduled dynamically (pairs cost very different amounts).
+        struct Chunk {
+            uint32_t list;
+            size_t begin, end;
+        };
+        std::vector<Chunk> chunks;
+        size_t total = 0;
+        for (int t = 0; t < T; ++t) {
+            total += found[t].size();
+            for (size_t b = 0; b < found[t].size(); b += 512)
+                chunks.push_back({uint32_t(t), b, std::min(found[t].size(), b + 512)});
         }
         const double t2 = omp_get_wtime();
 
-        // Narrow phase over the candidates of every thread's list.
         std::vector<std::vector<uint64_t>> hits(T);
         std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0);
-        const int64_t total = int64_t(candidates.size());
 #pragma omp parallel num_threads(T)
         {
             const int me = omp_get_thread_num();
             NarrowScratch scratch;
             std::vector<uint64_t> &mine = hits[me];
-#pragma omp for schedule(dynamic, 512)
-            for (int64_t k = 0; k < total; ++k) {
-                if (k + 8 < total) {  // the bodies of a later pair, to hide the latency
-                    const uint64_t ahead = candidates[size_t(k) + 8];
-                    __builtin_prefetch(&place_[ahead >> 32]);
-                    __builtin_prefetch(&place_[uint32_t(ahead)]);
-                }
-                const uint64_t key = candidates[size_t(k)];
-                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
-                const Placement &la = place_[a], &lb = place_[b];
-                const BodyPose pa{&meshes_[body_mesh_[a]], la.position, la.orientation, la.scale};
-                const BodyPose pb{&meshes_[body_mesh_[b]], lb.position, lb.orientation, lb.scale};
-                const Contact c = collide(pa, pb, scratch);
-                if (c != Contact::None) {
-                    mine.push_back(key);
-                    if (c == Contact::Containment) ++containment[me];
+#pragma omp for schedule(dynamic, 1)
+            for (int64_t c = 0; c < int64_t(chunks.size()); ++c) {
+                const std::vector<uint64_t> &list = found[chunks[c].list];
+                const size_t end = chunks[c].end;
+                for (size_t k = chunks[c].begin; k < end; ++k) {
+                    if (k + 8 < end) {  // the bodies of a later pair, to hide the latency
+                        const uint64_t ahead = list[k + 8];
+                        __builtin_prefetch(&place_[ahead >> 32]);
+                        __builtin_prefetch(&place_[uint32_t(ahead)]);
+                    }
+                    const uint64_t key = list[k];
+                    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                    const Placement &la = place_[a], &lb = place_[b];
+                    const BodyPose pa{&meshes_[body_mesh_[a]], la.position, la.orientation, la.scale};
+                    const BodyPose pb{&meshes_[body_mesh_[b]], lb.position, lb.orientation, lb.scale};
+                    const Contact hit = collide(pa, pb, scratch);
+                    if (hit != Contact::None) {
+                        mine.push_back(key);
+                        if (hit == Contact::Containment) ++containment[me];
+                    }
                 }
             }
             tri_tests[me] = scratch.triangle_tests;
             exact[me] = scratch.exact_tests;
+            std::sort(mine.begin(), mine.end());  // each thread its own share
         }
-        std::vector<uint64_t> all;
+        // Merge the sorted shares: the output is in (a, b) order whatever the
+        // thread count, so identical bit for bit.
         size_t count = 0;
         for (auto &h : hits) count += h.size();
-        all.reserve(count);
-        for (auto &h : hits) all.insert(all.end(), h.begin(), h.end());
-        std::sort(all.begin(), all.end());
-        pairs_.resize(all.size());
-        for (size_t k = 0; k < all.size(); ++k) {
-            const uint32_t a = uint32_t(all[k] >> 32), b = uint32_t(all[k]);
+        pairs_.resize(count);
+        std::vector<size_t> head(T, 0);
+        for (size_t k = 0; k < count; ++k) {
+            int best = -1;
+            for (int t = 0; t < T; ++t)
+                if (head[t] < hits[t].size() && (best < 0 || hits[t][head[t]] < hits[best][head[best]]))
+                    best = t;
+            const uint64_t key = hits[best][head[best]++];
+            const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
             pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
         }
         const double t3 = omp_get_wtime();

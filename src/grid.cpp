@@ -259,15 +259,16 @@ void Grid::rebuild(uint32_t slot_count, int threads) {
 void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_t> &flag,
                          const std::vector<uint32_t> &changed) {
     std::vector<Entry> &entries = list.entries;
-    std::vector<Entry> kept, add;
-    kept.reserve(entries.size());
-    for (const Entry &en : entries) {
+    std::vector<Entry> add;
+    size_t w = 0;  // kept entries are compacted in place
+    for (size_t k = 0; k < entries.size(); ++k) {
+        const Entry en = entries[k];
         const uint8_t f = flag[en.slot];
         if (f == 0) {
-            kept.push_back(en);
+            entries[w++] = en;
         } else if (f == 1) {
             const CellKey key = key_of(en.slot, li);
-            if (key == en.key) kept.push_back(en);
+            if (key == en.key) entries[w++] = en;
             else add.push_back({key, en.slot, en.gen});
         }
     }
@@ -275,10 +276,16 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
         const int16_t own = level_[s];
         if (guests ? (own >= 0 && own < li) : own == li) add.push_back({key_of(s, li), s, gen_[s]});
     }
-    if (add.empty() && kept.size() == entries.size()) return;
     std::sort(add.begin(), add.end(), ByKey<Entry>());
-    entries.resize(kept.size() + add.size());
-    std::merge(kept.begin(), kept.end(), add.begin(), add.end(), entries.begin(), ByKey<Entry>());
+    // Merge from the back, in place: entries[0, w) and add into entries[0, n).
+    const size_t n = w + add.size();
+    entries.resize(n);
+    size_t i = w, j = add.size(), k = n;
+    const ByKey<Entry> less;
+    while (j > 0) {
+        if (i > 0 && less(add[j - 1], entries[i - 1])) entries[--k] = entries[--i];
+        else entries[--k] = add[--j];
+    }
 }
 
 void Grid::gather(List &list, const Sphere *spheres) {

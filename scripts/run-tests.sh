@@ -20,7 +20,7 @@ step "tests under AddressSanitizer + UndefinedBehaviorSanitizer"
     -Dc_args=-fno-sanitize-recover=undefined >/dev/null
 meson compile -C build-asan >/dev/null
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-    HGCD_TEST_TETRA_N=5000 meson test -C build-asan --print-errorlogs --num-processes "$jobs" \
+    HGCD_TEST_TETRA_N=5000 HGCD_SKIP_SLOW_TESTS=1 meson test -C build-asan --print-errorlogs --num-processes "$jobs" \
     --timeout-multiplier 3
 
 step "plain Makefile build, install into a staging directory, link a program against it"

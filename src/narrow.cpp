@@ -103,7 +103,7 @@ bool holds_component(const Mesh &outer, const std::vector<double> &wo, const dou
 
 }  // namespace
 
-Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s) {
+Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);
@@ -142,16 +142,22 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s) {
                 const uint32_t *fb = &mb.triangles[3 * size_t(s.tri_b[k])];
                 ++s.triangle_tests;
                 if (tri_tri_intersect(p0, p1, p2, &wb[3 * size_t(fb[0])], &wb[3 * size_t(fb[1])],
-                                      &wb[3 * size_t(fb[2])]))
+                                      &wb[3 * size_t(fb[2])])) {
+                    if (witness) *witness = Witness{t, s.tri_b[k], false, true};
                     return Contact::Surface;
+                }
             }
         }
     }
     // Surfaces disjoint: the solids meet only if one holds a component of the other.
-    if (mb.closed && holds_component(mb, s.world_b, box_b, ma, s.world_a))
+    if (mb.closed && holds_component(mb, s.world_b, box_b, ma, s.world_a)) {
+        if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, false, true};
         return Contact::Containment;
-    if (ma.closed && holds_component(ma, s.world_a, box_a, mb, s.world_b))
+    }
+    if (ma.closed && holds_component(ma, s.world_a, box_a, mb, s.world_b)) {
+        if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, true, true};
         return Contact::Containment;
+    }
     return Contact::None;
 }
 

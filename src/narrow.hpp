@@ -16,6 +16,14 @@ struct BodyPose {
 
 enum class Contact { None, Surface, Containment };
 
+// What collide() found, for callers that ask (the contacts of hgcd.h). A path
+// that does not record it leaves recorded false.
+struct Witness {
+    uint32_t tri_a = UINT32_MAX, tri_b = UINT32_MAX;  // Surface: triangles of a and b that meet
+    bool a_holds_b = false;  // Containment: a's closed mesh holds a component of b (else b, a's)
+    bool recorded = false;
+};
+
 // Per-thread buffers, reused across pairs so the hot loop does not allocate.
 struct NarrowScratch {
     std::vector<double> world_a, world_b;
@@ -27,7 +35,8 @@ struct NarrowScratch {
 
 // Exact: true when the closed solids of a and b share a point (surfaces meet,
 // or one closed mesh holds a component of the other).
-Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch);
+Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
+                Witness *witness = nullptr);
 
 // World-space vertices of a body into out (3 per vertex) and their box.
 void world_vertices(const BodyPose &body, std::vector<double> &out, double *box);

@@ -154,6 +154,8 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
         m.convex = convex && sign != 0;
         m.inward_sign = m.convex ? sign : 0;
     }
+    if (triangle_count > kBvhMinTriangles)
+        build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
     *out = std::move(m);
     return true;
 }

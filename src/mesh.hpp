@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "bvh.hpp"
+
 namespace hgcd {
 
 struct Mesh {
@@ -21,6 +23,9 @@ struct Mesh {
     std::vector<uint32_t> component_vertices;
     double center[3] = {0, 0, 0};  // centre of the vertex box
     double radius = 0;             // reaches every vertex from center
+    // Triangle tree in the mesh frame; empty for meshes of at most
+    // kBvhMinTriangles triangles (the narrow phase tests those directly).
+    Bvh bvh;
 };
 
 // Checks and analyses the arrays, filling *out. Returns false with a message

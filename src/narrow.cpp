@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bvh.hpp"
 #include "geometry.hpp"
 #include "transform.hpp"
 
@@ -71,7 +72,8 @@ bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const d
             const double det = -(wx * nx + wy * ny + wz * nz);
             const double perm = std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz;
             // Outside: orient3d has the sign opposite to the interior's.
-            all_outside = -inward * det > kBound * perm;
+            // 2^-960 absorbs underflowed products (the filter analysis of geometry.cpp).
+            all_outside = -inward * det > kBound * perm + 0x1p-960;
         }
         if (all_outside) return true;
     }
@@ -101,9 +103,293 @@ bool holds_component(const Mesh &outer, const std::vector<double> &wo, const dou
     return false;
 }
 
+
+// ---------------------------------------------------------------------------
+// Tree path: at least one mesh has a BVH.
+//
+// World vertices are computed lazily, per pair, for the triangles the
+// traversal reaches (BodyView::vertex), instead of all vertices of both
+// bodies: two bodies of 5000 vertices in shallow contact touch a few hundred
+// vertices. Node boxes are conservative world boxes of the mesh-frame node
+// boxes (BodyView::node_box argues the margin), so a node pair is skipped only
+// when no rounded world vertex under one can share a point with the other;
+// leaves get exact triangle boxes from the world vertices and the exact
+// triangle test, exactly as the direct path.
+
+void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, BodyView &v) {
+    const Mesh &m = *pose.mesh;
+    v.mesh = &m;
+    v.local = m.vertices.data();
+    v.set_pose(pose.position, pose.orientation, pose.scale);
+    v.epoch = epoch;
+    const size_t nv = m.vertex_count;
+    if (c.vertex_stamp.size() < nv) {
+        c.vertex_stamp.resize(nv, 0);
+        c.world.reset(new double[3 * nv]);
+    }
+    v.world = c.world.get();
+    v.vertex_stamp = c.vertex_stamp.data();
+    if (m.bvh.empty()) {
+        // A small mesh: one leaf with every triangle, its exact box.
+        v.nodes = nullptr;
+        v.tris = m.triangles.data();
+        v.tri_ids = nullptr;
+        double *b = v.root_box;
+        b[0] = b[1] = b[2] = INFINITY;
+        b[3] = b[4] = b[5] = -INFINITY;
+        for (uint32_t i = 0; i < m.vertex_count; ++i) {
+            const double *w = v.vertex(i);
+            for (int k = 0; k < 3; ++k) {
+                b[k] = std::min(b[k], w[k]);
+                b[3 + k] = std::max(b[3 + k], w[k]);
+            }
+        }
+        return;
+    }
+    const size_t nn = m.bvh.nodes.size();
+    if (c.box_stamp.size() < nn) {
+        c.box_stamp.resize(nn, 0);
+        c.boxes.reset(new double[kNodeData * nn]);
+    }
+    v.nodes = m.bvh.nodes.data();
+    v.tris = m.bvh.tris.data();
+    v.tri_ids = m.bvh.tri_ids.data();
+    v.boxes = c.boxes.get();
+    v.box_stamp = c.box_stamp.data();
+}
+
+inline void leaf_range(const BodyView &v, uint32_t n, uint32_t &first, uint32_t &count) {
+    if (v.nodes) {
+        first = v.nodes[n].first;
+        count = v.nodes[n].count;
+    } else {
+        first = 0;
+        count = v.mesh->triangle_count;
+    }
+}
+
+inline void view_triangle_box(BodyView &v, uint32_t t, const double *(&p)[3], double *box) {
+    const uint32_t *f = &v.tris[3 * size_t(t)];
+    p[0] = v.vertex(f[0]);
+    p[1] = v.vertex(f[1]);
+    p[2] = v.vertex(f[2]);
+    for (int k = 0; k < 3; ++k) {
+        box[k] = std::min(std::min(p[0][k], p[1][k]), p[2][k]);
+        box[3 + k] = std::max(std::max(p[0][k], p[1][k]), p[2][k]);
+    }
+}
+
+// Exact test of the triangles of leaf i of a against those of leaf j of b.
+// On a meeting pair, sets meet[0], meet[1] to their leaf-order indices.
+bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uint32_t j,
+                 const double *node_b, NarrowScratch &s, uint32_t *meet) {
+    uint32_t fa, na, fb, nb;
+    leaf_range(a, i, fa, na);
+    leaf_range(b, j, fb, nb);
+    // Triangles of b that reach a's node box, with their exact boxes.
+    s.tri_b.clear();
+    s.box_b.clear();
+    for (uint32_t t = fb; t < fb + nb; ++t) {
+        const double *q[3];
+        double tb[6];
+        view_triangle_box(b, t, q, tb);
+        if (boxes_disjoint(tb, node_a)) continue;
+        s.tri_b.push_back(t);
+        s.box_b.insert(s.box_b.end(), tb, tb + 6);
+    }
+    if (s.tri_b.empty()) return false;
+    for (uint32_t t = fa; t < fa + na; ++t) {
+        const double *p[3];
+        double ta[6];
+        view_triangle_box(a, t, p, ta);
+        if (boxes_disjoint(ta, node_b)) continue;
+        for (size_t k = 0; k < s.tri_b.size(); ++k) {
+            if (boxes_disjoint(ta, &s.box_b[6 * k])) continue;
+            const uint32_t *f = &b.tris[3 * size_t(s.tri_b[k])];
+            ++s.triangle_tests;
+            if (tri_tri_intersect(p[0], p[1], p[2], b.vertex(f[0]), b.vertex(f[1]), b.vertex(f[2]))) {
+                meet[0] = t;
+                meet[1] = s.tri_b[k];
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+// Squared distance of box centres, times 4.
+inline double dist2(const double *x, const double *y) {
+    const double dx = (x[0] + x[3]) - (y[0] + y[3]), dy = (x[1] + x[4]) - (y[1] + y[4]),
+                 dz = (x[2] + x[5]) - (y[2] + y[5]);
+    return dx * dx + dy * dy + dz * dz;
+}
+
+inline double box_size(const double *b) { return (b[3] - b[0]) + (b[4] - b[1]) + (b[5] - b[2]); }
+
+// The two bodies' rotation columns and their dot products, for the oriented
+// box test of node pairs.
+struct PairFrame {
+    double col_a[3][3], col_b[3][3];      // col_a[j][k] = R_a[k][j]
+    double abs_col_a[3][3], abs_col_b[3][3];
+    double gram_a[3][3], gram_b[3][3];    // |col_a[j] . col_a[l]|, |col_b[i] . col_b[m]|
+    double cross[3][3], cross_t[3][3];    // |col_a[j] . col_b[i]| and transposed
+};
+
+void prepare_frame(const BodyView &a, const BodyView &b, PairFrame &f) {
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) {
+            f.col_a[j][k] = a.r.m[3 * k + j];
+            f.col_b[j][k] = b.r.m[3 * k + j];
+            f.abs_col_a[j][k] = a.abs_r[3 * k + j];
+            f.abs_col_b[j][k] = b.abs_r[3 * k + j];
+        }
+    auto dot = [](const double *x, const double *y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+    for (int j = 0; j < 3; ++j)
+        for (int l = 0; l < 3; ++l) {
+            f.gram_a[j][l] = std::fabs(dot(f.col_a[j], f.col_a[l]));
+            f.gram_b[j][l] = std::fabs(dot(f.col_b[j], f.col_b[l]));
+            f.cross[j][l] = std::fabs(dot(f.col_a[j], f.col_b[l]));
+            f.cross_t[l][j] = f.cross[j][l];
+        }
+}
+
+inline double dot3(const double *x, const double *y) { return (x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]; }
+
+// Separating-axis test of two nodes' world images along the six face
+// directions (the columns of both rotation matrices). The exact image of a
+// node box is the parallelepiped wc +- sum_l s h_l col_l (col_l the columns
+// of the rounded matrix, exactly; they need not be orthogonal, hence the
+// Gram terms), and every rounded world vertex, as well as the computed wc,
+// lies within the node's per-axis margin of it (node_box). On an axis a
+// (any double vector) the two sets are apart when
+//   |a . (wc_b - wc_a)| > r_a + r_b + sum_k |a_k| (margin_a,k + margin_b,k),
+// r the exact projected radii, r_a = sum_l s h_l |a . col_l|. Every rounding
+// made in evaluating that here is below 12u times
+// mag = sum_k |a_k| (|D_k| + extent_a,k + extent_b,k) (each radius term
+// s h_l |a . col_l| sums to at most sum_k |a_k| extent_k), so the tolerance
+// margin + 1e-13 * extent cached per node, plus 1e-13 |D_k| here and 1e-300
+// for underflow, makes a rejection certain.
+bool obb_separated(const double *na, const double *nb, const PairFrame &f) {
+    const double d[3] = {nb[6] - na[6], nb[7] - na[7], nb[8] - na[8]};
+    const double tol[3] = {(na[9] + nb[9]) + 1e-13 * std::fabs(d[0]),
+                           (na[10] + nb[10]) + 1e-13 * std::fabs(d[1]),
+                           (na[11] + nb[11]) + 1e-13 * std::fabs(d[2])};
+    const double *ha = na + 12, *hb = nb + 12;
+    for (int j = 0; j < 3; ++j) {
+        const double proj = std::fabs(dot3(f.col_a[j], d));
+        const double lim = (dot3(f.gram_a[j], ha) + dot3(f.cross[j], hb)) + dot3(f.abs_col_a[j], tol);
+        if (proj > lim + 1e-300) return true;
+    }
+    for (int i = 0; i < 3; ++i) {
+        const double proj = std::fabs(dot3(f.col_b[i], d));
+        const double lim = (dot3(f.cross_t[i], ha) + dot3(f.gram_b[i], hb)) + dot3(f.abs_col_b[i], tol);
+        if (proj > lim + 1e-300) return true;
+    }
+    return false;
+}
+
+bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t *meet) {
+    PairFrame frame;
+    const bool oriented = a.nodes && b.nodes;
+    if (oriented) prepare_frame(a, b, frame);
+    std::vector<uint64_t> &stack = s.pair_stack;
+    stack.clear();
+    stack.push_back(0);
+    while (!stack.empty()) {
+        const uint64_t top = stack.back();
+        stack.pop_back();
+        const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
+        const double *ba = a.box(i), *bb = b.box(j);
+        if (boxes_disjoint(ba, bb)) continue;
+        const bool la = a.leaf(i), lb = b.leaf(j);
+        // The oriented test pays off above the leaves (a leaf pair goes to
+        // triangle boxes, which are cheaper).
+        if (oriented && !(la && lb) &&
+            obb_separated(ba, bb, frame))
+            continue;
+        if (la && lb) {
+            if (leaves_meet(a, i, ba, b, j, bb, s, meet)) return true;
+            continue;
+        }
+        // Descend the larger node (or the one that is not a leaf).
+        // The child whose centre is farther from the other node's is visited
+        // first: where two surfaces cross, each lies near the other's box
+        // boundary, not its middle (measured on the `meshes` scene: 2.6x
+        // fewer node pairs before the first meeting triangles than in a
+        // fixed order, 10x in the shallow contact benchmark).
+        if (lb || (!la && box_size(ba) >= box_size(bb))) {
+            const uint64_t c = a.nodes[i].first;
+            const bool swap = dist2(a.box(c), bb) > dist2(a.box(c + 1), bb);
+            stack.push_back(((c + !swap) << 32) | j);
+            stack.push_back(((c + swap) << 32) | j);
+        } else {
+            const uint64_t c = b.nodes[j].first;
+            const bool swap = dist2(b.box(c), ba) > dist2(b.box(c + 1), ba);
+            stack.push_back((uint64_t(i) << 32) | (c + !swap));
+            stack.push_back((uint64_t(i) << 32) | (c + swap));
+        }
+    }
+    return false;
+}
+
+// Is some component of `inner` inside the closed mesh `outer`? Asked once the
+// surfaces are disjoint, so no tested vertex lies on outer's surface.
+bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
+    const Mesh &mo = *outer.mesh;
+    for (uint32_t v : inner.mesh->component_vertices) {
+        const double *p = inner.vertex(v);
+        const double *rb = outer.box(0);
+        if (!point_in_box(p, rb)) continue;
+        bool inside;
+        if (outer.nodes) {
+            inside = point_in_closed_mesh_bvh(p, outer, s.node_stack);
+        } else {  // every world vertex of a small mesh is computed
+            inside = mo.convex ? point_in_convex_closed_mesh(p, outer.world, mo.triangles.data(),
+                                                             mo.triangle_count, mo.inward_sign)
+                               : point_in_closed_mesh(p, outer.world, mo.triangles.data(),
+                                                      mo.triangle_count, rb, rb + 3);
+        }
+        if (inside) return true;
+    }
+    return false;
+}
+
+__attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose &b,
+                                               NarrowScratch &s, Witness *witness) {
+    if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
+        for (auto &c : s.side) {
+            std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
+            std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
+        }
+        s.epoch = 1;
+    }
+    BodyView va, vb;
+    prepare_side(a, s.side[0], s.epoch, va);
+    prepare_side(b, s.side[1], s.epoch, vb);
+    // Conservative prefilter: the solids lie inside the root boxes.
+    if (boxes_disjoint(va.box(0), vb.box(0))) return Contact::None;
+    ++s.exact_tests;
+    uint32_t meet[2];
+    if (surfaces_meet(va, vb, s, meet)) {
+        if (witness)
+            *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
+        return Contact::Surface;
+    }
+    if (b.mesh->closed && view_holds_component(vb, va, s)) {
+        if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, false, true};
+        return Contact::Containment;
+    }
+    if (a.mesh->closed && view_holds_component(va, vb, s)) {
+        if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, true, true};
+        return Contact::Containment;
+    }
+    return Contact::None;
+}
+
 }  // namespace
 
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);

@@ -1,6 +1,7 @@
 // Narrow phase: the exact collision test of two bodies.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "mesh.hpp"
@@ -29,12 +30,29 @@ struct NarrowScratch {
     std::vector<double> world_a, world_b;
     std::vector<double> box_b;     // 6 per listed triangle of b: min xyz, max xyz
     std::vector<uint32_t> tri_b;   // triangles of b that reach a's box
+    // Tree path (a mesh above kBvhMinTriangles): per side, world vertices and
+    // node boxes computed on first use, valid while their stamp is `epoch`
+    // (one epoch per pair test).
+    struct Side {
+        // Left uninitialised (only the stamps say what is valid): a scratch
+        // lives for one detect, and zeroing 300 kB per detect for a pair of
+        // 10000-triangle meshes would cost more than the pair test itself.
+        std::unique_ptr<double[]> world, boxes;
+        std::vector<uint32_t> vertex_stamp, box_stamp;
+    } side[2];
+    uint32_t epoch = 0;
+    std::vector<uint64_t> pair_stack;   // (node of a) << 32 | node of b
+    std::vector<uint32_t> node_stack;   // ray traversal
     uint64_t triangle_tests = 0;
     uint64_t exact_tests = 0;
 };
 
 // Exact: true when the closed solids of a and b share a point (surfaces meet,
-// or one closed mesh holds a component of the other).
+// or one closed mesh holds a component of the other). Pairs of small meshes
+// (no tree) take the direct path: all world vertices, exact boxes, triangle
+// pairs. If either mesh has a tree, a simultaneous traversal of the two trees
+// (a mesh without one is a single leaf) reaches the same exact triangle test;
+// exact_tests then counts pairs whose conservative root boxes overlap.
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
                 Witness *witness = nullptr);
 

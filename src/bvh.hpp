@@ -1,0 +1,167 @@
+// Midphase for large meshes: a bounding volume hierarchy over a mesh's
+// triangles, built once in the mesh frame (so no pose ever rebuilds it), and
+// the world-space view of a posed mesh that the narrow phase traverses.
+//
+// Exactness. The exact answer is defined on the world vertices of hgcd.h's
+// formula (transform_point). The tree only prunes: a node is skipped when a
+// box that provably holds the *rounded* world vertices of every triangle under
+// it misses the other side. Leaves run the same exact triangle tests on the
+// same world vertices as the direct path, so the tree never changes an answer
+// (the argument for the box margin is at BodyView::node_box).
+#pragma once
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "transform.hpp"
+
+namespace hgcd {
+
+// Meshes with at most this many triangles get no tree: the direct path of the
+// narrow phase (all world vertices, all triangle boxes) is faster for them.
+constexpr uint32_t kBvhMinTriangles = 48;
+// A leaf holds at most this many triangles.
+constexpr uint32_t kBvhLeafSize = 4;
+
+struct BvhNode {
+    // Mesh frame. Every point of every triangle under the node lies in
+    // [center - half, center + half] in exact arithmetic (half is rounded up).
+    double center[3];
+    double half[3];
+    // Internal node (count == 0): children are nodes first and first + 1.
+    // Leaf: triangles first .. first + count - 1 of Bvh::tris.
+    uint32_t first;
+    uint32_t count;
+};
+
+struct Bvh {
+    std::vector<BvhNode> nodes;     // nodes[0] is the root; empty: no tree
+    std::vector<uint32_t> tris;     // 3 vertex indices per triangle, leaf order
+    std::vector<uint32_t> tri_ids;  // the mesh's index of each of those triangles
+    uint32_t depth = 0;             // longest root-to-leaf path (root alone: 1)
+    bool empty() const { return nodes.empty(); }
+};
+
+// Builds the tree of a mesh (binned surface area heuristic, object-median
+// splits past a depth guard, so the depth stays below 80).
+void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t triangle_count,
+               Bvh *out);
+
+struct Mesh;
+
+constexpr size_t kNodeData = 16;  // doubles cached per node (15 used)
+// A posed mesh as the narrow phase sees it during one pair test: world
+// vertices computed on first use, conservative world boxes of tree nodes
+// computed on first use. The caches belong to the caller's scratch and are
+// valid for one epoch (one pair test).
+struct BodyView {
+    const Mesh *mesh = nullptr;
+    const double *local = nullptr;   // mesh-frame vertices, 3 per vertex
+    const BvhNode *nodes = nullptr;  // null: treated as one leaf of every triangle
+    const uint32_t *tris = nullptr;  // leaf-order triangles (mesh order without a tree)
+    const uint32_t *tri_ids = nullptr;  // mesh index of leaf-order triangle (null: identity)
+    Rotation r;
+    const double *position = nullptr;
+    double scale = 1;
+    double abs_r[9];
+    double abs_position[3];
+    // Caches, sized by the caller: 3 doubles and a stamp per vertex,
+    // kNodeData doubles and a stamp per node.
+    double *world = nullptr;
+    uint32_t *vertex_stamp = nullptr;
+    double *boxes = nullptr;
+    uint32_t *box_stamp = nullptr;
+    uint32_t epoch = 0;
+    double root_box[6];  // without a tree: the exact box of all world vertices
+
+    // World vertex v, computed with transform_point on first use.
+    const double *vertex(uint32_t v) {
+        double *w = world + 3 * size_t(v);
+        if (vertex_stamp[v] != epoch) {
+            transform_point(r, position, scale, local + 3 * size_t(v), w);
+            vertex_stamp[v] = epoch;
+        }
+        return w;
+    }
+    // Cached world data of node n (kNodeData doubles): the box (min xyz, max
+    // xyz) that holds every rounded world vertex of the triangles under it,
+    // then the computed world centre wc (3), the tolerance margin + 1e-13 *
+    // extent per axis (3) and the scaled half widths scale * half (3); see
+    // node_box.
+    const double *box(uint32_t n) {
+        if (!nodes) return root_box;
+        double *b = boxes + kNodeData * size_t(n);
+        if (box_stamp[n] != epoch) {
+            node_box(nodes[n], b);
+            box_stamp[n] = epoch;
+        }
+        return b;
+    }
+    bool leaf(uint32_t n) const { return !nodes || nodes[n].count != 0; }
+    uint32_t mesh_triangle(uint32_t t) const { return tri_ids ? tri_ids[t] : t; }
+
+    // Sets r, abs_r, abs_position from the pose.
+    void set_pose(const double *pos, const double *orientation, double s) {
+        position = pos;
+        scale = s;
+        r = rotation_of(orientation);
+        for (int k = 0; k < 9; ++k) abs_r[k] = std::fabs(r.m[k]);
+        for (int k = 0; k < 3; ++k) abs_position[k] = std::fabs(pos[k]);
+    }
+
+    // World box of a node: the image of its mesh-frame box, inflated by a
+    // rounding margin. out: box (6), centre wc (3), tolerance (3), scaled
+    // half widths (3).
+    //
+    // Why it holds every rounded world vertex w~ = fl(T(m)) of a point m of
+    // the node's box [c - h, c + h] (T(m) = pos + R (s m), R the rounded
+    // matrix hgcd uses, computed exactly), with u = 2^-53, g_k = k u/(1-k u):
+    //  - transform_point makes 5 roundings on the way to component a (s*m_j,
+    //    the three products, two sums, the final add of pos_a), so
+    //    |w~_a - T(m)_a| <= g_5 M_a with M_a = |pos_a| + sum_j |R_aj| s |m_j|
+    //    <= |pos_a| + sum_j |R_aj| s (|c_j| + h_j), the `reach` below;
+    //  - exactly, |T(m)_a - T(c)_a| <= sum_j |R_aj| s h_j = E_a;
+    //  - the computed centre fl(T(c)) is within g_5 M_a of T(c) (same
+    //    formula), the computed extent within g_5 E_a <= g_5 M_a of E_a, and
+    //    the computed reach within g_5 of M_a relatively;
+    //  - the last add/subtract rounds by at most u (|wc_a| + d) <= 3u M_a.
+    // Total under 2e-15 M_a, far below the margin 1e-14 * reach (the factor
+    // five covers the rounding of the margin itself). Underflow adds at most a
+    // few 2^-1074 per operation: the 1e-300 term. No overflow: coordinates
+    // are below 1e15 and |R_aj| <= 1 + 1e-6.
+    void node_box(const BvhNode &node, double *out) const {
+        double wc[3];
+        transform_point(r, position, scale, node.center, wc);
+        // (wc also stays within the margin of the exact image of the centre.)
+        const double sh0 = scale * node.half[0], sh1 = scale * node.half[1],
+                     sh2 = scale * node.half[2];
+        const double sm0 = scale * (std::fabs(node.center[0]) + node.half[0]);
+        const double sm1 = scale * (std::fabs(node.center[1]) + node.half[1]);
+        const double sm2 = scale * (std::fabs(node.center[2]) + node.half[2]);
+        for (int a = 0; a < 3; ++a) {
+            const double *ar = &abs_r[3 * a];
+            const double extent = ar[0] * sh0 + ar[1] * sh1 + ar[2] * sh2;
+            const double reach = abs_position[a] + (ar[0] * sm0 + ar[1] * sm1 + ar[2] * sm2);
+            const double margin = 1e-14 * reach + 1e-300;
+            const double d = extent + margin;
+            out[a] = wc[a] - d;
+            out[3 + a] = wc[a] + d;
+            out[6 + a] = wc[a];
+            out[9 + a] = margin + 1e-13 * extent;
+        }
+        out[12] = sh0;
+        out[13] = sh1;
+        out[14] = sh2;
+    }
+};
+
+// Exact parity test of point p against the closed mesh of `outer` (which has
+// a tree), with the same answer as point_in_closed_mesh on outer's world
+// vertices: rays from p leave the root box, nodes the ray segment provably
+// misses are skipped, and the triangles left get the exact crossing tests; a
+// ray that meets an edge, a vertex or lies in a face plane is discarded and
+// the next direction is tried. Precondition: p is not on outer's surface.
+bool point_in_closed_mesh_bvh(const double *p, BodyView &outer, std::vector<uint32_t> &stack);
+
+}  // namespace hgcd

@@ -12,12 +12,13 @@ case "$target" in
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
            "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/gmp.h:libgmp-dev"
            "/usr/include/ccd/ccd.h:libccd-dev" "bindgen:bindgen" "clang:clang"
-           "valgrind:valgrind" "cargo:cargo") ;;
+           "valgrind:valgrind" "cargo:cargo" "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev") ;;
   bench)
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
            "/usr/include/ccd/ccd.h:libccd-dev"
            "/usr/include/fcl/config.h:libfcl-dev" "/usr/include/bullet/btBulletCollisionCommon.h:libbullet-dev"
-           "/usr/include/ode/ode.h:libode-dev" "python3:python3") ;;
+           "/usr/include/ode/ode.h:libode-dev" "python3:python3"
+           "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev") ;;
   *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;;
 esac
 

@@ -17,19 +17,34 @@ namespace {
 
 constexpr double kMaxCoordinate = 1e15;
 
+// Records a refusal on the world and returns its status, without ever
+// throwing: composing the message needs memory, and an exception must not
+// leave an extern "C" function. If the message cannot be built, the fixed
+// text "out of memory" (13 characters: it fits std::string's inline buffer, so
+// it needs no allocation) is recorded with the original status.
+hgcd_status refuse(hgcd_world *w, hgcd_status status, const char *what, const char *detail) noexcept {
+    try {
+        return w->impl.fail(status, std::string(what) + ": " + detail);
+    } catch (...) {
+        try {
+            return w->impl.fail(status, std::string("out of memory"));
+        } catch (...) {
+            return status;
+        }
+    }
+}
+
+// Runs f, turning exceptions into statuses (and messages when there is a world).
 template <class F>
-hgcd_status guarded(hgcd_world *w, const char *what, F &&f) {
+hgcd_status guarded(hgcd_world *w, const char *what, F &&f) noexcept {
     try {
         return f();
     } catch (const std::bad_alloc &) {
-        if (w) return w->impl.fail(HGCD_ERROR_OUT_OF_MEMORY, std::string(what) + ": out of memory");
-        return HGCD_ERROR_OUT_OF_MEMORY;
+        return w ? refuse(w, HGCD_ERROR_OUT_OF_MEMORY, what, "out of memory") : HGCD_ERROR_OUT_OF_MEMORY;
     } catch (const std::exception &e) {
-        if (w) return w->impl.fail(HGCD_ERROR_INTERNAL, std::string(what) + ": " + e.what());
-        return HGCD_ERROR_INTERNAL;
+        return w ? refuse(w, HGCD_ERROR_INTERNAL, what, e.what()) : HGCD_ERROR_INTERNAL;
     } catch (...) {
-        if (w) return w->impl.fail(HGCD_ERROR_INTERNAL, std::string(what) + ": unknown exception");
-        return HGCD_ERROR_INTERNAL;
+        return w ? refuse(w, HGCD_ERROR_INTERNAL, what, "unknown exception") : HGCD_ERROR_INTERNAL;
     }
 }
 
@@ -119,7 +134,8 @@ uint32_t hgcd_world_mesh_count(const hgcd_world *world) { return world ? world->
 hgcd_status hgcd_world_set_thread_count(hgcd_world *world, uint32_t thread_count) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     if (thread_count > 4096)
-        return world->impl.fail(HGCD_ERROR_INVALID_ARGUMENT, "world_set_thread_count: more than 4096 threads");
+        return refuse(world, HGCD_ERROR_INVALID_ARGUMENT, "world_set_thread_count",
+                      "thread_count is more than 4096");
     world->impl.set_thread_count(thread_count);
     return HGCD_OK;
 }
@@ -175,10 +191,11 @@ hgcd_mesh_desc hgcd_mesh_desc_default(void) {
 
 hgcd_status hgcd_mesh_create(hgcd_world *world, const hgcd_mesh_desc *desc, hgcd_mesh *out_mesh) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
-    if (!desc || !out_mesh) return world->impl.fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc or out_mesh is NULL");
+    if (!desc) return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "mesh_create", "desc is NULL");
+    if (!out_mesh) return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "mesh_create", "out_mesh is NULL");
     if (!initialised(desc))
-        return world->impl.fail(HGCD_ERROR_BAD_DESCRIPTOR,
-                                "mesh_create: descriptor not initialised by hgcd_mesh_desc_default()");
+        return refuse(world, HGCD_ERROR_BAD_DESCRIPTOR, "mesh_create",
+                      "descriptor not initialised by hgcd_mesh_desc_default() (struct_size or init_tag)");
     return guarded(world, "mesh_create", [&] { return world->impl.create_mesh(*desc, out_mesh); });
 }
 
@@ -213,10 +230,11 @@ hgcd_body_desc hgcd_body_desc_default(void) {
 
 hgcd_status hgcd_body_create(hgcd_world *world, const hgcd_body_desc *desc, hgcd_body *out_body) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
-    if (!desc || !out_body) return world->impl.fail(HGCD_ERROR_NULL_ARGUMENT, "body_create: desc or out_body is NULL");
+    if (!desc) return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "body_create", "desc is NULL");
+    if (!out_body) return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "body_create", "out_body is NULL");
     if (!initialised(desc))
-        return world->impl.fail(HGCD_ERROR_BAD_DESCRIPTOR,
-                                "body_create: descriptor not initialised by hgcd_body_desc_default()");
+        return refuse(world, HGCD_ERROR_BAD_DESCRIPTOR, "body_create",
+                      "descriptor not initialised by hgcd_body_desc_default() (struct_size or init_tag)");
     return guarded(world, "body_create", [&] { return world->impl.create_body(*desc, out_body); });
 }
 
@@ -233,7 +251,7 @@ hgcd_status hgcd_body_set_pose(hgcd_world *world, hgcd_body body, const double *
 
 hgcd_status hgcd_body_set_velocity(hgcd_world *world, hgcd_body body, const double *velocity) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
-    if (!velocity) return world->impl.fail(HGCD_ERROR_NULL_ARGUMENT, "body_set_velocity: velocity is NULL");
+    if (!velocity) return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "body_set_velocity", "velocity is NULL");
     return guarded(world, "body_set_velocity", [&] { return world->impl.set_velocity(body, velocity); });
 }
 

@@ -1,0 +1,414 @@
+/* Out-of-memory is a status, never an abort, and the world survives it.
+ *
+ * tests/oom_hook.cpp replaces the global C++ operator new/delete of this
+ * executable (hgcd is linked statically, so the replacements serve every
+ * allocation hgcd makes) with a countdown: the N-th allocation throws
+ * std::bad_alloc. A scripted sequence of API calls (world create, mesh
+ * create/destroy, body create/destroy, set_pose, set_velocity, detect, step,
+ * pairs, copy_pairs, stats, a refused call) is run for N = 1, 2, 3, ... until
+ * a run makes no allocation fail. Each call must return its expected status
+ * or HGCD_ERROR_OUT_OF_MEMORY, nothing else and never crash; after a failure
+ * the world must be exactly as before the call (for detect and step: as
+ * documented in hgcd.h), the same call must then succeed, and the run must
+ * end in the same state, with the same pairs, as a run without failures
+ * (whose pairs are checked against the GMP oracle).
+ *
+ * Two regimes: one failed allocation (later ones succeed), and exhausted
+ * memory (every allocation after the N-th fails until the call returns, so
+ * the error path itself runs without memory).
+ *
+ * Allocations inside OpenMP parallel regions are not failed by default: see
+ * HGCD_OOM_IN_PARALLEL below and tests/VALIDATION.md. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include <hgcd/hgcd.h>
+
+#include "oom_hook.h"
+#include "oracle.h"
+#include "snapshot.h"
+
+/* ------------------------------------------------------------- shapes -- */
+
+static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
+                                -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
+static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
+                                  2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
+enum { SHEET_N = 6 }; /* an open, wavy sheet of 2 * 6 * 6 triangles */
+static double sheet_v[3 * (SHEET_N + 1) * (SHEET_N + 1)];
+static uint32_t sheet_t[6 * SHEET_N * SHEET_N];
+
+enum { SHAPE_TETRA, SHAPE_CUBE, SHAPE_SHEET, SHAPE_SPARE, SHAPES };
+static oracle_mesh shapes[SHAPES];
+
+static void init_shapes(void) {
+    for (int j = 0, v = 0; j <= SHEET_N; ++j)
+        for (int i = 0; i <= SHEET_N; ++i, ++v) {
+            sheet_v[3 * v] = -1.5 + 3.0 * i / SHEET_N;
+            sheet_v[3 * v + 1] = -1.5 + 3.0 * j / SHEET_N;
+            sheet_v[3 * v + 2] = 0.25 * ((i + j) % 3) - 0.25;
+        }
+    for (int j = 0, t = 0; j < SHEET_N; ++j)
+        for (int i = 0; i < SHEET_N; ++i, t += 6) {
+            const uint32_t a = (uint32_t)(j * (SHEET_N + 1) + i), b = a + 1, c = a + SHEET_N + 1, d = c + 1;
+            const uint32_t tri[6] = {a, b, d, a, d, c};
+            memcpy(&sheet_t[t], tri, sizeof tri);
+        }
+    const oracle_mesh m[SHAPES] = {
+        {tetra_v, tetra_t, 4, 4, 1},
+        {cube_v, cube_t, 8, 12, 1},
+        {sheet_v, sheet_t, (SHEET_N + 1) * (SHEET_N + 1), 2 * SHEET_N * SHEET_N, 0},
+        {cube_v, cube_t, 8, 10, 0},
+    };
+    memcpy(shapes, m, sizeof m);
+}
+
+/* ------------------------------------------------------------- script -- */
+
+enum { BODIES = 40, SIDE = 12 };
+
+typedef struct {
+    hgcd_world *w;
+    hgcd_mesh mesh[SHAPES];
+    hgcd_body body[BODIES];
+    int body_shape[BODIES];
+} ctx;
+
+typedef enum {
+    OP_WORLD_CREATE, OP_MESH_CREATE, OP_MESH_DESTROY, OP_BODY_CREATE, OP_BODY_DESTROY,
+    OP_SET_POSE, OP_SET_VELOCITY, OP_DETECT, OP_STEP, OP_PAIRS, OP_COPY_PAIRS, OP_STATS,
+    OP_REFUSED_POSE, OP_THREADS
+} op_kind;
+
+typedef struct {
+    op_kind op;
+    int arg;
+} op;
+
+static op script[256];
+static int script_len;
+
+static void push(op_kind k, int arg) {
+    script[script_len].op = k;
+    script[script_len].arg = arg;
+    ++script_len;
+}
+
+static void build_script(void) {
+    script_len = 0;
+    push(OP_WORLD_CREATE, 0);
+    for (int m = 0; m < SHAPES; ++m) push(OP_MESH_CREATE, m);
+    for (int i = 0; i < 34; ++i) push(OP_BODY_CREATE, i); /* past the 16 and 32 growth steps */
+    push(OP_DETECT, 0);
+    push(OP_PAIRS, 0);
+    push(OP_COPY_PAIRS, 0);
+    push(OP_STATS, 0);
+    push(OP_MESH_DESTROY, SHAPE_SPARE);
+    for (int i = 0; i < 34; i += 3) push(OP_SET_VELOCITY, i);
+    for (int i = 1; i < 34; i += 4) push(OP_SET_POSE, i);
+    push(OP_REFUSED_POSE, 2);
+    push(OP_STEP, 0);
+    for (int i = 0; i < 34; i += 5) push(OP_BODY_DESTROY, i);
+    push(OP_THREADS, 1);
+    push(OP_DETECT, 0);
+    for (int i = 34; i < BODIES; ++i) push(OP_BODY_CREATE, i); /* reuse freed slots */
+    push(OP_MESH_CREATE, SHAPE_SPARE);
+    push(OP_THREADS, 2);
+    push(OP_STEP, 0);
+    push(OP_PAIRS, 0);
+    push(OP_DETECT, 0);
+}
+
+/* splitmix64 on the body number: every run places body i the same way. */
+static uint64_t mix(uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+static double unit(uint64_t seed, int k) { return (double)(mix(seed * 16 + (uint64_t)k) >> 11) * 0x1.0p-53; }
+
+static void random_quat(uint64_t seed, double *q) {
+    const double u1 = unit(seed, 10), u2 = unit(seed, 11), u3 = unit(seed, 12);
+    q[0] = sqrt(1 - u1) * sin(6.283185307179586 * u2);
+    q[1] = sqrt(1 - u1) * cos(6.283185307179586 * u2);
+    q[2] = sqrt(u1) * sin(6.283185307179586 * u3);
+    q[3] = sqrt(u1) * cos(6.283185307179586 * u3);
+}
+
+static hgcd_status expected(const op *o) {
+    return o->op == OP_REFUSED_POSE ? HGCD_ERROR_INVALID_ARGUMENT : HGCD_OK;
+}
+
+static hgcd_status run_op(ctx *c, const op *o) {
+    const int i = o->arg;
+    switch (o->op) {
+        case OP_WORLD_CREATE: {
+            hgcd_world_desc d = hgcd_world_desc_default();
+            d.thread_count = 2;
+            d.reflect_at_bounds = 1;
+            for (int k = 0; k < 3; ++k) d.bounds_max[k] = SIDE;
+            return hgcd_world_create(&d, &c->w);
+        }
+        case OP_MESH_CREATE: {
+            hgcd_mesh_desc d = hgcd_mesh_desc_default();
+            d.vertices = shapes[i].verts;
+            d.triangles = shapes[i].tris;
+            d.vertex_count = shapes[i].vertex_count;
+            d.triangle_count = shapes[i].triangle_count;
+            return hgcd_mesh_create(c->w, &d, &c->mesh[i]);
+        }
+        case OP_MESH_DESTROY: return hgcd_mesh_destroy(c->w, c->mesh[i]);
+        case OP_BODY_CREATE: {
+            hgcd_body_desc d = hgcd_body_desc_default();
+            const int shape = (int)(mix((uint64_t)i) % 3);
+            d.mesh = c->mesh[shape];
+            for (int k = 0; k < 3; ++k) d.position[k] = SIDE * unit((uint64_t)i, k);
+            random_quat((uint64_t)i, d.orientation);
+            d.scale = 0.5 + unit((uint64_t)i, 3);
+            d.user_data = 1000 + (uint64_t)i;
+            const hgcd_status s = hgcd_body_create(c->w, &d, &c->body[i]);
+            if (s == HGCD_OK) c->body_shape[i] = shape;
+            return s;
+        }
+        case OP_BODY_DESTROY: return hgcd_body_destroy(c->w, c->body[i]);
+        case OP_SET_POSE: {
+            double p[3], q[4];
+            for (int k = 0; k < 3; ++k) p[k] = SIDE * unit((uint64_t)i + 500, k);
+            random_quat((uint64_t)i + 500, q);
+            return hgcd_body_set_pose(c->w, c->body[i], p, q);
+        }
+        case OP_SET_VELOCITY: {
+            double v[3];
+            for (int k = 0; k < 3; ++k) v[k] = 2 * unit((uint64_t)i + 900, k) - 1;
+            return hgcd_body_set_velocity(c->w, c->body[i], v);
+        }
+        case OP_DETECT: return hgcd_world_detect(c->w);
+        case OP_STEP: return hgcd_world_step(c->w);
+        case OP_PAIRS: {
+            const hgcd_pair *p;
+            size_t n;
+            return hgcd_world_pairs(c->w, &p, &n);
+        }
+        case OP_COPY_PAIRS: {
+            hgcd_pair buf[8];
+            size_t total;
+            return hgcd_world_copy_pairs(c->w, buf, 8, &total);
+        }
+        case OP_STATS: {
+            hgcd_stats st;
+            st.struct_size = sizeof st;
+            return hgcd_world_stats(c->w, &st);
+        }
+        case OP_REFUSED_POSE: {
+            const double p[3] = {1, NAN, 1};
+            return hgcd_body_set_pose(c->w, c->body[i], p, NULL);
+        }
+        case OP_THREADS: return hgcd_world_set_thread_count(c->w, (uint32_t)i);
+    }
+    return HGCD_ERROR_INTERNAL;
+}
+
+static void take(snapshot *s, const ctx *c) { snap_take(s, c->w, c->body, BODIES, c->mesh, SHAPES); }
+
+/* Live bodies of the final state against the oracle. */
+static void check_oracle(const ctx *c) {
+    const oracle_mesh *meshes[BODIES];
+    double p[3 * BODIES], q[4 * BODIES], s[BODIES];
+    uint32_t slot[BODIES];
+    size_t n = 0;
+    for (uint32_t i = 0; i < BODIES; ++i) {
+        if (hgcd_body_validate(c->w, c->body[i]) != HGCD_OK) continue;
+        assert_int_equal(hgcd_body_get_pose(c->w, c->body[i], &p[3 * n], &q[4 * n]), HGCD_OK);
+        meshes[n] = &shapes[c->body_shape[i]];
+        s[n] = 0.5 + unit(i, 3);
+        slot[n] = c->body[i].index;
+        ++n;
+    }
+    uint32_t expect[2 * 512];
+    const size_t count = oracle_colliding_pairs(n, meshes, p, q, s, expect, 512);
+    assert_true(count <= 512);
+    const hgcd_pair *got;
+    size_t got_n;
+    assert_int_equal(hgcd_world_pairs(c->w, &got, &got_n), HGCD_OK);
+    /* The oracle numbers bodies in slot order of this list; map to slots. */
+    uint64_t *want = malloc((count + 1) * sizeof *want);
+    for (size_t k = 0; k < count; ++k) {
+        uint32_t a = slot[expect[2 * k]], b = slot[expect[2 * k + 1]];
+        if (a > b) { uint32_t t = a; a = b; b = t; }
+        want[k] = ((uint64_t)a << 32) | b;
+    }
+    for (size_t x = 1; x < count; ++x) /* insertion sort: small */
+        for (size_t y = x; y > 0 && want[y - 1] > want[y]; --y) {
+            const uint64_t t = want[y]; want[y] = want[y - 1]; want[y - 1] = t;
+        }
+    assert_int_equal(got_n, count);
+    for (size_t k = 0; k < count; ++k) {
+        assert_int_equal(got[k].a.index, (uint32_t)(want[k] >> 32));
+        assert_int_equal(got[k].b.index, (uint32_t)want[k]);
+    }
+    free(want);
+}
+
+/* One run of the script with the n-th allocation failing (n = 0: none).
+ * Returns 1 if a failure was injected. Fills *final. */
+static int run(long n, int sticky, int in_parallel, snapshot *final, int *failed_calls) {
+    ctx c;
+    memset(&c, 0, sizeof c);
+    if (n > 0) oom_arm(n, sticky, in_parallel);
+    int injected = 0;
+    for (int k = 0; k < script_len; ++k) {
+        const op *o = &script[k];
+        snapshot before;
+        const int have_before = c.w != NULL;
+        if (have_before) take(&before, &c);
+        hgcd_status s = run_op(&c, o);
+        if (s != expected(o)) {
+            if (s != HGCD_ERROR_OUT_OF_MEMORY) {
+                fprintf(stderr, "n = %ld, call %d (op %d): status %s\n", n, k, (int)o->op, hgcd_status_string(s));
+                fail();
+            }
+            assert_true(oom_tripped());
+            oom_disarm();
+            ++*failed_calls;
+            if (o->op == OP_WORLD_CREATE) {
+                assert_null(c.w);
+            } else {
+                assert_non_null(strstr(hgcd_world_last_error(c.w), "out of memory"));
+                snapshot after;
+                take(&after, &c);
+                if (o->op == OP_DETECT || o->op == OP_STEP) {
+                    /* Documented: the previous pairs are cleared and the
+                     * statistics zeroed; step has applied the motion. */
+                    assert_int_equal(after.npairs, 0);
+                    assert_int_equal(after.stats.candidate_pairs, 0);
+                    assert_int_equal(after.stats.colliding_pairs, 0);
+                    after.npairs = before.npairs;
+                    after.pairs_ptr = before.pairs_ptr;
+                    free(after.pairs);
+                    after.pairs = malloc((before.npairs + 1) * sizeof *after.pairs);
+                    if (before.npairs) memcpy(after.pairs, before.pairs, before.npairs * sizeof *after.pairs);
+                    after.stats = before.stats;
+                    if (o->op == OP_STEP)
+                        for (size_t b = 0; b < after.nbodies; ++b) { /* moved: take the new poses */
+                            memcpy(before.bodies[b].position, after.bodies[b].position, sizeof(double) * 3);
+                            memcpy(before.bodies[b].velocity, after.bodies[b].velocity, sizeof(double) * 3);
+                        }
+                }
+                const char *diff = snap_diff(&before, &after, 1);
+                if (diff) fprintf(stderr, "n = %ld, call %d (op %d): %s changed by a failed call\n", n, k, (int)o->op, diff);
+                assert_null(diff);
+                snap_free(&after);
+            }
+            /* Memory is back: the same call now succeeds (a failed step has
+             * moved the bodies already, so its tick is finished by detect). */
+            if (o->op == OP_STEP) s = hgcd_world_detect(c.w);
+            else s = run_op(&c, o);
+            assert_int_equal(s, expected(o));
+            injected = 1;
+        }
+        if (have_before) snap_free(&before);
+    }
+    oom_disarm();
+    if (!injected && n > 0) injected = oom_tripped(); /* failed but recovered inside: still a case */
+    take(final, &c);
+    if (n == 0) check_oracle(&c);
+    hgcd_world_destroy(c.w);
+    return injected;
+}
+
+static void sweep(int sticky) {
+    init_shapes();
+    build_script();
+    snapshot ref;
+    int dummy = 0;
+    run(0, 0, 0, &ref, &dummy);
+    assert_true(ref.npairs > 5); /* the scene means something */
+    const int in_parallel = getenv("HGCD_OOM_IN_PARALLEL") != NULL;
+    long n = 1;
+    int failed_calls = 0;
+    for (;; ++n) {
+        snapshot got;
+        const int injected = run(n, sticky, in_parallel, &got, &failed_calls);
+        /* A failed detect drops the grid; the next one rebuilds it, so
+         * more bodies count as moved. Everything else must agree. */
+        got.stats.moved_bodies = ref.stats.moved_bodies;
+        const char *diff = snap_diff(&ref, &got, 0);
+        if (diff) {
+            fprintf(stderr, "n = %ld: final state differs from the reference: %s\n", n, diff);
+            const hgcd_stats *x = &ref.stats, *y = &got.stats;
+            fprintf(stderr, "  stats (reference / this run): levels %u/%u oversize %u/%u threads %u/%u moved %llu/%llu "
+                    "candidates %llu/%llu narrow %llu/%llu triangles %llu/%llu colliding %llu/%llu containment %llu/%llu\n",
+                    x->level_count, y->level_count, x->oversize_count, y->oversize_count, x->thread_count,
+                    y->thread_count, (unsigned long long)x->moved_bodies, (unsigned long long)y->moved_bodies,
+                    (unsigned long long)x->candidate_pairs, (unsigned long long)y->candidate_pairs,
+                    (unsigned long long)x->narrow_tests, (unsigned long long)y->narrow_tests,
+                    (unsigned long long)x->triangle_tests, (unsigned long long)y->triangle_tests,
+                    (unsigned long long)x->colliding_pairs, (unsigned long long)y->colliding_pairs,
+                    (unsigned long long)x->containment_pairs, (unsigned long long)y->containment_pairs);
+        }
+        assert_null(diff);
+        snap_free(&got);
+        if (!injected) break;
+    }
+    printf("%s: %ld allocation points, %d calls returned HGCD_ERROR_OUT_OF_MEMORY, all recovered\n",
+           sticky ? "memory exhausted" : "one failed allocation", n - 1, failed_calls);
+    snap_free(&ref);
+}
+
+static void test_single_failure(void **state) {
+    (void)state;
+    sweep(0);
+}
+
+static void test_exhausted(void **state) {
+    (void)state;
+    sweep(1);
+}
+
+static void test_hook_works(void **state) {
+    (void)state;
+    /* The hook really intercepts hgcd's allocations. */
+    hgcd_world_desc d = hgcd_world_desc_default();
+    hgcd_world *w = (hgcd_world *)0x1;
+    oom_arm(1, 1, 0);
+    assert_int_equal(hgcd_world_create(&d, &w), HGCD_ERROR_OUT_OF_MEMORY);
+    assert_null(w);
+    oom_disarm();
+    const long before = oom_total_allocations();
+    assert_int_equal(hgcd_world_create(&d, &w), HGCD_OK);
+    assert_true(oom_total_allocations() > before);
+    /* Refusals under exhausted memory keep their status and still say why,
+     * with a fixed message if the detailed one cannot be built. */
+    oom_arm(1, 1, 0);
+    assert_int_equal(hgcd_world_set_thread_count(w, 5000), HGCD_ERROR_INVALID_ARGUMENT);
+    assert_string_equal(hgcd_world_last_error(w), "out of memory");
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    hgcd_body b;
+    assert_int_equal(hgcd_body_create(w, NULL, &b), HGCD_ERROR_NULL_ARGUMENT);
+    bd.struct_size = 3;
+    assert_int_equal(hgcd_body_create(w, &bd, &b), HGCD_ERROR_BAD_DESCRIPTOR);
+    oom_disarm();
+    assert_int_equal(hgcd_body_create(w, &bd, &b), HGCD_ERROR_BAD_DESCRIPTOR);
+    assert_non_null(strstr(hgcd_world_last_error(w), "hgcd_body_desc_default"));
+    hgcd_world_destroy(w);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hook_works),
+        cmocka_unit_test(test_single_failure),
+        cmocka_unit_test(test_exhausted),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -26,6 +26,20 @@ HGCD_CXXFLAGS := -std=c++17 -fPIC -fopenmp -ffp-contract=off -fvisibility=hidden
                  -Wall -Wextra -Iinclude -DHGCD_BUILDING_LIBRARY
 LDLIBS_LIB := -fopenmp -lm
 
+# Optional narrow phase through libccd (GJK/MPR for convex meshes): used when
+# pkg-config knows `ccd` or its header is installed; CCD=no builds without it
+# (switching needs `make clean`). Without it the library still builds and
+# reports HGCD_ERROR_NOT_SUPPORTED for GJK/MPR requests.
+CCD ?= auto
+ifneq ($(CCD),no)
+HAVE_CCD := $(shell pkg-config --exists ccd 2>/dev/null && echo yes || { test -f /usr/include/ccd/ccd.h && echo yes; })
+endif
+ifeq ($(HAVE_CCD),yes)
+CCD_LIBS := $(shell pkg-config --libs ccd 2>/dev/null || echo -lccd)
+HGCD_CXXFLAGS += -DHGCD_HAVE_CCD $(shell pkg-config --cflags ccd 2>/dev/null)
+LDLIBS_LIB += $(CCD_LIBS)
+endif
+
 SRCS := $(wildcard src/*.cpp)
 OBJS := $(patsubst src/%.cpp,$(BUILD)/%.o,$(SRCS))
 STATIC := $(BUILD)/libhgcd.a
@@ -46,6 +60,7 @@ $(BUILD):
 $(STATIC): $(OBJS)
 	rm -f $@
 	ar rcs $@ $^
+	echo '$(patsubst -l%,%,$(filter -l%,$(CCD_LIBS)))' > $(BUILD)/libhgcd-static-deps.txt
 
 $(SHARED): $(OBJS) src/hgcd.map
 	$(CXX) -shared -Wl,-soname,$(SONAME) -Wl,--version-script=src/hgcd.map -o $@ $(OBJS) $(LDFLAGS) $(LDLIBS_LIB)
@@ -53,8 +68,8 @@ $(SHARED): $(OBJS) src/hgcd.map
 	ln -sf $(SONAME) $(BUILD)/libhgcd.so
 
 $(BUILD)/hgcd.pc: Makefile
-	printf 'prefix=%s\nlibdir=%s\nincludedir=%s\n\nName: hgcd\nDescription: Parallel exact collision detection between many triangle meshes\nVersion: %s\nLibs: -L$${libdir} -lhgcd\nLibs.private: -lgomp -lstdc++ -lm\nCflags: -I$${includedir}\n' \
-	  '$(PREFIX)' '$(LIBDIR)' '$(INCLUDEDIR)' '$(VERSION)' > $@
+	printf 'prefix=%s\nlibdir=%s\nincludedir=%s\n\nName: hgcd\nDescription: Parallel exact collision detection between many triangle meshes\nVersion: %s\nLibs: -L$${libdir} -lhgcd\nLibs.private: -lgomp -lstdc++ -lm %s\nCflags: -I$${includedir}\n' \
+	  '$(PREFIX)' '$(LIBDIR)' '$(INCLUDEDIR)' '$(VERSION)' '$(CCD_LIBS)' > $@
 
 install: lib $(BUILD)/hgcd.pc
 	install -d $(DESTDIR)$(INCLUDEDIR)/hgcd $(DESTDIR)$(LIBDIR)/pkgconfig
@@ -74,7 +89,7 @@ N ?= 200000
 TICKS ?= 5
 THREADS ?= 0
 $(BUILD)/demo: examples/demo.c $(STATIC) | $(BUILD)
-	$(CC) -std=c99 -O2 -Wall -Iinclude $< -o $@ $(STATIC) -fopenmp -lstdc++ -lm
+	$(CC) -std=c99 -O2 -Wall -Iinclude $< -o $@ $(STATIC) -fopenmp -lstdc++ -lm $(CCD_LIBS)
 
 demo:
 	bash scripts/ensure-deps.sh demo

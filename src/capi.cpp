@@ -4,6 +4,7 @@
 #include <cstring>
 #include <new>
 
+#include "ccd_narrow.hpp"
 #include "hgcd/hgcd.h"
 #include "tags.hpp"
 #include "world.hpp"
@@ -116,6 +117,10 @@ hgcd_status hgcd_world_create(const hgcd_world_desc *desc, hgcd_world **out_worl
     const double lo = desc->min_cell_size, hi = desc->max_cell_size;
     if (!std::isfinite(lo) || !std::isfinite(hi) || lo < 0 || hi < 0 || (lo > 0 && hi > 0 && lo > hi))
         return HGCD_ERROR_INVALID_ARGUMENT;
+    const int32_t np = desc->narrow_phase;
+    if (np != HGCD_NARROW_EXACT && np != HGCD_NARROW_GJK && np != HGCD_NARROW_MPR)
+        return HGCD_ERROR_INVALID_ARGUMENT;
+    if (np != HGCD_NARROW_EXACT && hgcd::libccd_precision() == 0) return HGCD_ERROR_NOT_SUPPORTED;
     return guarded(nullptr, "world_create", [&] {
         *out_world = new hgcd_world(*desc);
         return HGCD_OK;
@@ -278,6 +283,39 @@ hgcd_status hgcd_body_get_user_data(const hgcd_world *world, hgcd_body body, uin
 hgcd_status hgcd_body_validate(const hgcd_world *world, hgcd_body body) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     return world->impl.body_valid(body) ? HGCD_OK : HGCD_ERROR_STALE_ID;
+}
+
+// ------------------------------------------------ narrow phase, contacts --
+
+int32_t hgcd_feature_libccd(void) { return hgcd::libccd_precision(); }
+
+hgcd_status hgcd_world_set_narrow_phase(hgcd_world *world, int32_t narrow_phase) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "world_set_narrow_phase", [&] { return world->impl.set_narrow_phase(narrow_phase); });
+}
+
+hgcd_status hgcd_mesh_set_narrow_phase(hgcd_world *world, hgcd_mesh mesh, int32_t narrow_phase) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "mesh_set_narrow_phase",
+                   [&] { return world->impl.set_mesh_narrow_phase(mesh, narrow_phase); });
+}
+
+hgcd_status hgcd_world_set_contacts(hgcd_world *world, uint32_t enable) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    world->impl.set_contacts(enable != 0);
+    return HGCD_OK;
+}
+
+hgcd_status hgcd_world_contacts(const hgcd_world *world, const hgcd_contact **out_contacts,
+                                size_t *out_count) {
+    if (!world || !out_contacts || !out_count) return HGCD_ERROR_NULL_ARGUMENT;
+    const auto &c = world->impl.contacts();
+    *out_contacts = nullptr;
+    *out_count = 0;
+    if (!world->impl.contacts_recorded()) return HGCD_ERROR_INVALID_ARGUMENT;
+    *out_contacts = c.empty() ? nullptr : c.data();
+    *out_count = c.size();
+    return HGCD_OK;
 }
 
 }  // extern "C"

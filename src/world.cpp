@@ -7,6 +7,8 @@
 #include <cmath>
 #include <new>
 
+#include "ccd_narrow.hpp"
+#include "contact.hpp"
 #include "narrow.hpp"
 #include "transform.hpp"
 
@@ -52,6 +54,8 @@ World::World(const hgcd_world_desc &d)
     limits_.min_exponent = d.min_cell_size > 0 ? exponent_at_least(d.min_cell_size) : INT_MIN;
     limits_.max_exponent = d.max_cell_size > 0 ? exponent_at_most(d.max_cell_size) : INT_MAX;
     stats_.struct_size = sizeof(stats_);
+    narrow_phase_ = d.narrow_phase;  // checked by hgcd_world_create
+    contacts_on_ = d.contacts != 0;
 }
 
 hgcd_status World::fail(hgcd_status status, std::string message) const {
@@ -130,13 +134,16 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
             mesh_gen_.reserve(cap);
             mesh_alive_.reserve(cap);
             mesh_users_.reserve(cap);
+            mesh_narrow_.reserve(cap);
             meshes_.reserve(cap);
         }
         meshes_.push_back(std::move(m));
         mesh_gen_.push_back(tag_ << kCounterBits);
         mesh_alive_.push_back(0);
         mesh_users_.push_back(0);
+        mesh_narrow_.push_back(HGCD_NARROW_WORLD);
     }
+    mesh_narrow_[slot] = HGCD_NARROW_WORLD;
     mesh_gen_[slot] = (tag_ << kCounterBits) | ((mesh_gen_[slot] + 1) & kCounterMask);
     mesh_alive_[slot] = 1;
     mesh_users_[slot] = 0;
@@ -175,8 +182,64 @@ hgcd_status World::mesh_info(hgcd_mesh id, hgcd_mesh_info *out) const {
     info.body_count = mesh_users_[slot];
     for (int k = 0; k < 3; ++k) info.center[k] = m.center[k];
     info.radius = m.radius;
+    info.narrow_phase_setting = mesh_narrow_[slot];
+    info.narrow_phase = effective_narrow_phase(uint32_t(slot));
     *out = info;
     return HGCD_OK;
+}
+
+// ---------------------------------------------------------- narrow phase --
+
+namespace {
+
+const char *check_narrow_phase(int32_t mode, bool per_mesh, hgcd_status *status) {
+    const bool known = mode == HGCD_NARROW_EXACT || mode == HGCD_NARROW_GJK || mode == HGCD_NARROW_MPR ||
+                       (per_mesh && mode == HGCD_NARROW_WORLD);
+    if (!known) {
+        *status = HGCD_ERROR_INVALID_ARGUMENT;
+        return per_mesh ? "not HGCD_NARROW_WORLD, EXACT, GJK or MPR" : "not HGCD_NARROW_EXACT, GJK or MPR";
+    }
+    if ((mode == HGCD_NARROW_GJK || mode == HGCD_NARROW_MPR) && libccd_precision() == 0) {
+        *status = HGCD_ERROR_NOT_SUPPORTED;
+        return "not built with libccd";
+    }
+    *status = HGCD_OK;
+    return nullptr;
+}
+
+// Per mesh slot, what the narrow phase loop reads.
+constexpr uint8_t kCcdUse = 1;    // convex and set to GJK or MPR: libccd
+constexpr uint8_t kCcdGjk = 2;    // set to GJK
+constexpr uint8_t kCcdAsked = 4;  // set to GJK or MPR, convex or not
+
+}  // namespace
+
+hgcd_status World::set_narrow_phase(int32_t mode) {
+    hgcd_status s;
+    if (const char *why = check_narrow_phase(mode, false, &s))
+        return fail(s, "world_set_narrow_phase: " + std::to_string(mode) + ": " + why);
+    narrow_phase_ = mode;
+    return HGCD_OK;
+}
+
+hgcd_status World::set_mesh_narrow_phase(hgcd_mesh id, int32_t mode) {
+    const int64_t slot = live_mesh(id);
+    if (slot < 0) return fail(HGCD_ERROR_STALE_ID, "mesh_set_narrow_phase: not a live mesh of this world");
+    hgcd_status s;
+    if (const char *why = check_narrow_phase(mode, true, &s))
+        return fail(s, "mesh_set_narrow_phase: " + std::to_string(mode) + ": " + why);
+    if ((mode == HGCD_NARROW_GJK || mode == HGCD_NARROW_MPR) && !meshes_[slot].convex)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    "mesh_set_narrow_phase: mesh " + std::to_string(slot) +
+                        " is not convex; libccd handles convex meshes only, so it keeps the exact test");
+    mesh_narrow_[slot] = int8_t(mode);
+    return HGCD_OK;
+}
+
+int32_t World::effective_narrow_phase(uint32_t slot) const {
+    const int32_t set = mesh_narrow_[slot];
+    const int32_t mode = set == HGCD_NARROW_WORLD ? narrow_phase_ : set;
+    return meshes_[slot].convex ? mode : HGCD_NARROW_EXACT;
 }
 
 // ---------------------------------------------------------------- bodies --
@@ -336,6 +399,9 @@ void World::compute_spheres(int threads) {
 
 hgcd_status World::detect() {
     pairs_.clear();
+    contacts_.clear();
+    contacts_recorded_ = contacts_on_;
+    const bool want_contacts = contacts_on_;
     const uint32_t struct_size = stats_.struct_size;
     stats_ = hgcd_stats{};
     stats_.struct_size = struct_size;
@@ -365,13 +431,29 @@ hgcd_status World::detect() {
         }
         const double t2 = omp_get_wtime();
 
+        // Narrow phase per mesh (libccd or exact), read only if any is not exact.
+        std::vector<uint8_t> ccd_mode(meshes_.size(), 0);
+        bool any_ccd = false;
+        for (size_t m = 0; m < meshes_.size(); ++m) {
+            if (!mesh_alive_[m]) continue;
+            const int32_t set = mesh_narrow_[m] == HGCD_NARROW_WORLD ? narrow_phase_ : mesh_narrow_[m];
+            if (set != HGCD_NARROW_GJK && set != HGCD_NARROW_MPR) continue;
+            ccd_mode[m] = uint8_t(kCcdAsked | (set == HGCD_NARROW_GJK ? kCcdGjk : 0) |
+                                  (meshes_[m].convex ? kCcdUse : 0));
+            any_ccd = true;
+        }
         std::vector<std::vector<uint64_t>> hits(T);
-        std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0);
+        std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // parallel to hits (contacts on)
+        std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0), ccd_tests(T, 0),
+            ccd_fallback(T, 0);
 #pragma omp parallel num_threads(T)
         {
             const int me = omp_get_thread_num();
             NarrowScratch scratch;
+            CcdScratch ccd_scratch;
+            ContactScratch contact_scratch;
             std::vector<uint64_t> &mine = hits[me];
+            std::vector<hgcd_contact> &mine_contacts = hit_contacts[me];
 #pragma omp for schedule(dynamic, 1)
             for (int64_t c = 0; c < int64_t(chunks.size()); ++c) {
                 const std::vector<uint64_t> &list = found[chunks[c].list];
@@ -387,31 +469,72 @@ hgcd_status World::detect() {
                     const Placement &la = place_[a], &lb = place_[b];
                     const BodyPose pa{&meshes_[body_mesh_[a]], la.position, la.orientation, la.scale};
                     const BodyPose pb{&meshes_[body_mesh_[b]], lb.position, lb.orientation, lb.scale};
-                    const Contact hit = collide(pa, pb, scratch);
+                    Contact hit;
+                    hgcd_contact contact;
+                    const uint8_t ma = any_ccd ? ccd_mode[body_mesh_[a]] : 0;
+                    const uint8_t mb = any_ccd ? ccd_mode[body_mesh_[b]] : 0;
+                    if (ma & mb & kCcdUse) {  // both convex and set to libccd
+                        const CcdMethod method = ((ma | mb) & kCcdGjk) ? CcdMethod::Gjk : CcdMethod::Mpr;
+                        CcdContact cc;
+                        hit = ccd_collide(pa, pb, method, ccd_scratch, want_contacts ? &cc : nullptr)
+                                  ? Contact::Surface
+                                  : Contact::None;
+                        if (want_contacts && hit != Contact::None) penetration_contact(cc, &contact);
+                    } else if (want_contacts) {
+                        if (ma & mb & kCcdAsked) ++ccd_fallback[me];
+                        Witness witness;
+                        hit = collide(pa, pb, scratch, &witness);
+                        if (hit != Contact::None) exact_contact(pa, pb, hit, witness, contact_scratch, &contact);
+                    } else {
+                        if (ma & mb & kCcdAsked) ++ccd_fallback[me];
+                        hit = collide(pa, pb, scratch);
+                    }
                     if (hit != Contact::None) {
                         mine.push_back(key);
+                        if (want_contacts) mine_contacts.push_back(contact);
                         if (hit == Contact::Containment) ++containment[me];
                     }
                 }
             }
             tri_tests[me] = scratch.triangle_tests;
             exact[me] = scratch.exact_tests;
-            std::sort(mine.begin(), mine.end());  // each thread its own share
+            ccd_tests[me] = ccd_scratch.tests;
+            if (want_contacts) {  // sort the contacts with their keys
+                std::vector<uint32_t> order(mine.size());
+                for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
+                std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return mine[x] < mine[y]; });
+                std::vector<uint64_t> keys(mine.size());
+                std::vector<hgcd_contact> sorted(mine.size());
+                for (size_t k = 0; k < order.size(); ++k) {
+                    keys[k] = mine[order[k]];
+                    sorted[k] = mine_contacts[order[k]];
+                }
+                mine.swap(keys);
+                mine_contacts.swap(sorted);
+            } else {
+                std::sort(mine.begin(), mine.end());  // each thread its own share
+            }
         }
         // Merge the sorted shares: the output is in (a, b) order whatever the
         // thread count, so identical bit for bit.
         size_t count = 0;
         for (auto &h : hits) count += h.size();
         pairs_.resize(count);
+        if (want_contacts) contacts_.resize(count);
         std::vector<size_t> head(T, 0);
         for (size_t k = 0; k < count; ++k) {
             int best = -1;
             for (int t = 0; t < T; ++t)
                 if (head[t] < hits[t].size() && (best < 0 || hits[t][head[t]] < hits[best][head[best]]))
                     best = t;
-            const uint64_t key = hits[best][head[best]++];
+            const size_t at = head[best]++;
+            const uint64_t key = hits[best][at];
             const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
             pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
+            if (want_contacts) {
+                contacts_[k] = hit_contacts[best][at];
+                contacts_[k].pair = pairs_[k];
+            }
         }
         const double t3 = omp_get_wtime();
 
@@ -424,6 +547,8 @@ hgcd_status World::detect() {
             stats_.narrow_tests += exact[t];
             stats_.triangle_tests += tri_tests[t];
             stats_.containment_pairs += containment[t];
+            stats_.libccd_tests += ccd_tests[t];
+            stats_.libccd_fallback_tests += ccd_fallback[t];
         }
         stats_.colliding_pairs = pairs_.size();
         stats_.update_seconds = t1 - t0;
@@ -434,6 +559,7 @@ hgcd_status World::detect() {
         // The grid may be half updated: drop it, the next detect rebuilds it.
         grid_ = Grid();
         pairs_.clear();
+        contacts_.clear();
         stats_ = hgcd_stats{};
         stats_.struct_size = struct_size;
         throw;
@@ -490,6 +616,7 @@ hgcd_status World::step() {
 
 size_t World::memory_bytes() const {
     size_t bytes = grid_.memory_bytes() + pairs_.capacity() * sizeof(hgcd_pair);
+    bytes += contacts_.capacity() * sizeof(hgcd_contact);
     bytes += place_.capacity() * sizeof(Placement);
     bytes += (velocity_.capacity() + r_level_.capacity()) * sizeof(double);
     bytes += (body_mesh_.capacity() + body_gen_.capacity() + live_gen_.capacity()) * sizeof(uint32_t);

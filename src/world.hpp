@@ -33,6 +33,12 @@ class World {
     hgcd_status step();
     hgcd_status detect();
     void set_thread_count(uint32_t n) { thread_count_ = n; }
+    // Narrow phase choice (enum hgcd_narrow_phase) and contacts (hgcd.h).
+    hgcd_status set_narrow_phase(int32_t mode);
+    hgcd_status set_mesh_narrow_phase(hgcd_mesh id, int32_t mode);
+    void set_contacts(bool on) { contacts_on_ = on; }
+    const std::vector<hgcd_contact> &contacts() const { return contacts_; }
+    bool contacts_recorded() const { return contacts_recorded_; }
 
     const std::vector<hgcd_pair> &pairs() const { return pairs_; }
     const hgcd_stats &stats() const { return stats_; }
@@ -54,6 +60,7 @@ class World {
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
     void compute_spheres(int threads);
+    int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     int threads() const;
 
     // Ids: generation = world tag (8 bits) << 24 | counter (24 bits, >= 1).
@@ -70,7 +77,11 @@ class World {
     std::vector<uint8_t> mesh_alive_;
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
+    std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
     uint32_t live_meshes_ = 0;
+    int32_t narrow_phase_ = HGCD_NARROW_EXACT;
+    bool contacts_on_ = false;
+    bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)
 
     // Bodies, by slot (structure of arrays).
     // What the narrow phase reads per body, in one cache line.
@@ -92,6 +103,7 @@ class World {
 
     Grid grid_;
     std::vector<hgcd_pair> pairs_;
+    std::vector<hgcd_contact> contacts_;  // parallel to pairs_ when contacts_recorded_
     hgcd_stats stats_{};
     mutable std::string last_error_;
 };

@@ -13,7 +13,9 @@
  * lies wholly inside the other. An open mesh (one that does not bound a volume)
  * collides only through its surface. The test is exact: it is decided with
  * exact orientation predicates on the world-space vertices as hgcd computes
- * them (see "World-space vertices" below), never with a tolerance.
+ * them (see "World-space vertices" below), never with a tolerance. (A world
+ * or mesh may instead hand pairs of convex meshes to libccd, which uses
+ * tolerances: see enum hgcd_narrow_phase.)
  *
  * Ids
  * ---
@@ -153,6 +155,58 @@ typedef struct hgcd_pair {
 /* World                                                                     */
 /* ------------------------------------------------------------------------ */
 
+/** Which test decides a candidate pair (hgcd_world_desc.narrow_phase,
+ *  hgcd_world_set_narrow_phase, hgcd_mesh_set_narrow_phase).
+ *
+ *  HGCD_NARROW_EXACT is the exact definition of a collision given at the top
+ *  of this header. HGCD_NARROW_GJK and HGCD_NARROW_MPR hand a pair to libccd
+ *  instead (GJK, or Minkowski portal refinement), on the convex hulls of the
+ *  two bodies' world-space vertices (the same bits the exact test uses), when
+ *  both meshes are convex (hgcd_mesh_info.convex) and both are set to GJK or
+ *  MPR (one GJK and the other MPR: GJK). Every other pair, in particular
+ *  every pair with a non-convex mesh, takes the exact test.
+ *
+ *  libccd is not exact: a pair whose solids only touch, or overlap or are
+ *  apart by less than its tolerance, may be reported either way. The
+ *  tolerance, libccd's mpr_tolerance and epa_tolerance, is set per pair to
+ *  1e-6 * (r_a + r_b) with libccd in double precision (1e-4 * (r_a + r_b) in
+ *  single precision), r being a body's bounding radius (scale *
+ *  hgcd_mesh_info.radius). GJK's yes/no answer uses no tolerance, only
+ *  libccd's fixed rounding thresholds; MPR may miss an overlap shallower than
+ *  the tolerance. libccd's iterations are capped at 1000 per call. Pairs
+ *  whose exact vertex boxes are disjoint are refused before libccd. */
+enum hgcd_narrow_phase {
+    /** Per mesh only: follow the world's setting (every mesh starts so). */
+    HGCD_NARROW_WORLD = -1,
+    /** The exact test (the default). */
+    HGCD_NARROW_EXACT = 0,
+    /** libccd's GJK (ccdGJKIntersect; ccdGJKPenetration, i.e. EPA, for
+     *  contacts). */
+    HGCD_NARROW_GJK = 1,
+    /** libccd's Minkowski portal refinement (ccdMPRIntersect;
+     *  ccdMPRPenetration for contacts). */
+    HGCD_NARROW_MPR = 2
+};
+
+/** Precision of the libccd compiled in, read from libccd's own config.h at
+ *  build time (CCD_SINGLE: ccd_real_t is float; CCD_DOUBLE: double). */
+enum hgcd_libccd_precision {
+    /** Built without libccd. */
+    HGCD_LIBCCD_NONE = 0,
+    /** libccd with ccd_real_t = float. */
+    HGCD_LIBCCD_SINGLE = 1,
+    /** libccd with ccd_real_t = double (Debian's libccd-dev). */
+    HGCD_LIBCCD_DOUBLE = 2
+};
+
+/** Whether this build can use libccd: HGCD_LIBCCD_NONE (0: built without it;
+ *  every request for GJK or MPR fails with HGCD_ERROR_NOT_SUPPORTED, message
+ *  "not built with libccd"), HGCD_LIBCCD_SINGLE (1) or HGCD_LIBCCD_DOUBLE
+ *  (2). In double precision libccd reads the world vertices bit for bit; in
+ *  single precision it gets them minus a point of the pair (the centre of
+ *  body a's vertex box), rounded to float. */
+HGCD_API int32_t hgcd_feature_libccd(void);
+
 /** World descriptor. Obtain one from hgcd_world_desc_default(), then change
  *  fields. */
 typedef struct hgcd_world_desc {
@@ -185,6 +239,17 @@ typedef struct hgcd_world_desc {
      *  bodies. Both finite and >= 0; if both are set, min <= max. */
     double min_cell_size;
     double max_cell_size;
+    /** Narrow phase of the world's pairs (enum hgcd_narrow_phase): EXACT (0,
+     *  default), GJK or MPR. Meshes follow it unless set otherwise with
+     *  hgcd_mesh_set_narrow_phase; non-convex meshes always fall back to the
+     *  exact test (hgcd_mesh_info.narrow_phase says which test a mesh gets,
+     *  hgcd_stats.libccd_fallback_tests counts such pairs). GJK or MPR
+     *  without libccd: NOT_SUPPORTED; other values: INVALID_ARGUMENT. */
+    int32_t narrow_phase;
+    /** Non-zero: step/detect also record what each colliding pair is made of
+     *  (hgcd_world_contacts). Default 0: nothing is recorded and the pair
+     *  query pays nothing for it. See hgcd_world_set_contacts. */
+    uint32_t contacts;
 } hgcd_world_desc;
 
 /** A descriptor with every default filled in. */
@@ -192,7 +257,8 @@ HGCD_API hgcd_world_desc hgcd_world_desc_default(void);
 
 /** Creates a world. On success *out_world owns the new world (free it with
  *  hgcd_world_destroy). On failure *out_world is set to NULL.
- *  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_ARGUMENT, OUT_OF_MEMORY. */
+ *  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_ARGUMENT, OUT_OF_MEMORY,
+ *  NOT_SUPPORTED (narrow_phase GJK or MPR without libccd). */
 HGCD_API hgcd_status hgcd_world_create(const hgcd_world_desc *desc,
                                        hgcd_world **out_world);
 
@@ -214,6 +280,18 @@ HGCD_API uint32_t hgcd_world_mesh_count(const hgcd_world *world);
  *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (more than 4096). */
 HGCD_API hgcd_status hgcd_world_set_thread_count(hgcd_world *world,
                                                  uint32_t thread_count);
+
+/** Sets the world's narrow phase (enum hgcd_narrow_phase,
+ *  hgcd_world_desc.narrow_phase), used from the next step/detect.
+ *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (not EXACT, GJK or MPR),
+ *  NOT_SUPPORTED (GJK or MPR without libccd: "not built with libccd"). */
+HGCD_API hgcd_status hgcd_world_set_narrow_phase(hgcd_world *world,
+                                                 int32_t narrow_phase);
+
+/** Switches contact recording on (non-zero) or off for the following
+ *  step/detect calls (hgcd_world_desc.contacts). Errors: NULL_ARGUMENT. */
+HGCD_API hgcd_status hgcd_world_set_contacts(hgcd_world *world,
+                                             uint32_t enable);
 
 /** Moves every body by velocity * time_step (reflecting at the bounds when
  *  the descriptor asked for it; a move longer than the box is clamped into
@@ -251,6 +329,61 @@ HGCD_API hgcd_status hgcd_world_copy_pairs(const hgcd_world *world,
                                            hgcd_pair *buffer, size_t capacity,
                                            size_t *out_total);
 
+/** What a colliding pair is made of (hgcd_contact.kind). */
+enum hgcd_contact_kind {
+    /** The surfaces meet (exact test): triangle triangle_a of body a's mesh
+     *  and triangle triangle_b of body b's mesh share a point. One such
+     *  witness pair, not all of them. */
+    HGCD_CONTACT_SURFACE = 1,
+    /** The surfaces are apart and a's closed mesh holds b: a connected
+     *  component of b's mesh (all of b when it has one) lies inside a. */
+    HGCD_CONTACT_A_CONTAINS_B = 2,
+    /** The same with the roles swapped (when each holds a component of the
+     *  other, this kind is reported). */
+    HGCD_CONTACT_B_CONTAINS_A = 3,
+    /** Decided by libccd (a GJK or MPR pair, enum hgcd_narrow_phase): depth,
+     *  normal and point are libccd's penetration estimate (EPA after GJK, or
+     *  MPR's own). */
+    HGCD_CONTACT_PENETRATION = 4
+};
+
+/** One colliding pair and what it is made of. */
+typedef struct hgcd_contact {
+    /** The pair, equal to the pair of the same index in hgcd_world_pairs. */
+    hgcd_pair pair;
+    /** enum hgcd_contact_kind. */
+    int32_t kind;
+    /** SURFACE: a triangle index (as given to hgcd_mesh_create) in a's mesh
+     *  and one in b's mesh; UINT32_MAX for the other kinds. */
+    uint32_t triangle_a;
+    uint32_t triangle_b;
+    /** Always 0. */
+    uint32_t reserved;
+    /** PENETRATION: translating body b by depth along normal (a unit
+     *  vector) brings the two convex hulls to touching, within libccd's
+     *  tolerance (EPA gives the smallest such translation; MPR one along
+     *  its own direction, close to the line between the bodies' centres).
+     *  point is libccd's contact position in world space: an average of
+     *  support points near the contact, not guaranteed to lie in both
+     *  bodies. normal is all zero when libccd gave no direction (bodies that
+     *  only touch). All zero for the other kinds. */
+    double depth;
+    double normal[3];
+    double point[3];
+} hgcd_contact;
+
+/** The contacts of the last step/detect, parallel to hgcd_world_pairs:
+ *  *out_contacts points to *out_count contacts owned by the world (as many as
+ *  there are pairs), contact k describing pair k; same lifetime as the pairs.
+ *  Recorded only when contacts were on (hgcd_world_desc.contacts,
+ *  hgcd_world_set_contacts) during that step/detect; switching them on or
+ *  off never changes the pairs. Before the first detect the count is 0.
+ *  Errors: NULL_ARGUMENT; INVALID_ARGUMENT when the last step/detect ran with
+ *  contacts off (then *out_contacts is NULL and *out_count 0). */
+HGCD_API hgcd_status hgcd_world_contacts(const hgcd_world *world,
+                                         const hgcd_contact **out_contacts,
+                                         size_t *out_count);
+
 /** Statistics of the last step/detect. */
 typedef struct hgcd_stats {
     /** sizeof(hgcd_stats): set it before calling hgcd_world_stats (the
@@ -279,6 +412,13 @@ typedef struct hgcd_stats {
     double broad_seconds;
     double narrow_seconds;
     double total_seconds;
+    /** Candidate pairs decided by libccd (both meshes convex and set to GJK
+     *  or MPR, exact vertex boxes overlapping); not counted in narrow_tests,
+     *  and their pairs never count in containment_pairs. */
+    uint64_t libccd_tests;
+    /** Candidate pairs whose meshes were both set to GJK or MPR but one of
+     *  them is not convex: tested exactly instead. */
+    uint64_t libccd_fallback_tests;
 } hgcd_stats;
 
 /** Fills *out_stats (whose struct_size the caller sets; 0 is taken as
@@ -341,6 +481,14 @@ typedef struct hgcd_mesh_info {
      *  reaching every vertex). */
     double center[3];
     double radius;
+    /** The narrow phase set for this mesh: HGCD_NARROW_WORLD (default) or
+     *  the value given to hgcd_mesh_set_narrow_phase. */
+    int32_t narrow_phase_setting;
+    /** The test this mesh's pairs get now (enum hgcd_narrow_phase, never
+     *  WORLD): the setting or else the world's, and HGCD_NARROW_EXACT for a
+     *  mesh that is not convex. A pair uses libccd only when both of its
+     *  meshes say GJK or MPR. */
+    int32_t narrow_phase;
 } hgcd_mesh_info;
 
 /** Fills *out_info (the caller sets struct_size; 0 is taken as the full size).
@@ -348,6 +496,18 @@ typedef struct hgcd_mesh_info {
 HGCD_API hgcd_status hgcd_mesh_get_info(const hgcd_world *world,
                                         hgcd_mesh mesh,
                                         hgcd_mesh_info *out_info);
+
+/** Chooses the narrow phase of this mesh's pairs (enum hgcd_narrow_phase):
+ *  HGCD_NARROW_WORLD (the default: follow the world), EXACT, GJK or MPR,
+ *  used from the next step/detect. A pair uses libccd only when both of its
+ *  meshes are convex and say GJK or MPR.
+ *  Errors: NULL_ARGUMENT, STALE_ID, INVALID_ARGUMENT (an unknown value, or
+ *  GJK or MPR for a mesh that is not convex: libccd handles convex shapes
+ *  only, so the mesh keeps its setting and the exact test), NOT_SUPPORTED
+ *  (GJK or MPR without libccd: "not built with libccd"). */
+HGCD_API hgcd_status hgcd_mesh_set_narrow_phase(hgcd_world *world,
+                                                hgcd_mesh mesh,
+                                                int32_t narrow_phase);
 
 /* ------------------------------------------------------------------------ */
 /* Bodies                                                                    */

@@ -17,7 +17,10 @@
 //! `libhgcd.a` is there, else the shared library. A static libhgcd needs its
 //! C++ and OpenMP runtimes: `stdc++`, `gomp` and `m` are linked as dylibs
 //! (override the list with `HGCD_RUNTIME_LIBS`, e.g. "c++ omp" for a
-//! clang/libomp build; an empty value links none). A shared libhgcd is found
+//! clang/libomp build; an empty value links none). A static libhgcd built
+//! with libccd also needs `ccd`: the Makefile lists such libraries in
+//! `libhgcd-static-deps.txt` beside `libhgcd.a`, and they are linked as dylibs
+//! too. A shared libhgcd is found
 //! at run time by the dynamic loader (set `LD_LIBRARY_PATH` or install it).
 
 use std::env;
@@ -227,6 +230,14 @@ fn main() {
             match f.kind {
                 Kind::Static => println!("cargo:rustc-link-lib=static=hgcd"),
                 Kind::Dylib => println!("cargo:rustc-link-lib=dylib=hgcd"),
+            }
+            if f.kind == Kind::Static {
+                // Libraries the static archive needs (libccd), written by the Makefile.
+                let deps = f.dir.join("libhgcd-static-deps.txt");
+                println!("cargo:rerun-if-changed={}", deps.display());
+                if let Ok(text) = std::fs::read_to_string(&deps) {
+                    libs.extend(text.split_whitespace().map(str::to_string));
+                }
             }
             println!("cargo:lib_dir={}", f.dir.display());
             println!("cargo:link_source={}", f.source);

@@ -214,6 +214,55 @@ fn bindgen_test_layout_hgcd_pair() {
     }
     test_field_b();
 }
+#[doc = " Per mesh only: follow the world's setting (every mesh starts so)."]
+pub const HGCD_NARROW_WORLD: hgcd_narrow_phase = -1;
+#[doc = " The exact test (the default)."]
+pub const HGCD_NARROW_EXACT: hgcd_narrow_phase = 0;
+#[doc = " libccd's GJK (ccdGJKIntersect; ccdGJKPenetration, i.e. EPA, for"]
+#[doc = "  contacts)."]
+pub const HGCD_NARROW_GJK: hgcd_narrow_phase = 1;
+#[doc = " libccd's Minkowski portal refinement (ccdMPRIntersect;"]
+#[doc = "  ccdMPRPenetration for contacts)."]
+pub const HGCD_NARROW_MPR: hgcd_narrow_phase = 2;
+#[doc = " Which test decides a candidate pair (hgcd_world_desc.narrow_phase,"]
+#[doc = "  hgcd_world_set_narrow_phase, hgcd_mesh_set_narrow_phase)."]
+#[doc = ""]
+#[doc = "  HGCD_NARROW_EXACT is the exact definition of a collision given at the top"]
+#[doc = "  of this header. HGCD_NARROW_GJK and HGCD_NARROW_MPR hand a pair to libccd"]
+#[doc = "  instead (GJK, or Minkowski portal refinement), on the convex hulls of the"]
+#[doc = "  two bodies' world-space vertices (the same bits the exact test uses), when"]
+#[doc = "  both meshes are convex (hgcd_mesh_info.convex) and both are set to GJK or"]
+#[doc = "  MPR (one GJK and the other MPR: GJK). Every other pair, in particular"]
+#[doc = "  every pair with a non-convex mesh, takes the exact test."]
+#[doc = ""]
+#[doc = "  libccd is not exact: a pair whose solids only touch, or overlap or are"]
+#[doc = "  apart by less than its tolerance, may be reported either way. The"]
+#[doc = "  tolerance, libccd's mpr_tolerance and epa_tolerance, is set per pair to"]
+#[doc = "  1e-6 * (r_a + r_b) with libccd in double precision (1e-4 * (r_a + r_b) in"]
+#[doc = "  single precision), r being a body's bounding radius (scale *"]
+#[doc = "  hgcd_mesh_info.radius). GJK's yes/no answer uses no tolerance, only"]
+#[doc = "  libccd's fixed rounding thresholds; MPR may miss an overlap shallower than"]
+#[doc = "  the tolerance. libccd's iterations are capped at 1000 per call. Pairs"]
+#[doc = "  whose exact vertex boxes are disjoint are refused before libccd."]
+pub type hgcd_narrow_phase = i32;
+#[doc = " Built without libccd."]
+pub const HGCD_LIBCCD_NONE: hgcd_libccd_precision = 0;
+#[doc = " libccd with ccd_real_t = float."]
+pub const HGCD_LIBCCD_SINGLE: hgcd_libccd_precision = 1;
+#[doc = " libccd with ccd_real_t = double (Debian's libccd-dev)."]
+pub const HGCD_LIBCCD_DOUBLE: hgcd_libccd_precision = 2;
+#[doc = " Precision of the libccd compiled in, read from libccd's own config.h at"]
+#[doc = "  build time (CCD_SINGLE: ccd_real_t is float; CCD_DOUBLE: double)."]
+pub type hgcd_libccd_precision = u32;
+extern "C" {
+    #[doc = " Whether this build can use libccd: HGCD_LIBCCD_NONE (0: built without it;"]
+    #[doc = "  every request for GJK or MPR fails with HGCD_ERROR_NOT_SUPPORTED, message"]
+    #[doc = "  \"not built with libccd\"), HGCD_LIBCCD_SINGLE (1) or HGCD_LIBCCD_DOUBLE"]
+    #[doc = "  (2). In double precision libccd reads the world vertices bit for bit; in"]
+    #[doc = "  single precision it gets them minus a point of the pair (the centre of"]
+    #[doc = "  body a's vertex box), rounded to float."]
+    pub fn hgcd_feature_libccd() -> i32;
+}
 #[doc = " World descriptor. Obtain one from hgcd_world_desc_default(), then change"]
 #[doc = "  fields."]
 #[repr(C)]
@@ -248,12 +297,23 @@ pub struct hgcd_world_desc {
     #[doc = "  bodies. Both finite and >= 0; if both are set, min <= max."]
     pub min_cell_size: f64,
     pub max_cell_size: f64,
+    #[doc = " Narrow phase of the world's pairs (enum hgcd_narrow_phase): EXACT (0,"]
+    #[doc = "  default), GJK or MPR. Meshes follow it unless set otherwise with"]
+    #[doc = "  hgcd_mesh_set_narrow_phase; non-convex meshes always fall back to the"]
+    #[doc = "  exact test (hgcd_mesh_info.narrow_phase says which test a mesh gets,"]
+    #[doc = "  hgcd_stats.libccd_fallback_tests counts such pairs). GJK or MPR"]
+    #[doc = "  without libccd: NOT_SUPPORTED; other values: INVALID_ARGUMENT."]
+    pub narrow_phase: i32,
+    #[doc = " Non-zero: step/detect also record what each colliding pair is made of"]
+    #[doc = "  (hgcd_world_contacts). Default 0: nothing is recorded and the pair"]
+    #[doc = "  query pays nothing for it. See hgcd_world_set_contacts."]
+    pub contacts: u32,
 }
 #[test]
 fn bindgen_test_layout_hgcd_world_desc() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_world_desc>(),
-        88usize,
+        96usize,
         concat!("Size of: ", stringify!(hgcd_world_desc))
     );
     assert_eq!(
@@ -414,6 +474,40 @@ fn bindgen_test_layout_hgcd_world_desc() {
         );
     }
     test_field_max_cell_size();
+    fn test_field_narrow_phase() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).narrow_phase) as usize - ptr as usize
+            },
+            88usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(narrow_phase)
+            )
+        );
+    }
+    test_field_narrow_phase();
+    fn test_field_contacts() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).contacts) as usize - ptr as usize
+            },
+            92usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(contacts)
+            )
+        );
+    }
+    test_field_contacts();
 }
 extern "C" {
     #[doc = " A descriptor with every default filled in."]
@@ -422,7 +516,8 @@ extern "C" {
 extern "C" {
     #[doc = " Creates a world. On success *out_world owns the new world (free it with"]
     #[doc = "  hgcd_world_destroy). On failure *out_world is set to NULL."]
-    #[doc = "  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_ARGUMENT, OUT_OF_MEMORY."]
+    #[doc = "  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_ARGUMENT, OUT_OF_MEMORY,"]
+    #[doc = "  NOT_SUPPORTED (narrow_phase GJK or MPR without libccd)."]
     pub fn hgcd_world_create(
         desc: *const hgcd_world_desc,
         out_world: *mut *mut hgcd_world,
@@ -451,6 +546,18 @@ extern "C" {
     #[doc = " Sets the number of OpenMP threads per parallel region (0 = all cores)."]
     #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (more than 4096)."]
     pub fn hgcd_world_set_thread_count(world: *mut hgcd_world, thread_count: u32) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets the world's narrow phase (enum hgcd_narrow_phase,"]
+    #[doc = "  hgcd_world_desc.narrow_phase), used from the next step/detect."]
+    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (not EXACT, GJK or MPR),"]
+    #[doc = "  NOT_SUPPORTED (GJK or MPR without libccd: \"not built with libccd\")."]
+    pub fn hgcd_world_set_narrow_phase(world: *mut hgcd_world, narrow_phase: i32) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Switches contact recording on (non-zero) or off for the following"]
+    #[doc = "  step/detect calls (hgcd_world_desc.contacts). Errors: NULL_ARGUMENT."]
+    pub fn hgcd_world_set_contacts(world: *mut hgcd_world, enable: u32) -> hgcd_status;
 }
 extern "C" {
     #[doc = " Moves every body by velocity * time_step (reflecting at the bounds when"]
@@ -497,6 +604,212 @@ extern "C" {
         out_total: *mut usize,
     ) -> hgcd_status;
 }
+#[doc = " The surfaces meet (exact test): triangle triangle_a of body a's mesh"]
+#[doc = "  and triangle triangle_b of body b's mesh share a point. One such"]
+#[doc = "  witness pair, not all of them."]
+pub const HGCD_CONTACT_SURFACE: hgcd_contact_kind = 1;
+#[doc = " The surfaces are apart and a's closed mesh holds b: a connected"]
+#[doc = "  component of b's mesh (all of b when it has one) lies inside a."]
+pub const HGCD_CONTACT_A_CONTAINS_B: hgcd_contact_kind = 2;
+#[doc = " The same with the roles swapped (when each holds a component of the"]
+#[doc = "  other, this kind is reported)."]
+pub const HGCD_CONTACT_B_CONTAINS_A: hgcd_contact_kind = 3;
+#[doc = " Decided by libccd (a GJK or MPR pair, enum hgcd_narrow_phase): depth,"]
+#[doc = "  normal and point are libccd's penetration estimate (EPA after GJK, or"]
+#[doc = "  MPR's own)."]
+pub const HGCD_CONTACT_PENETRATION: hgcd_contact_kind = 4;
+#[doc = " What a colliding pair is made of (hgcd_contact.kind)."]
+pub type hgcd_contact_kind = u32;
+#[doc = " One colliding pair and what it is made of."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct hgcd_contact {
+    #[doc = " The pair, equal to the pair of the same index in hgcd_world_pairs."]
+    pub pair: hgcd_pair,
+    #[doc = " enum hgcd_contact_kind."]
+    pub kind: i32,
+    #[doc = " SURFACE: a triangle index (as given to hgcd_mesh_create) in a's mesh"]
+    #[doc = "  and one in b's mesh; UINT32_MAX for the other kinds."]
+    pub triangle_a: u32,
+    pub triangle_b: u32,
+    #[doc = " Always 0."]
+    pub reserved: u32,
+    #[doc = " PENETRATION: translating body b by depth along normal (a unit"]
+    #[doc = "  vector) brings the two convex hulls to touching, within libccd's"]
+    #[doc = "  tolerance (EPA gives the smallest such translation; MPR one along"]
+    #[doc = "  its own direction, close to the line between the bodies' centres)."]
+    #[doc = "  point is libccd's contact position in world space: an average of"]
+    #[doc = "  support points near the contact, not guaranteed to lie in both"]
+    #[doc = "  bodies. normal is all zero when libccd gave no direction (bodies that"]
+    #[doc = "  only touch). All zero for the other kinds."]
+    pub depth: f64,
+    pub normal: [f64; 3usize],
+    pub point: [f64; 3usize],
+}
+#[test]
+fn bindgen_test_layout_hgcd_contact() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_contact>(),
+        88usize,
+        concat!("Size of: ", stringify!(hgcd_contact))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_contact>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_contact))
+    );
+    fn test_field_pair() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).pair) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(pair)
+            )
+        );
+    }
+    test_field_pair();
+    fn test_field_kind() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).kind) as usize - ptr as usize
+            },
+            16usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(kind)
+            )
+        );
+    }
+    test_field_kind();
+    fn test_field_triangle_a() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).triangle_a) as usize - ptr as usize
+            },
+            20usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(triangle_a)
+            )
+        );
+    }
+    test_field_triangle_a();
+    fn test_field_triangle_b() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).triangle_b) as usize - ptr as usize
+            },
+            24usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(triangle_b)
+            )
+        );
+    }
+    test_field_triangle_b();
+    fn test_field_reserved() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).reserved) as usize - ptr as usize
+            },
+            28usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(reserved)
+            )
+        );
+    }
+    test_field_reserved();
+    fn test_field_depth() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).depth) as usize - ptr as usize
+            },
+            32usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(depth)
+            )
+        );
+    }
+    test_field_depth();
+    fn test_field_normal() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).normal) as usize - ptr as usize
+            },
+            40usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(normal)
+            )
+        );
+    }
+    test_field_normal();
+    fn test_field_point() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_contact>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).point) as usize - ptr as usize
+            },
+            64usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_contact),
+                "::",
+                stringify!(point)
+            )
+        );
+    }
+    test_field_point();
+}
+extern "C" {
+    #[doc = " The contacts of the last step/detect, parallel to hgcd_world_pairs:"]
+    #[doc = "  *out_contacts points to *out_count contacts owned by the world (as many as"]
+    #[doc = "  there are pairs), contact k describing pair k; same lifetime as the pairs."]
+    #[doc = "  Recorded only when contacts were on (hgcd_world_desc.contacts,"]
+    #[doc = "  hgcd_world_set_contacts) during that step/detect; switching them on or"]
+    #[doc = "  off never changes the pairs. Before the first detect the count is 0."]
+    #[doc = "  Errors: NULL_ARGUMENT; INVALID_ARGUMENT when the last step/detect ran with"]
+    #[doc = "  contacts off (then *out_contacts is NULL and *out_count 0)."]
+    pub fn hgcd_world_contacts(
+        world: *const hgcd_world,
+        out_contacts: *mut *const hgcd_contact,
+        out_count: *mut usize,
+    ) -> hgcd_status;
+}
 #[doc = " Statistics of the last step/detect."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
@@ -527,12 +840,19 @@ pub struct hgcd_stats {
     pub broad_seconds: f64,
     pub narrow_seconds: f64,
     pub total_seconds: f64,
+    #[doc = " Candidate pairs decided by libccd (both meshes convex and set to GJK"]
+    #[doc = "  or MPR, exact vertex boxes overlapping); not counted in narrow_tests,"]
+    #[doc = "  and their pairs never count in containment_pairs."]
+    pub libccd_tests: u64,
+    #[doc = " Candidate pairs whose meshes were both set to GJK or MPR but one of"]
+    #[doc = "  them is not convex: tested exactly instead."]
+    pub libccd_fallback_tests: u64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_stats() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_stats>(),
-        104usize,
+        120usize,
         concat!("Size of: ", stringify!(hgcd_stats))
     );
     assert_eq!(
@@ -795,6 +1115,40 @@ fn bindgen_test_layout_hgcd_stats() {
         );
     }
     test_field_total_seconds();
+    fn test_field_libccd_tests() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).libccd_tests) as usize - ptr as usize
+            },
+            104usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_stats),
+                "::",
+                stringify!(libccd_tests)
+            )
+        );
+    }
+    test_field_libccd_tests();
+    fn test_field_libccd_fallback_tests() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).libccd_fallback_tests) as usize - ptr as usize
+            },
+            112usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_stats),
+                "::",
+                stringify!(libccd_fallback_tests)
+            )
+        );
+    }
+    test_field_libccd_fallback_tests();
 }
 extern "C" {
     #[doc = " Fills *out_stats (whose struct_size the caller sets; 0 is taken as"]
@@ -975,12 +1329,20 @@ pub struct hgcd_mesh_info {
     #[doc = "  reaching every vertex)."]
     pub center: [f64; 3usize],
     pub radius: f64,
+    #[doc = " The narrow phase set for this mesh: HGCD_NARROW_WORLD (default) or"]
+    #[doc = "  the value given to hgcd_mesh_set_narrow_phase."]
+    pub narrow_phase_setting: i32,
+    #[doc = " The test this mesh's pairs get now (enum hgcd_narrow_phase, never"]
+    #[doc = "  WORLD): the setting or else the world's, and HGCD_NARROW_EXACT for a"]
+    #[doc = "  mesh that is not convex. A pair uses libccd only when both of its"]
+    #[doc = "  meshes say GJK or MPR."]
+    pub narrow_phase: i32,
 }
 #[test]
 fn bindgen_test_layout_hgcd_mesh_info() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_mesh_info>(),
-        64usize,
+        72usize,
         concat!("Size of: ", stringify!(hgcd_mesh_info))
     );
     assert_eq!(
@@ -1158,6 +1520,40 @@ fn bindgen_test_layout_hgcd_mesh_info() {
         );
     }
     test_field_radius();
+    fn test_field_narrow_phase_setting() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).narrow_phase_setting) as usize - ptr as usize
+            },
+            64usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_mesh_info),
+                "::",
+                stringify!(narrow_phase_setting)
+            )
+        );
+    }
+    test_field_narrow_phase_setting();
+    fn test_field_narrow_phase() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).narrow_phase) as usize - ptr as usize
+            },
+            68usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_mesh_info),
+                "::",
+                stringify!(narrow_phase)
+            )
+        );
+    }
+    test_field_narrow_phase();
 }
 extern "C" {
     #[doc = " Fills *out_info (the caller sets struct_size; 0 is taken as the full size)."]
@@ -1166,6 +1562,21 @@ extern "C" {
         world: *const hgcd_world,
         mesh: hgcd_mesh,
         out_info: *mut hgcd_mesh_info,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Chooses the narrow phase of this mesh's pairs (enum hgcd_narrow_phase):"]
+    #[doc = "  HGCD_NARROW_WORLD (the default: follow the world), EXACT, GJK or MPR,"]
+    #[doc = "  used from the next step/detect. A pair uses libccd only when both of its"]
+    #[doc = "  meshes are convex and say GJK or MPR."]
+    #[doc = "  Errors: NULL_ARGUMENT, STALE_ID, INVALID_ARGUMENT (an unknown value, or"]
+    #[doc = "  GJK or MPR for a mesh that is not convex: libccd handles convex shapes"]
+    #[doc = "  only, so the mesh keeps its setting and the exact test), NOT_SUPPORTED"]
+    #[doc = "  (GJK or MPR without libccd: \"not built with libccd\")."]
+    pub fn hgcd_mesh_set_narrow_phase(
+        world: *mut hgcd_world,
+        mesh: hgcd_mesh,
+        narrow_phase: i32,
     ) -> hgcd_status;
 }
 #[doc = " Body descriptor. Obtain one from hgcd_body_desc_default()."]

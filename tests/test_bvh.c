@@ -232,6 +232,7 @@ static void scene_init(scene *sc, uint32_t threads) {
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = threads;
     assert_int_equal(hgcd_world_create(&wd, &sc->w), HGCD_OK);
+    assert_int_equal(hgcd_world_set_contacts(sc->w, 1), HGCD_OK);
     for (int k = 0; k < M_COUNT; ++k) {
         hgcd_mesh_desc md = hgcd_mesh_desc_default();
         md.vertices = meshes[k].v;
@@ -264,6 +265,38 @@ static void move_to(scene *sc, size_t i, const double *p) {
     memcpy(&sc->pos[3 * i], p, 3 * sizeof(double));
 }
 
+static void world_triangle(const scene *sc, size_t body, uint32_t tri, double *out) {
+    const mesh_t *m = &meshes[sc->kind[body]];
+    assert_true(tri < m->nt);
+    for (int k = 0; k < 3; ++k)
+        oracle_world_vertex(&sc->pos[3 * body], &sc->quat[4 * body], sc->scale[body],
+                            &m->v[3 * (size_t)m->t[3 * tri + k]], out + 3 * k);
+}
+
+/* The contacts of the last detect: every surface witness (a triangle index
+ * of each mesh, mapped back from the tree's leaf order) is a pair of
+ * triangles that meet by the oracle, and containment kinds count as the
+ * oracle's containment pairs. */
+static void check_contacts(const scene *sc, size_t count, size_t oracle_containment) {
+    const hgcd_contact *c;
+    size_t nc;
+    assert_int_equal(hgcd_world_contacts(sc->w, &c, &nc), HGCD_OK);
+    assert_int_equal(nc, count);
+    size_t held = 0;
+    for (size_t k = 0; k < nc; ++k) {
+        if (c[k].kind == HGCD_CONTACT_SURFACE) {
+            double p[9], q[9];
+            world_triangle(sc, c[k].pair.a.index, c[k].triangle_a, p);
+            world_triangle(sc, c[k].pair.b.index, c[k].triangle_b, q);
+            assert_int_equal(oracle_tri_tri(p, q), 1);
+        } else {
+            assert_true(c[k].kind == HGCD_CONTACT_A_CONTAINS_B || c[k].kind == HGCD_CONTACT_B_CONTAINS_A);
+            ++held;
+        }
+    }
+    assert_int_equal(held, oracle_containment);
+}
+
 /* Detects, compares with the oracle pair for pair, returns the pair count
  * (and the containment count in *containment if not NULL). */
 static size_t check(scene *sc, size_t *containment) {
@@ -292,6 +325,7 @@ static size_t check(scene *sc, size_t *containment) {
     st.struct_size = sizeof st;
     assert_int_equal(hgcd_world_stats(sc->w, &st), HGCD_OK);
     assert_int_equal(st.containment_pairs, oracle_containment);
+    check_contacts(sc, count, oracle_containment);
     if (containment) *containment = oracle_containment;
     return n;
 }
@@ -449,6 +483,15 @@ static void test_containment(void **state) {
     assert_int_equal(check(&sc, &c), 4);
     assert_int_equal(c, 4);
     assert_true(has_pair(&sc, 0, 1) && has_pair(&sc, 2, 3) && has_pair(&sc, 4, 5) && has_pair(&sc, 6, 7));
+    /* Which body holds which, in the contacts. */
+    const hgcd_contact *ct;
+    size_t nc;
+    assert_int_equal(hgcd_world_contacts(sc.w, &ct, &nc), HGCD_OK);
+    assert_int_equal(nc, 4);
+    assert_int_equal(ct[0].kind, HGCD_CONTACT_A_CONTAINS_B); /* (0, 1): 0 holds 1 */
+    assert_int_equal(ct[1].kind, HGCD_CONTACT_B_CONTAINS_A); /* (2, 3): 3 holds 2 */
+    assert_int_equal(ct[2].kind, HGCD_CONTACT_B_CONTAINS_A); /* (4, 5): 5 holds the tetra */
+    assert_int_equal(ct[3].kind, HGCD_CONTACT_B_CONTAINS_A); /* (6, 7): the cube holds 6 */
     hgcd_world_destroy(sc.w);
 }
 

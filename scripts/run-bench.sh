@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Benchmarks of hgcd on scene `tetra` (SCENES.md) and the broad phases of the
+# peers found (FCL, Bullet, ODE). Called by `make bench`; runs on its own too.
+#
+# Environment (defaults in brackets):
+#   BENCH_N        object counts                  [100000 200000 500000 750000]
+#   BENCH_TICKS    ticks per measurement          [5]
+#   BENCH_THREADS  hgcd thread counts             [1 2]
+#   BENCH_PEERS    peers to run; empty: none      [all compiled in: bench_peers --list]
+#   BENCH_SEED     scene seed                     [1]
+#   BENCH_MAX_TICK_SECONDS  a peer slower than this per tick stops after that tick [60]
+#   BENCH_PEER_MAX_SECONDS  a peer run stops before a tick that would pass this [300]
+#   BENCH_RESULTS  output directory               [bench/results]
+#
+# Builds with meson in build-bench (release, no tests), appends one JSON line
+# per measurement to $BENCH_RESULTS/<date>-<commit>.jsonl (commit gets a
+# "-dirty" suffix when src/, include/ or meson.build differ from HEAD), prints
+# them, then runs bench/plot.py on that file (chart + Markdown table).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+ns=${BENCH_N:-100000 200000 500000 750000}
+ticks=${BENCH_TICKS:-5}
+threads=${BENCH_THREADS:-1 2}
+seed=${BENCH_SEED:-1}
+max_tick=${BENCH_MAX_TICK_SECONDS:-60}
+peer_max=${BENCH_PEER_MAX_SECONDS:-300}
+results=${BENCH_RESULTS:-bench/results}
+
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+if [ "$commit" != unknown ] && [ -n "$(git status --porcelain -- src include meson.build 2>/dev/null)" ]; then
+    commit="$commit-dirty"
+fi
+
+echo "== building build-bench (release)" >&2
+if [ -f build-bench/build.ninja ]; then
+    meson configure build-bench -Dbuildtype=release -Dtests=false >/dev/null
+else
+    meson setup build-bench --buildtype=release -Dtests=false >/dev/null
+fi
+meson compile -C build-bench >/dev/null
+
+bench_hgcd=build-bench/bench/bench_hgcd
+bench_peers=build-bench/bench/bench_peers
+if [ -n "${BENCH_PEERS+set}" ]; then peers=$BENCH_PEERS; else peers=$("$bench_peers" --list | tr '\n' ' '); fi
+
+mkdir -p "$results"
+out="$results/$(date +%Y-%m-%d)-$commit.jsonl"
+nproc=$(nproc 2>/dev/null || echo 1)
+cpu=$(sed -n 's/^model name[[:space:]]*:[[:space:]]*//p' /proc/cpuinfo 2>/dev/null | head -n 1 | tr -d '"\\')
+echo "== $nproc cores (${cpu:-unknown cpu}); commit $commit; n = $ns; ticks = $ticks; hgcd threads = $threads; peers = ${peers:-none}" >&2
+echo "== results: $out" >&2
+
+# Runs one measurement; appends its JSON line (with machine fields added) to
+# $out and prints it. A failed run is recorded as an "error" line.
+run() {
+    local lib=$1 n=$2 t=$3
+    shift 3
+    local line status=0
+    line=$("$@" | tail -n 1) || status=$?
+    if [ $status -ne 0 ] || [[ $line != \{*\} ]]; then
+        echo "bench: $lib n=$n threads=$t failed (exit status $status)" >&2
+        line="{\"lib\":\"$lib\",\"scene\":\"tetra\",\"n\":$n,\"seed\":$seed,\"threads\":$t,\"ticks\":0,\"commit\":\"$commit\",\"error\":\"exit status $status\"}"
+    fi
+    line="${line%\}},\"nproc\":$nproc,\"cpu\":\"$cpu\",\"date\":\"$(date -u +%Y-%m-%dT%H:%M:%SZ)\"}"
+    echo "$line" >> "$out"
+    echo "$line"
+}
+
+start=$(date +%s)
+for n in $ns; do
+    for t in $threads; do
+        echo "-- hgcd n=$n threads=$t" >&2
+        run hgcd "$n" "$t" "$bench_hgcd" --n "$n" --seed "$seed" --threads "$t" --ticks "$ticks" \
+            --commit "$commit" --check
+    done
+    for p in $peers; do
+        echo "-- $p n=$n" >&2
+        run "$p" "$n" 1 "$bench_peers" --lib "$p" --n "$n" --seed "$seed" --ticks "$ticks" \
+            --commit "$commit" --max-tick-seconds "$max_tick" --max-seconds "$peer_max"
+    done
+done
+echo "== measurements took $(( $(date +%s) - start )) s" >&2
+
+echo >&2
+python3 bench/plot.py "$out"

@@ -12,13 +12,14 @@ case "$target" in
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
            "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/gmp.h:libgmp-dev"
            "/usr/include/ccd/ccd.h:libccd-dev" "bindgen:bindgen" "clang:clang"
-           "valgrind:valgrind" "cargo:cargo" "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev") ;;
+           "valgrind:valgrind" "cargo:cargo" "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev"
+           "/usr/include/assimp/Importer.hpp:libassimp-dev") ;;
   bench)
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
            "/usr/include/ccd/ccd.h:libccd-dev"
            "/usr/include/fcl/config.h:libfcl-dev" "/usr/include/bullet/btBulletCollisionCommon.h:libbullet-dev"
            "/usr/include/ode/ode.h:libode-dev" "python3:python3"
-           "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev") ;;
+           "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev" "/usr/include/assimp/Importer.hpp:libassimp-dev") ;;
   *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;;
 esac
 

@@ -1,0 +1,314 @@
+/* bench_narrow: the narrow phases of hgcd side by side on scene `tetra`
+ * (SCENES.md), in one run on the same poses: the exact test, libccd's GJK and
+ * MPR (HGCD_NARROW_GJK / HGCD_NARROW_MPR), and each with contacts on
+ * (witness triangles for the exact test, EPA / MPR penetration for libccd).
+ *
+ *   bench_narrow [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
+ *                [--modes exact,gjk,mpr,exact+c,gjk+c,mpr+c] [--sphere L]
+ *
+ * --sphere L replaces the tetrahedron by an icosphere of 20 * 4^L triangles
+ * (convex, circumradius 1, scaled to each body's circumradius r): the same
+ * poses with a mesh that has many triangles (L >= 2 takes the tree path of
+ * the exact narrow phase). Default 0: the tetrahedron of the scene.
+ *
+ * One world holds the scene; every tick runs hgcd_world_detect once per mode
+ * (switching with hgcd_world_set_narrow_phase / hgcd_world_set_contacts, so
+ * every mode sees the same grid and the same poses), then moves the bodies
+ * one tick of the scene's motion (hgcd_scene_tetra_move + hgcd_body_set_pose).
+ * Prints one JSON line per mode on stdout:
+ *   lib, scene, n, seed, threads, ticks, commit, narrow ("exact", "gjk",
+ *   "mpr"), contacts (0/1), narrow_ms (median of hgcd_stats.narrow_seconds),
+ *   detect_ms (median total_seconds; the first mode of a tick also pays the
+ *   grid update after the move), pairs (last tick), libccd_tests,
+ *   pairs_differ (pairs of the last tick not in the exact answer, plus exact
+ *   pairs missing), libccd (hgcd_feature_libccd()).
+ * and a table on stderr. Exit status 0, 1 on an API failure, 2 on usage. */
+#define _POSIX_C_SOURCE 200809L
+#include <hgcd/hgcd.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
+    if (s == HGCD_OK) return 0;
+    fprintf(stderr, "bench_narrow: %s failed: %s (%s)\n", what, hgcd_status_string(s),
+            w ? hgcd_world_last_error(w) : "");
+    return 1;
+}
+
+static int cmp_double(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int count) {
+    qsort(v, (size_t)count, sizeof *v, cmp_double);
+    return count % 2 ? v[count / 2] : 0.5 * (v[count / 2 - 1] + v[count / 2]);
+}
+
+/* Icosphere of level L on the unit sphere: 20 * 4^L triangles (outward) and
+ * 10 * 4^L + 2 shared vertices, so the mesh is closed and convex. */
+static void icosphere(int level, double **v, uint32_t *nv, uint32_t **t, uint32_t *nt) {
+    const double g = 1.6180339887498949;
+    const double base[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                                {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+    const uint32_t faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                   {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                   {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                   {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    uint32_t tris = 20;
+    for (int k = 0; k < level; ++k) tris *= 4;
+    const uint32_t verts = tris / 2 + 2;
+    *v = malloc(3 * (size_t)verts * sizeof(double));
+    *t = malloc(3 * (size_t)tris * sizeof(uint32_t));
+    uint32_t *tmp = malloc(3 * (size_t)tris * sizeof(uint32_t));
+    uint64_t *edge_key = malloc(3 * (size_t)tris * sizeof(uint64_t));
+    uint32_t *edge_mid = malloc(3 * (size_t)tris * sizeof(uint32_t));
+    uint32_t cv = 12, ct = 20;
+    for (int i = 0; i < 12; ++i) {
+        const double l = sqrt(base[i][0] * base[i][0] + base[i][1] * base[i][1] + base[i][2] * base[i][2]);
+        for (int k = 0; k < 3; ++k) (*v)[3 * i + k] = base[i][k] / l;
+    }
+    memcpy(*t, faces, sizeof faces);
+    for (int lv = 0; lv < level; ++lv) {
+        size_t ne = 0;
+        for (uint32_t f = 0; f < ct; ++f) {
+            uint32_t mid[3];
+            for (int e = 0; e < 3; ++e) {
+                uint32_t a = (*t)[3 * f + e], b = (*t)[3 * f + (e + 1) % 3];
+                if (a > b) {
+                    const uint32_t x = a;
+                    a = b;
+                    b = x;
+                }
+                const uint64_t key = (uint64_t)a << 32 | b;
+                size_t q = 0;
+                while (q < ne && edge_key[q] != key) ++q;
+                if (q == ne) {
+                    double m[3], l = 0;
+                    for (int k = 0; k < 3; ++k) {
+                        m[k] = 0.5 * ((*v)[3 * a + k] + (*v)[3 * b + k]);
+                        l += m[k] * m[k];
+                    }
+                    for (int k = 0; k < 3; ++k) (*v)[3 * cv + k] = m[k] / sqrt(l);
+                    edge_key[ne] = key;
+                    edge_mid[ne++] = cv++;
+                }
+                mid[e] = edge_mid[q];
+            }
+            const uint32_t a = (*t)[3 * f], b = (*t)[3 * f + 1], c = (*t)[3 * f + 2];
+            const uint32_t sub[4][3] = {{a, mid[0], mid[2]}, {b, mid[1], mid[0]}, {c, mid[2], mid[1]},
+                                        {mid[0], mid[1], mid[2]}};
+            memcpy(&tmp[12 * (size_t)f], sub, sizeof sub);
+        }
+        ct *= 4;
+        memcpy(*t, tmp, 3 * (size_t)ct * sizeof(uint32_t));
+    }
+    *nv = cv;
+    *nt = ct;
+    free(tmp);
+    free(edge_key);
+    free(edge_mid);
+}
+
+typedef struct {
+    const char *name;
+    int32_t narrow;
+    uint32_t contacts;
+} mode;
+
+static const mode all_modes[] = {{"exact", HGCD_NARROW_EXACT, 0}, {"gjk", HGCD_NARROW_GJK, 0},
+                                 {"mpr", HGCD_NARROW_MPR, 0},     {"exact+c", HGCD_NARROW_EXACT, 1},
+                                 {"gjk+c", HGCD_NARROW_GJK, 1},   {"mpr+c", HGCD_NARROW_MPR, 1}};
+enum { MODE_COUNT = sizeof all_modes / sizeof all_modes[0] };
+
+/* Pairs of a and b (both sorted) that are in one only. */
+static size_t differ(const hgcd_pair *a, size_t na, const hgcd_pair *b, size_t nb) {
+    size_t i = 0, j = 0, d = 0;
+    while (i < na || j < nb) {
+        const uint64_t x = i < na ? (uint64_t)a[i].a.index << 32 | a[i].b.index : UINT64_MAX;
+        const uint64_t y = j < nb ? (uint64_t)b[j].a.index << 32 | b[j].b.index : UINT64_MAX;
+        if (x == y) {
+            ++i;
+            ++j;
+        } else if (x < y) {
+            ++i;
+            ++d;
+        } else {
+            ++j;
+            ++d;
+        }
+    }
+    return d;
+}
+
+int main(int argc, char **argv) {
+    uint64_t n = 100000, seed = 1;
+    unsigned threads = 1;
+    int ticks = 5, sphere = 0;
+    const char *commit = "unknown", *modes_arg = "exact,gjk,mpr,exact+c,gjk+c,mpr+c";
+    for (int i = 1; i < argc; ++i) {
+        if (i + 1 >= argc) {
+            fprintf(stderr, "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--modes LIST]\n",
+                    argv[0]);
+            return 2;
+        }
+        const char *a = argv[i], *v = argv[++i];
+        if (!strcmp(a, "--n")) n = strtoull(v, NULL, 10);
+        else if (!strcmp(a, "--seed")) seed = strtoull(v, NULL, 10);
+        else if (!strcmp(a, "--threads")) threads = (unsigned)strtoul(v, NULL, 10);
+        else if (!strcmp(a, "--ticks")) ticks = atoi(v);
+        else if (!strcmp(a, "--commit")) commit = v;
+        else if (!strcmp(a, "--modes")) modes_arg = v;
+        else if (!strcmp(a, "--sphere")) sphere = atoi(v);
+        else {
+            fprintf(stderr, "bench_narrow: unknown option %s\n", a);
+            return 2;
+        }
+    }
+    if (n == 0 || ticks < 1 || sphere < 0 || sphere > 6) {
+        fprintf(stderr, "bench_narrow: need n >= 1, ticks >= 1 and 0 <= sphere <= 6\n");
+        return 2;
+    }
+    int use[MODE_COUNT] = {0};
+    int used = 0;
+    for (int m = 0; m < MODE_COUNT; ++m) {
+        const char *p = modes_arg;
+        const size_t len = strlen(all_modes[m].name);
+        while ((p = strstr(p, all_modes[m].name)) != NULL) {
+            if ((p == modes_arg || p[-1] == ',') && (p[len] == ',' || p[len] == 0)) use[m] = 1;
+            p += len;
+        }
+        if (use[m] && all_modes[m].narrow != HGCD_NARROW_EXACT && !hgcd_feature_libccd()) {
+            fprintf(stderr, "bench_narrow: %s skipped: not built with libccd\n", all_modes[m].name);
+            use[m] = 0;
+        }
+        used += use[m];
+    }
+    if (!used) {
+        fprintf(stderr, "bench_narrow: no mode to run\n");
+        return 2;
+    }
+
+    hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
+    sd.n = n;
+    sd.seed = seed;
+    double *centers = malloc(3 * n * sizeof(double)), *scales = malloc(n * sizeof(double));
+    double *quats = malloc(4 * n * sizeof(double)), *vels = malloc(3 * n * sizeof(double));
+    double *narrow_ms = malloc((size_t)ticks * MODE_COUNT * sizeof(double));
+    double *detect_ms = malloc((size_t)ticks * MODE_COUNT * sizeof(double));
+    hgcd_pair *exact_pairs = NULL;
+    size_t exact_count = 0;
+    if (!centers || !scales || !quats || !vels || !narrow_ms || !detect_ms) {
+        fprintf(stderr, "bench_narrow: out of memory\n");
+        return 1;
+    }
+    if (hgcd_scene_tetra_generate(&sd, centers, NULL, scales, quats, vels) != HGCD_OK) {
+        fprintf(stderr, "bench_narrow: scene generation failed\n");
+        return 1;
+    }
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.thread_count = threads;
+    hgcd_world *w = NULL;
+    if (failed(hgcd_world_create(&wd, &w), NULL, "world_create")) return 1;
+    double uv[12];
+    uint32_t ut[12];
+    hgcd_scene_tetra_unit_mesh(uv, ut);
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = uv;
+    md.triangles = ut;
+    md.vertex_count = 4;
+    md.triangle_count = 4;
+    double *sv = NULL;
+    uint32_t *st_ = NULL;
+    if (sphere) {
+        icosphere(sphere, &sv, &md.vertex_count, &st_, &md.triangle_count);
+        md.vertices = sv;
+        md.triangles = st_;
+    }
+    hgcd_mesh mesh;
+    if (failed(hgcd_mesh_create(w, &md, &mesh), w, "mesh_create")) return 1;
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    bd.mesh = mesh;
+    hgcd_body *ids = malloc(n * sizeof(hgcd_body));
+    for (uint64_t i = 0; i < n; ++i) {
+        memcpy(bd.position, centers + 3 * i, sizeof bd.position);
+        memcpy(bd.orientation, quats + 4 * i, sizeof bd.orientation);
+        bd.scale = sphere ? scales[i] * 1.7320508075688772 : scales[i]; /* circumradius r */
+        if (failed(hgcd_body_create(w, &bd, &ids[i]), w, "body_create")) return 1;
+    }
+    if (failed(hgcd_world_detect(w), w, "world_detect")) return 1; /* builds the grid */
+
+    hgcd_stats last[MODE_COUNT];
+    size_t last_differ[MODE_COUNT] = {0};
+    for (int t = 0; t < ticks; ++t) {
+        for (int m = 0; m < MODE_COUNT; ++m) {
+            if (!use[m]) continue;
+            if (failed(hgcd_world_set_narrow_phase(w, all_modes[m].narrow), w, "set_narrow_phase") ||
+                failed(hgcd_world_set_contacts(w, all_modes[m].contacts), w, "set_contacts") ||
+                failed(hgcd_world_detect(w), w, "world_detect"))
+                return 1;
+            hgcd_stats *st = &last[m];
+            memset(st, 0, sizeof *st);
+            st->struct_size = sizeof *st;
+            hgcd_world_stats(w, st);
+            narrow_ms[t * MODE_COUNT + m] = 1e3 * st->narrow_seconds;
+            detect_ms[t * MODE_COUNT + m] = 1e3 * st->total_seconds;
+            const hgcd_pair *p;
+            size_t count;
+            hgcd_world_pairs(w, &p, &count);
+            if (t == ticks - 1) {
+                if (all_modes[m].narrow == HGCD_NARROW_EXACT && !exact_pairs) {
+                    exact_pairs = malloc((count + 1) * sizeof(hgcd_pair));
+                    memcpy(exact_pairs, p, count * sizeof(hgcd_pair));
+                    exact_count = count;
+                }
+                last_differ[m] = exact_pairs ? differ(exact_pairs, exact_count, p, count) : 0;
+            }
+        }
+        hgcd_scene_tetra_move(n, sd.side, centers, vels);
+        for (uint64_t i = 0; i < n; ++i)
+            if (failed(hgcd_body_set_pose(w, ids[i], centers + 3 * i, NULL), w, "body_set_pose")) return 1;
+    }
+
+    fprintf(stderr, "tetra n=%llu seed %llu, mesh %s (%u triangles), %u thread(s), %d ticks, libccd %s, commit %s\n",
+            (unsigned long long)n, (unsigned long long)seed, sphere ? "icosphere" : "tetrahedron",
+            md.triangle_count, last[0].thread_count ? last[0].thread_count : threads, ticks,
+            hgcd_feature_libccd() == 2 ? "double" : hgcd_feature_libccd() == 1 ? "single" : "none", commit);
+    fprintf(stderr, "%-8s %10s %10s %9s %12s %12s\n", "mode", "narrow_ms", "detect_ms", "pairs", "libccd_tests",
+            "pairs_differ");
+    for (int m = 0; m < MODE_COUNT; ++m) {
+        if (!use[m]) continue;
+        double nm[4096], dm[4096];
+        const int k = ticks < 4096 ? ticks : 4096;
+        for (int t = 0; t < k; ++t) {
+            nm[t] = narrow_ms[t * MODE_COUNT + m];
+            dm[t] = detect_ms[t * MODE_COUNT + m];
+        }
+        const double nmed = median(nm, k), dmed = median(dm, k);
+        fprintf(stderr, "%-8s %10.2f %10.2f %9llu %12llu %12zu\n", all_modes[m].name, nmed, dmed,
+                (unsigned long long)last[m].colliding_pairs, (unsigned long long)last[m].libccd_tests,
+                last_differ[m]);
+        printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
+               "\"commit\":\"%s\",\"mesh_triangles\":%u,\"narrow\":\"%s\",\"contacts\":%u,\"narrow_ms\":%.3f,\"detect_ms\":%.3f,"
+               "\"pairs\":%llu,\"libccd_tests\":%llu,\"pairs_differ\":%zu,\"libccd\":%d}\n",
+               (unsigned long long)n, (unsigned long long)seed, last[m].thread_count, ticks, commit,
+               md.triangle_count, all_modes[m].narrow == HGCD_NARROW_EXACT ? "exact" : all_modes[m].narrow == HGCD_NARROW_GJK ? "gjk" : "mpr",
+               all_modes[m].contacts, nmed, dmed, (unsigned long long)last[m].colliding_pairs,
+               (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd());
+    }
+    hgcd_world_destroy(w);
+    free(ids);
+    free(exact_pairs);
+    free(sv);
+    free(st_);
+    free(centers);
+    free(scales);
+    free(quats);
+    free(vels);
+    free(narrow_ms);
+    free(detect_ms);
+    return 0;
+}

@@ -62,11 +62,14 @@ class Grid {
     size_t memory_bytes() const;
 
   private:
-    struct Entry {
+    // 24 bytes rather than the 32 that __int128's alignment would give: the
+    // key is only ever read and written by value.
+    struct __attribute__((packed, aligned(8))) Entry {
         CellKey key;
         uint32_t slot;
         uint32_t gen;
     };
+    static_assert(sizeof(Entry) == 24, "Entry layout");
     struct List {
         std::vector<Entry> entries;   // sorted by (key, slot)
         std::vector<Sphere> spheres;  // spheres of entries, same order

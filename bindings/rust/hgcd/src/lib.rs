@@ -34,7 +34,10 @@ mod world;
 pub use hgcd_sys as sys;
 
 pub use error::{Error, ErrorKind, Result};
-pub use types::{BodyDesc, BodyId, MeshDesc, MeshId, MeshInfo, Pair, Pose, Stats, WorldDesc};
+pub use types::{
+    BodyDesc, BodyId, Contact, ContactKind, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose,
+    Stats, WorldDesc,
+};
 pub use world::World;
 
 /// The run-time library version (major, minor, patch) (`hgcd_version`).
@@ -54,6 +57,13 @@ pub fn version_string() -> &'static str {
         }
         std::ffi::CStr::from_ptr(p).to_str().unwrap_or("")
     }
+}
+
+/// libccd compiled into the library (`hgcd_feature_libccd`): 0 none (GJK and
+/// MPR are `NotSupported`), 1 single precision, 2 double precision.
+pub fn libccd_precision() -> i32 {
+    // SAFETY: no arguments.
+    unsafe { sys::hgcd_feature_libccd() }
 }
 
 /// The version of the header these bindings were generated from.

@@ -171,6 +171,11 @@ pub struct WorldDesc {
     /// Broad-phase grid overrides (0 = adapt to the bodies); see the header.
     pub min_cell_size: f64,
     pub max_cell_size: f64,
+    /// Narrow phase of the world's pairs: `Exact` (default), `Gjk` or `Mpr`
+    /// (libccd, convex meshes only; see [`NarrowPhase`]). `World` is refused.
+    pub narrow_phase: NarrowPhase,
+    /// Record what each colliding pair is made of ([`crate::World::contacts`]).
+    pub contacts: bool,
 }
 
 impl Default for WorldDesc {
@@ -185,6 +190,8 @@ impl Default for WorldDesc {
             bounds_max: d.bounds_max,
             min_cell_size: d.min_cell_size,
             max_cell_size: d.max_cell_size,
+            narrow_phase: NarrowPhase::from_raw(d.narrow_phase),
+            contacts: d.contacts != 0,
         }
     }
 }
@@ -202,6 +209,8 @@ impl WorldDesc {
         d.bounds_max = self.bounds_max;
         d.min_cell_size = self.min_cell_size;
         d.max_cell_size = self.max_cell_size;
+        d.narrow_phase = self.narrow_phase.to_raw();
+        d.contacts = u32::from(self.contacts);
         d
     }
 }
@@ -309,6 +318,11 @@ pub struct MeshInfo {
     /// Bounding sphere in the mesh frame.
     pub center: [f64; 3],
     pub radius: f64,
+    /// The narrow phase set for the mesh (`NarrowPhase::World` by default).
+    pub narrow_phase_setting: NarrowPhase,
+    /// The test the mesh's pairs get now: the setting or the world's, and
+    /// `Exact` for a mesh that is not convex.
+    pub narrow_phase: NarrowPhase,
 }
 
 impl From<&sys::hgcd_mesh_info> for MeshInfo {
@@ -323,6 +337,8 @@ impl From<&sys::hgcd_mesh_info> for MeshInfo {
             body_count: i.body_count,
             center: i.center,
             radius: i.radius,
+            narrow_phase_setting: NarrowPhase::from_raw(i.narrow_phase_setting),
+            narrow_phase: NarrowPhase::from_raw(i.narrow_phase),
         }
     }
 }
@@ -351,6 +367,11 @@ pub struct Stats {
     pub broad_seconds: f64,
     pub narrow_seconds: f64,
     pub total_seconds: f64,
+    /// Candidate pairs decided by libccd.
+    pub libccd_tests: u64,
+    /// Candidate pairs whose meshes asked for libccd, one of them not
+    /// convex: tested exactly instead.
+    pub libccd_fallback_tests: u64,
 }
 
 impl From<&sys::hgcd_stats> for Stats {
@@ -370,6 +391,98 @@ impl From<&sys::hgcd_stats> for Stats {
             broad_seconds: s.broad_seconds,
             narrow_seconds: s.narrow_seconds,
             total_seconds: s.total_seconds,
+            libccd_tests: s.libccd_tests,
+            libccd_fallback_tests: s.libccd_fallback_tests,
+        }
+    }
+}
+
+/// Which test decides a pair (`enum hgcd_narrow_phase`). `Gjk` and `Mpr` use
+/// libccd on convex meshes, with a tolerance (see hgcd.h); they need a library
+/// built with libccd ([`crate::libccd_precision`]), else `NotSupported`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NarrowPhase {
+    /// Per mesh only: follow the world's setting.
+    World,
+    /// The exact test (the default).
+    #[default]
+    Exact,
+    /// libccd's GJK (EPA for contacts).
+    Gjk,
+    /// libccd's Minkowski portal refinement.
+    Mpr,
+    /// A value this crate does not know (from a newer library).
+    Unknown(i32),
+}
+
+impl NarrowPhase {
+    pub fn from_raw(v: i32) -> NarrowPhase {
+        match v {
+            sys::HGCD_NARROW_WORLD => NarrowPhase::World,
+            sys::HGCD_NARROW_EXACT => NarrowPhase::Exact,
+            sys::HGCD_NARROW_GJK => NarrowPhase::Gjk,
+            sys::HGCD_NARROW_MPR => NarrowPhase::Mpr,
+            other => NarrowPhase::Unknown(other),
+        }
+    }
+
+    pub fn to_raw(self) -> i32 {
+        match self {
+            NarrowPhase::World => sys::HGCD_NARROW_WORLD,
+            NarrowPhase::Exact => sys::HGCD_NARROW_EXACT,
+            NarrowPhase::Gjk => sys::HGCD_NARROW_GJK,
+            NarrowPhase::Mpr => sys::HGCD_NARROW_MPR,
+            NarrowPhase::Unknown(v) => v,
+        }
+    }
+}
+
+/// What a colliding pair is made of (`hgcd_contact`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ContactKind {
+    /// The surfaces meet: this triangle of a's mesh and this one of b's.
+    Surface { triangle_a: u32, triangle_b: u32 },
+    /// Surfaces apart; a's closed mesh holds (a component of) b.
+    AContainsB,
+    /// Surfaces apart; b's closed mesh holds (a component of) a.
+    BContainsA,
+    /// Decided by libccd: moving b by `depth` along the unit `normal`
+    /// separates the hulls; `point` is libccd's contact position.
+    Penetration {
+        depth: f64,
+        normal: [f64; 3],
+        point: [f64; 3],
+    },
+    /// A kind this crate does not know (from a newer library).
+    Unknown(i32),
+}
+
+/// One colliding pair and what it is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    pub pair: Pair,
+    pub kind: ContactKind,
+}
+
+impl From<&sys::hgcd_contact> for Contact {
+    fn from(c: &sys::hgcd_contact) -> Contact {
+        let kind = match c.kind as u32 {
+            sys::HGCD_CONTACT_SURFACE => ContactKind::Surface {
+                triangle_a: c.triangle_a,
+                triangle_b: c.triangle_b,
+            },
+            sys::HGCD_CONTACT_A_CONTAINS_B => ContactKind::AContainsB,
+            sys::HGCD_CONTACT_B_CONTAINS_A => ContactKind::BContainsA,
+            sys::HGCD_CONTACT_PENETRATION => ContactKind::Penetration {
+                depth: c.depth,
+                normal: c.normal,
+                point: c.point,
+            },
+            _ => ContactKind::Unknown(c.kind),
+        };
+        Contact {
+            pair: Pair::from(c.pair),
+            kind,
         }
     }
 }

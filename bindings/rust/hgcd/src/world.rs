@@ -8,7 +8,10 @@ use std::ptr::{self, NonNull};
 use hgcd_sys as sys;
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::types::{BodyDesc, BodyId, MeshDesc, MeshId, MeshInfo, Pair, Pose, Stats, WorldDesc};
+use crate::types::{
+    BodyDesc, BodyId, Contact, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose, Stats,
+    WorldDesc,
+};
 
 /// A collision world: meshes, bodies placed from them, and the pairs of the
 /// last tick. Owns its `hgcd_world*` and frees it on drop.
@@ -99,7 +102,10 @@ impl World {
             // There is no world to hold a message: say what can be said.
             let message = if status == sys::HGCD_ERROR_INVALID_ARGUMENT {
                 "world_create: a descriptor value is out of range (non-finite or negative \
-                 time_step, bounds_min >= bounds_max, bad cell sizes, too many threads)"
+                 time_step, bounds_min >= bounds_max, bad cell sizes, too many threads, \
+                 unknown narrow_phase)"
+            } else if status == sys::HGCD_ERROR_NOT_SUPPORTED {
+                "world_create: narrow_phase GJK or MPR, but not built with libccd"
             } else {
                 "world_create"
             };
@@ -193,6 +199,53 @@ impl World {
         // SAFETY: live world, exclusively borrowed.
         let s = unsafe { sys::hgcd_world_set_thread_count(self.raw.as_ptr(), thread_count) };
         self.check(s)
+    }
+
+    /// The world's narrow phase, from the next step/detect
+    /// (`hgcd_world_set_narrow_phase`): `Exact`, `Gjk` or `Mpr`.
+    pub fn set_narrow_phase(&mut self, narrow_phase: NarrowPhase) -> Result<()> {
+        // SAFETY: live world, exclusively borrowed.
+        let s =
+            unsafe { sys::hgcd_world_set_narrow_phase(self.raw.as_ptr(), narrow_phase.to_raw()) };
+        self.check(s)
+    }
+
+    /// A mesh's narrow phase (`hgcd_mesh_set_narrow_phase`): `World` (follow
+    /// the world), `Exact`, `Gjk` or `Mpr`; `Gjk`/`Mpr` on a non-convex mesh
+    /// is refused as `InvalidArgument`.
+    pub fn set_mesh_narrow_phase(&mut self, mesh: MeshId, narrow_phase: NarrowPhase) -> Result<()> {
+        // SAFETY: live world, exclusively borrowed; ids are checked by the library.
+        let s = unsafe {
+            sys::hgcd_mesh_set_narrow_phase(self.raw.as_ptr(), mesh.to_raw(), narrow_phase.to_raw())
+        };
+        self.check(s)
+    }
+
+    /// Records contacts from the next step/detect on (`hgcd_world_set_contacts`).
+    pub fn set_contacts(&mut self, on: bool) -> Result<()> {
+        // SAFETY: live world, exclusively borrowed.
+        let s = unsafe { sys::hgcd_world_set_contacts(self.raw.as_ptr(), u32::from(on)) };
+        self.check(s)
+    }
+
+    /// What each pair of the last step/detect is made of, in the order of
+    /// [`World::pairs`] (`hgcd_world_contacts`, copied). `InvalidArgument`
+    /// if contacts were off during that step/detect.
+    pub fn contacts(&self) -> Result<Vec<Contact>> {
+        let mut p: *const sys::hgcd_contact = ptr::null();
+        let mut n: usize = 0;
+        // SAFETY: live world and valid out pointers.
+        let s = unsafe { sys::hgcd_world_contacts(self.raw.as_ptr(), &mut p, &mut n) };
+        Self::check_const(s, || {
+            "world_contacts: the last step/detect ran with contacts off".to_string()
+        })?;
+        if p.is_null() || n == 0 {
+            return Ok(Vec::new());
+        }
+        // SAFETY: `n` initialised contacts at `p`, valid while `self` is
+        // borrowed (no changing call can run); copied out at once.
+        let raw = unsafe { std::slice::from_raw_parts(p, n) };
+        Ok(raw.iter().map(Contact::from).collect())
     }
 
     /// Moves every body by velocity * time_step, then detects

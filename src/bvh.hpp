@@ -55,9 +55,9 @@ struct Mesh;
 
 constexpr size_t kNodeData = 16;  // doubles cached per node (15 used)
 // A posed mesh as the narrow phase sees it during one pair test: world
-// vertices computed on first use, conservative world boxes of tree nodes
-// computed on first use. The caches belong to the caller's scratch and are
-// valid for one epoch (one pair test).
+// vertices computed on first use, conservative world boxes (and the data of
+// the oriented test) of tree nodes computed on first use. The caches belong
+// to the caller's scratch and are valid for one epoch (one pair test).
 struct BodyView {
     const Mesh *mesh = nullptr;
     const double *local = nullptr;   // mesh-frame vertices, 3 per vertex

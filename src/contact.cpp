@@ -62,13 +62,9 @@ bool holds(const Mesh &outer, const double *wo, const double *box_o, const Mesh 
         if (p[0] < box_o[0] || p[0] > box_o[3] || p[1] < box_o[1] || p[1] > box_o[4] || p[2] < box_o[2] ||
             p[2] > box_o[5])
             continue;
-        const bool inside =
-            outer.convex
-                ? point_in_convex_closed_mesh(p, wo, outer.triangles.data(), outer.triangle_count,
-                                              outer.inward_sign)
-                : point_in_closed_mesh(p, wo, outer.triangles.data(), outer.triangle_count, box_o,
-                                       box_o + 3);
-        if (inside) return true;
+        // Exact parity even for convex meshes (see holds_component in narrow.cpp).
+        if (point_in_closed_mesh(p, wo, outer.triangles.data(), outer.triangle_count, box_o, box_o + 3))
+            return true;
     }
     return false;
 }

@@ -296,7 +296,8 @@ void Grid::gather(List &list, const Sphere *spheres) {
     list.cell_start.clear();
     for (int64_t k = 0; k < m; ++k) {
         if (k == 0 || list.entries[k].key != list.entries[k - 1].key) {
-            list.cell_keys.push_back(list.entries[k].key);
+            const CellKey key = list.entries[k].key;  // by value: the member is packed
+            list.cell_keys.push_back(key);
             list.cell_start.push_back(uint32_t(k));
         }
     }

@@ -45,15 +45,22 @@ inline void triangle_box(const double *v, const uint32_t *t, double *box) {
     }
 }
 
-// Is there a face of the convex mesh `ca` (world vertices wa) with every
-// vertex of the other body certainly strictly outside its plane? Then the
-// other body, which lies in the convex hull of its vertices, is disjoint from
-// `ca`. The sign of each orientation determinant is trusted only when it
+// Is there a face of mesh `ca` (world vertices wa) whose plane has every
+// vertex of the other body certainly strictly outside, and every vertex of
+// `ca` inside or on it? Then each body lies in the convex hull of its
+// vertices, on its own side of the plane, and they are disjoint. Both sides
+// are checked in world space: rounding the world vertices can make a mesh
+// that is convex in its own frame slightly non-convex (a cube's coplanar
+// fourth vertex poking out by an ulp), so the mesh's convex flag only says
+// which meshes are worth trying. A sign is trusted when the determinant
 // exceeds the rounding error bound of its evaluation (Shewchuk's orient3d
-// bound (7 + 56 eps) eps * permanent, rounded up to 1e-15 * permanent);
-// otherwise that face proves nothing, so this test never changes an answer.
+// bound (7 + 56 eps) eps * permanent, rounded up to 1e-15 * permanent, plus
+// 2^-960 for underflowed products, as in geometry.cpp); an uncertain sign on
+// the other body's side makes the face prove nothing, an uncertain sign on
+// the own side is settled by the exact orient3d. So this test never changes
+// an answer.
 bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const double *wb) {
-    constexpr double kBound = 1e-15;
+    constexpr double kBound = 1e-15, kUnderflow = 0x1p-960;
     const double inward = ca.inward_sign;
     for (uint32_t t = 0; t < ca.triangle_count; ++t) {
         const uint32_t *f = &ca.triangles[3 * size_t(t)];
@@ -65,17 +72,27 @@ bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const d
         const double px = std::fabs(uy * vz) + std::fabs(uz * vy);
         const double py = std::fabs(uz * vx) + std::fabs(ux * vz);
         const double pz = std::fabs(ux * vy) + std::fabs(uy * vx);
-        bool all_outside = true;
-        for (uint32_t v = 0; v < mb.vertex_count && all_outside; ++v) {
-            const double *d = &wb[3 * size_t(v)];
+        // inward * orient3d(a, b, c, d): > bound certainly inside the plane's
+        // inner side, < -bound certainly outside, else uncertain.
+        auto side = [&](const double *d, double &bound) {
             const double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-            const double det = -(wx * nx + wy * ny + wz * nz);
-            const double perm = std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz;
-            // Outside: orient3d has the sign opposite to the interior's.
-            // 2^-960 absorbs underflowed products (the filter analysis of geometry.cpp).
-            all_outside = -inward * det > kBound * perm + 0x1p-960;
+            bound = kBound * (std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz) + kUnderflow;
+            return -inward * (wx * nx + wy * ny + wz * nz);
+        };
+        bool separating = true;
+        for (uint32_t v = 0; v < mb.vertex_count && separating; ++v) {
+            double bound;
+            separating = side(&wb[3 * size_t(v)], bound) < -bound;
         }
-        if (all_outside) return true;
+        for (uint32_t v = 0; v < ca.vertex_count && separating; ++v) {
+            if (v == f[0] || v == f[1] || v == f[2]) continue;
+            const double *d = &wa[3 * size_t(v)];
+            double bound;
+            const double s = side(d, bound);
+            if (s > bound) continue;
+            separating = s >= -bound && inward * orient3d(a, b, c, d) >= 0;
+        }
+        if (separating) return true;
     }
     return false;
 }
@@ -92,13 +109,12 @@ bool holds_component(const Mesh &outer, const std::vector<double> &wo, const dou
     for (uint32_t v : inner.component_vertices) {
         const double *p = &wv[3 * size_t(v)];
         if (!point_in_box(p, outer_box)) continue;
-        const bool inside =
-            outer.convex
-                ? point_in_convex_closed_mesh(p, wo.data(), outer.triangles.data(),
-                                              outer.triangle_count, outer.inward_sign)
-                : point_in_closed_mesh(p, wo.data(), outer.triangles.data(), outer.triangle_count,
-                                       outer_box, outer_box + 3);
-        if (inside) return true;
+        // Exact ray parity, also for convex meshes: in world space, after
+        // rounding, a convex mesh need not be convex, and the face-by-face
+        // test would then misjudge points near a poking vertex.
+        if (point_in_closed_mesh(p, wo.data(), outer.triangles.data(), outer.triangle_count,
+                                 outer_box, outer_box + 3))
+            return true;
     }
     return false;
 }
@@ -349,11 +365,8 @@ bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
         bool inside;
         if (outer.nodes) {
             inside = point_in_closed_mesh_bvh(p, outer, s.node_stack);
-        } else {  // every world vertex of a small mesh is computed
-            inside = mo.convex ? point_in_convex_closed_mesh(p, outer.world, mo.triangles.data(),
-                                                             mo.triangle_count, mo.inward_sign)
-                               : point_in_closed_mesh(p, outer.world, mo.triangles.data(),
-                                                      mo.triangle_count, rb, rb + 3);
+        } else {  // every world vertex of a small mesh is computed; parity, see holds_component
+            inside = point_in_closed_mesh(p, outer.world, mo.triangles.data(), mo.triangle_count, rb, rb + 3);
         }
         if (inside) return true;
     }

@@ -595,5 +595,8 @@ int main(void) {
         cmocka_unit_test(test_exact_grid_contacts),
         cmocka_unit_test(test_meshes_scene_small),
     };
+    /* Valgrind and sanitizer runs pick tests by name (cmocka patterns). */
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
+    if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -244,5 +244,8 @@ int main(void) {
         cmocka_unit_test(test_degenerate_first_ray),
         cmocka_unit_test(test_random_points),
     };
+    /* Valgrind and sanitizer runs pick tests by name (cmocka patterns). */
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
+    if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

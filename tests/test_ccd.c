@@ -888,5 +888,8 @@ int main(void) {
         cmocka_unit_test(test_exact_contacts),       cmocka_unit_test(test_penetration),
         cmocka_unit_test(test_mixed_fallback),
     };
+    /* Valgrind and sanitizer runs pick tests by name (cmocka patterns). */
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
+    if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));
     return cmocka_run_group_tests(tests, setup, NULL);
 }

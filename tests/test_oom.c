@@ -18,7 +18,8 @@
  * the error path itself runs without memory).
  *
  * Allocations inside OpenMP parallel regions are not failed by default: see
- * HGCD_OOM_IN_PARALLEL below and tests/VALIDATION.md. */
+ * HGCD_OOM_IN_PARALLEL below and tests/VALIDATION.md. HGCD_OOM_STRIDE=k
+ * fails every k-th allocation point only (for valgrind). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -335,9 +336,16 @@ static void sweep(int sticky) {
     run(0, 0, 0, &ref, &dummy);
     assert_true(ref.npairs > 5); /* the scene means something */
     const int in_parallel = getenv("HGCD_OOM_IN_PARALLEL") != NULL;
-    long n = 1;
+    /* The number of allocation points: a run armed beyond its end. */
+    snapshot counted;
+    run(1L << 40, sticky, in_parallel, &counted, &dummy);
+    const long points = oom_counted();
+    snap_free(&counted);
+    /* HGCD_OOM_STRIDE=k tries every k-th allocation only (valgrind runs). */
+    const long stride = getenv("HGCD_OOM_STRIDE") ? atol(getenv("HGCD_OOM_STRIDE")) : 1;
+    long n = 1, runs = 0;
     int failed_calls = 0;
-    for (;; ++n) {
+    for (;; n += stride > 0 ? stride : 1, ++runs) {
         snapshot got;
         const int injected = run(n, sticky, in_parallel, &got, &failed_calls);
         /* A failed detect drops the grid; the next one rebuilds it, so
@@ -361,8 +369,10 @@ static void sweep(int sticky) {
         snap_free(&got);
         if (!injected) break;
     }
-    printf("%s: %ld allocation points, %d calls returned HGCD_ERROR_OUT_OF_MEMORY, all recovered\n",
-           sticky ? "memory exhausted" : "one failed allocation", n - 1, failed_calls);
+    printf("%s: %ld of the script's %ld allocation points failed in turn, %d calls returned "
+           "HGCD_ERROR_OUT_OF_MEMORY, all recovered\n",
+           sticky ? "memory exhausted" : "one failed allocation", runs, points, failed_calls);
+    assert_true(stride > 1 || runs == points);
     snap_free(&ref);
 }
 

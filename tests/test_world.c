@@ -571,5 +571,8 @@ int main(void) {
         cmocka_unit_test(test_tetra_scene),
         cmocka_unit_test(test_tetra_reference_counts),
     };
+    /* Sanitizer and valgrind runs pick tests by name (cmocka patterns). */
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
+    if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,828 @@
+// libFuzzer target for the whole C API (issue 6).
+//
+// The input bytes are read as a world descriptor and then a sequence of API
+// calls: create/destroy meshes (preset shapes, random small meshes with
+// degenerate triangles, NaN/huge vertices, bad indices, bad descriptors),
+// create/destroy bodies (poses from tables of ordinary, far, tiny, huge,
+// NaN and infinite values; unit, near-unit, non-unit, zero and NaN
+// quaternions), set_pose, set_velocity, step, detect, pairs, copy_pairs,
+// stats, mesh info and the getters, with live, stale, forged and random ids.
+//
+// A shadow model predicts every status (refusals included) and the full
+// observable state; after every call the world must agree with it. After
+// every detect and step, the pairs are compared with the GMP brute-force
+// oracle of tests/oracle.c. Any disagreement aborts (a finding).
+//
+// The first runs found two narrow-phase bugs (convex shortcuts wrong on
+// rounded world vertices, and on meshes flagged convex that bound no volume)
+// and a misaligned grid key (UBSan); all were fixed in commit 8d80b66. See
+// tests/VALIDATION.md.
+//
+// Built by fuzz/build.sh (clang, -fsanitize=fuzzer,address,undefined).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iterator>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include <hgcd/hgcd.h>
+
+extern "C" {
+#include "oracle.h"
+}
+
+namespace {
+
+// ------------------------------------------------------------- input --
+
+struct Input {
+    const uint8_t *p;
+    size_t n;
+    bool empty() const { return n == 0; }
+    uint8_t u8() {
+        if (!n) return 0;
+        --n;
+        return *p++;
+    }
+    uint32_t u16() { return uint32_t(u8()) | uint32_t(u8()) << 8; }
+    uint32_t u32() { return u16() | u16() << 16; }
+    double unit() { return double(u16()) / 65536.0; }
+};
+
+[[noreturn]] void finding(const char *what) {
+    std::fprintf(stderr, "FUZZ FINDING: %s\n", what);
+    std::fflush(stderr);
+    std::abort();
+}
+
+#define EXPECT(cond, ...)                                         \
+    do {                                                          \
+        if (!(cond)) {                                            \
+            std::fprintf(stderr, "%s:%d: ", __FILE__, __LINE__);  \
+            std::fprintf(stderr, __VA_ARGS__);                    \
+            std::fprintf(stderr, "\n");                           \
+            finding(#cond);                                       \
+        }                                                         \
+    } while (0)
+
+const double kNaN = std::nan("");
+const double kInf = HUGE_VAL;
+
+// --------------------------------------------------------------- shapes --
+
+struct Shape {
+    std::vector<double> v;
+    std::vector<uint32_t> t;
+};
+
+std::vector<Shape> make_presets() {
+    std::vector<Shape> s;
+    s.push_back({{1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1}, {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2}});
+    const std::vector<double> cube = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
+                                      -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
+    const std::vector<uint32_t> cube_t = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
+                                          2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
+    s.push_back({cube, cube_t});
+    s.push_back({cube, std::vector<uint32_t>(cube_t.begin(), cube_t.begin() + 30)});  // bowl (open)
+    s.push_back({{-1.5, -1, 0, 1.5, -1, 0.25, 0, 1.5, -0.25}, {0, 1, 2}});             // triangle
+    s.push_back({{-1.5, 0, 0, 0, 0, 0, 1.5, 0, 0, 0.5, 0.5, 0.5}, {0, 1, 2, 3, 3, 3}});   // needle
+    s.push_back({{0, 0, 0}, {0, 0, 0}});                                                   // point
+    {  // dented cube: closed, not convex
+        std::vector<double> v = cube;
+        v.insert(v.end(), {0, 0, -0.25});
+        s.push_back({v, {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
+                         2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8}});
+    }
+    s.push_back({{0.5, 0.5, 0.5, 0.5, -0.5, -0.5, -0.5, 0.5, -0.5, -0.5, -0.5, 0.5,
+                  2.5, 0.5, 0.5, 2.5, -0.5, -0.5, 1.5, 0.5, -0.5, 1.5, -0.5, 0.5},
+                 {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 4, 5, 6, 4, 7, 5, 4, 6, 7, 5, 7, 6}});  // twin
+    {  // a wavy open sheet of 2 * 6 * 6 triangles (the tree path of the narrow phase)
+        Shape sh;
+        const int n = 6;
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                sh.v.insert(sh.v.end(), {-1.5 + 3.0 * i / n, -1.5 + 3.0 * j / n, 0.25 * ((i + j) % 3) - 0.25});
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+                sh.t.insert(sh.t.end(), {a, b, d, a, d, c});
+            }
+        s.push_back(sh);
+    }
+    {  // closed tessellated cube, 3 x 3 squares per face: 108 triangles
+        Shape sh;
+        const int n = 3;
+        auto vid = [&](int x, int y, int z) -> uint32_t {
+            const double p[3] = {-1.0 + 2.0 * x / n, -1.0 + 2.0 * y / n, -1.0 + 2.0 * z / n};
+            for (size_t k = 0; k < sh.v.size() / 3; ++k)
+                if (sh.v[3 * k] == p[0] && sh.v[3 * k + 1] == p[1] && sh.v[3 * k + 2] == p[2]) return uint32_t(k);
+            sh.v.insert(sh.v.end(), p, p + 3);
+            return uint32_t(sh.v.size() / 3 - 1);
+        };
+        for (int f = 0; f < 6; ++f) {
+            const int axis = f / 2, hi = f % 2, u = (axis + 1) % 3, w = (axis + 2) % 3;
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    int c[4][3];
+                    const int di[4] = {0, 1, 0, 1}, dj[4] = {0, 0, 1, 1};
+                    for (int k = 0; k < 4; ++k) {
+                        c[k][axis] = hi ? n : 0;
+                        c[k][u] = i + di[k];
+                        c[k][w] = j + dj[k];
+                    }
+                    uint32_t id[4];
+                    for (int k = 0; k < 4; ++k) id[k] = vid(c[k][0], c[k][1], c[k][2]);
+                    if (hi) sh.t.insert(sh.t.end(), {id[0], id[1], id[3], id[0], id[3], id[2]});
+                    else sh.t.insert(sh.t.end(), {id[0], id[3], id[1], id[0], id[2], id[3]});
+                }
+        }
+        s.push_back(sh);
+    }
+    return s;
+}
+
+const std::vector<Shape> &presets() {
+    static const std::vector<Shape> s = make_presets();
+    return s;
+}
+
+// ---------------------------------------------------------- value tables --
+
+const double kCoords[] = {0, 0.5, -0.5, 1, -1, 1.5, 2, -3, 0.25, 1e-9, -1e-300, 5e-324,
+                          1e3, 1e9 + 0.5, 3.3e12, 1e15, -1e15, 999999999999999.875,
+                          1.0000000000000002e15, -2e15, 1e16, 1.7976931348623157e308, kNaN, kInf, -kInf};
+const double kScales[] = {1, 0.5, 2, 0.25, 1.5, 1e-3, 1e-6, 1e-9, 1e-12, 3, 0, -1, kNaN, kInf,
+                          1e15, 4e14, 5e-324, 1e-300, 1e6};
+const double kVel[] = {0, 0.25, -0.25, 1, -1, 3, -0.5, 1e-9, 1e14, -2e15, kNaN, kInf, 1.7976931348623157e308};
+const double kAnchors[] = {0, 1e3, 1e9, 3.3e12, 1e15 - 64, -1e15 + 64};
+const double kUnits[] = {0.25, 0.5, 1e-3, 0};  // 0: ulps of the anchor
+
+struct Ctx {
+    double anchor = 0, unit = 0.25;
+};
+
+double coord(Input &in, const Ctx &cx) {
+    const uint8_t k = in.u8();
+    if (k < 200) {  // near the anchor, on a grid (so contacts are exact and dense)
+        const double off = double(int(k % 25) - 12);
+        if (cx.unit == 0) return cx.anchor == 0 ? off * 5e-324 : cx.anchor + off * (std::nextafter(std::fabs(cx.anchor), kInf) - std::fabs(cx.anchor));
+        return cx.anchor + off * cx.unit;
+    }
+    return kCoords[k % (sizeof kCoords / sizeof kCoords[0])];
+}
+
+void quaternion(Input &in, double *q) {
+    static const double r = 0.70710678118654757;
+    static const double exact[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0},
+                                      {0.5, 0.5, 0.5, 0.5}, {-0.5, 0.5, -0.5, 0.5}, {0, 0, r, r}, {r, 0, 0, r}};
+    const uint8_t k = in.u8();
+    if (k < 100) {
+        std::memcpy(q, exact[k % 8], 4 * sizeof(double));
+    } else if (k < 200) {  // uniform-ish random rotation
+        const double u1 = in.unit(), u2 = in.unit(), u3 = in.unit();
+        q[0] = std::sqrt(1 - u1) * std::sin(6.283185307179586 * u2);
+        q[1] = std::sqrt(1 - u1) * std::cos(6.283185307179586 * u2);
+        q[2] = std::sqrt(u1) * std::sin(6.283185307179586 * u3);
+        q[3] = std::sqrt(u1) * std::cos(6.283185307179586 * u3);
+    } else {
+        static const double odd[][4] = {{0, 0, 0, 1 + 4e-7}, {0, 0, 0, 1 + 2e-6}, {0, 0, 0, 0},
+                                        {0.5, 0.5, 0.5, 0.4999}, {kNaN, 0, 0, 1}, {0, kInf, 0, 1},
+                                        {1e200, 0, 0, 0}, {0, 0, 0, -1}, {0.6, 0, 0, 0.8}};
+        std::memcpy(q, odd[k % 9], 4 * sizeof(double));
+    }
+}
+
+// ---------------------------------------------------------------- model --
+
+struct MMesh {
+    hgcd_mesh id{};
+    bool live = false;
+    std::vector<double> v;
+    std::vector<uint32_t> t;
+    uint32_t users = 0;
+    hgcd_mesh_info info{};
+};
+
+struct MBody {
+    hgcd_body id{};
+    bool live = false;
+    size_t mesh = 0;  // index into Model::meshes
+    double p[3], q[4], v[3], s;
+    uint64_t user;
+};
+
+struct Model {
+    hgcd_world *w = nullptr;
+    hgcd_world_desc desc{};
+    std::vector<MMesh> meshes;
+    std::vector<MBody> bodies;
+    std::set<std::pair<uint32_t, uint32_t>> issued_bodies, issued_meshes;
+    uint32_t live_bodies = 0, live_meshes = 0;
+    bool detected = false;
+    std::vector<hgcd_pair> last_pairs;  // as returned by the last detect/step
+};
+
+enum { kMaxLiveBodies = 12, kMaxLiveMeshes = 8 };
+
+bool finite_in_range(double x) { return std::isfinite(x) && std::fabs(x) <= 1e15; }
+
+bool pose_ok(const double *p, const double *q) {
+    if (p)
+        for (int k = 0; k < 3; ++k)
+            if (!finite_in_range(p[k])) return false;
+    if (q) {
+        double n2 = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!std::isfinite(q[k])) return false;
+            n2 += q[k] * q[k];
+        }
+        if (!(std::fabs(n2 - 1.0) <= 1e-6)) return false;
+    }
+    return true;
+}
+
+hgcd_body pick_body_id(Input &in, const Model &m) {
+    const uint8_t k = in.u8();
+    if (!m.bodies.empty() && k < 220) {
+        hgcd_body id = m.bodies[k % m.bodies.size()].id;
+        if (k >= 200) id.generation ^= 1u << (in.u8() % 32);  // forged
+        return id;
+    }
+    return hgcd_body{in.u8() % 4u == 0 ? 0u : in.u32() % 40, in.u8() % 2 ? 0u : in.u32()};
+}
+
+hgcd_mesh pick_mesh_id(Input &in, const Model &m) {
+    const uint8_t k = in.u8();
+    if (!m.meshes.empty() && k < 220) {
+        hgcd_mesh id = m.meshes[k % m.meshes.size()].id;
+        if (k >= 200) id.generation ^= 1u << (in.u8() % 32);
+        return id;
+    }
+    return hgcd_mesh{in.u32() % 16, in.u8() % 2 ? 0u : in.u32()};
+}
+
+int live_body_of(const Model &m, hgcd_body id) {
+    for (size_t i = 0; i < m.bodies.size(); ++i)
+        if (m.bodies[i].live && m.bodies[i].id.index == id.index && m.bodies[i].id.generation == id.generation)
+            return int(i);
+    return -1;
+}
+
+int live_mesh_of(const Model &m, hgcd_mesh id) {
+    for (size_t i = 0; i < m.meshes.size(); ++i)
+        if (m.meshes[i].live && m.meshes[i].id.index == id.index && m.meshes[i].id.generation == id.generation)
+            return int(i);
+    return -1;
+}
+
+// ---------------------------------------------------- checks vs oracle --
+
+long g_detects = 0, g_pairs_checked = 0;
+
+oracle_mesh as_oracle(const MMesh &mm) {
+    oracle_mesh om;
+    om.verts = mm.v.data();
+    om.tris = mm.t.data();
+    om.vertex_count = uint32_t(mm.v.size() / 3);
+    om.triangle_count = uint32_t(mm.t.size() / 3);
+    om.closed = 0;
+    return om;
+}
+
+void check_pairs(Model &m) {
+    const hgcd_pair *got;
+    size_t count;
+    EXPECT(hgcd_world_pairs(m.w, &got, &count) == HGCD_OK, "pairs");
+    // Live bodies in slot order.
+    std::vector<std::pair<uint32_t, size_t>> order;
+    for (size_t i = 0; i < m.bodies.size(); ++i)
+        if (m.bodies[i].live) order.push_back({m.bodies[i].id.index, i});
+    std::sort(order.begin(), order.end());
+    std::vector<oracle_mesh> om(m.meshes.size());
+    for (size_t k = 0; k < m.meshes.size(); ++k)
+        if (m.meshes[k].live) om[k] = as_oracle(m.meshes[k]);
+    const size_t n = order.size();
+    std::vector<const oracle_mesh *> bm(n + 1);
+    std::vector<double> p(3 * n + 3), q(4 * n + 4), s(n + 1);
+    for (size_t k = 0; k < n; ++k) {
+        const MBody &b = m.bodies[order[k].second];
+        bm[k] = &om[b.mesh];
+        std::memcpy(&p[3 * k], b.p, sizeof b.p);
+        std::memcpy(&q[4 * k], b.q, sizeof b.q);
+        s[k] = b.s;
+    }
+    const size_t ne = oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), nullptr, 0);
+    std::vector<uint32_t> e(2 * ne + 2);
+    oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), e.data(), ne);
+    std::set<std::pair<uint32_t, uint32_t>> want, have;
+    for (size_t k = 0; k < ne; ++k) want.insert({order[e[2 * k]].first, order[e[2 * k + 1]].first});
+    for (size_t k = 0; k < count; ++k) {
+        EXPECT(got[k].a.index < got[k].b.index, "pair %zu not ordered", k);
+        if (k) EXPECT(got[k - 1].a.index < got[k].a.index ||
+                          (got[k - 1].a.index == got[k].a.index && got[k - 1].b.index < got[k].b.index),
+                      "pairs not sorted/unique at %zu", k);
+        const hgcd_body ids[2] = {got[k].a, got[k].b};
+        for (const hgcd_body &id : ids) EXPECT(live_body_of(m, id) >= 0, "pair id {%u,%u} not live", id.index, id.generation);
+        have.insert({got[k].a.index, got[k].b.index});
+    }
+    g_pairs_checked += long(ne);
+    ++g_detects;
+    if (want == have) return;
+    // A difference is a finding: print both bodies and meshes, then abort.
+    auto body_at = [&](uint32_t slot) -> const MBody & {
+        for (auto &o : order)
+            if (o.first == slot) return m.bodies[o.second];
+        finding("slot not found");
+    };
+    std::vector<std::pair<uint32_t, uint32_t>> diff;
+    std::set_symmetric_difference(want.begin(), want.end(), have.begin(), have.end(), std::back_inserter(diff));
+    for (auto &d : diff) {
+        const bool missing = want.count(d) != 0;
+        const MBody &a = body_at(d.first), &b = body_at(d.second);
+        std::fprintf(stderr, "pair (%u, %u): %s by hgcd\n", d.first, d.second, missing ? "missed" : "extra");
+        for (const MBody *x : {&a, &b})
+            std::fprintf(stderr, "  body %u: mesh %u (%zu vertices, %zu triangles, convex %u) p (%.17g, %.17g, %.17g) "
+                         "q (%.17g, %.17g, %.17g, %.17g) scale %.17g\n",
+                         x->id.index, m.meshes[x->mesh].id.index, m.meshes[x->mesh].v.size() / 3,
+                         m.meshes[x->mesh].t.size() / 3, m.meshes[x->mesh].info.convex, x->p[0], x->p[1], x->p[2],
+                         x->q[0], x->q[1], x->q[2], x->q[3], x->s);
+        for (const MBody *x : {&a, &b}) {
+            const MMesh &mm = m.meshes[x->mesh];
+            std::fprintf(stderr, "  mesh %u vertices {", mm.id.index);
+            for (double c : mm.v) std::fprintf(stderr, "%.17g, ", c);
+            std::fprintf(stderr, "} triangles {");
+            for (uint32_t c : mm.t) std::fprintf(stderr, "%u, ", c);
+            std::fprintf(stderr, "}\n");
+        }
+    }
+    finding("pairs differ from the oracle");
+}
+
+void check_state(Model &m) {
+    EXPECT(hgcd_world_body_count(m.w) == m.live_bodies, "body count %u != %u", hgcd_world_body_count(m.w), m.live_bodies);
+    EXPECT(hgcd_world_mesh_count(m.w) == m.live_meshes, "mesh count");
+    for (const MBody &b : m.bodies) {
+        const hgcd_status s = hgcd_body_validate(m.w, b.id);
+        EXPECT(s == (b.live ? HGCD_OK : HGCD_ERROR_STALE_ID), "validate body {%u,%u}: %d", b.id.index, b.id.generation, s);
+        if (!b.live) continue;
+        double p[3], q[4], v[3];
+        uint64_t u;
+        hgcd_mesh mid;
+        EXPECT(hgcd_body_get_pose(m.w, b.id, p, q) == HGCD_OK, "get_pose");
+        EXPECT(!std::memcmp(p, b.p, sizeof p) && !std::memcmp(q, b.q, sizeof q), "pose of body %u differs", b.id.index);
+        EXPECT(hgcd_body_get_velocity(m.w, b.id, v) == HGCD_OK && !std::memcmp(v, b.v, sizeof v), "velocity of %u", b.id.index);
+        EXPECT(hgcd_body_get_user_data(m.w, b.id, &u) == HGCD_OK && u == b.user, "user data");
+        EXPECT(hgcd_body_get_mesh(m.w, b.id, &mid) == HGCD_OK && mid.index == m.meshes[b.mesh].id.index &&
+                   mid.generation == m.meshes[b.mesh].id.generation,
+               "body mesh");
+    }
+    for (MMesh &mm : m.meshes) {
+        hgcd_mesh_info info;
+        info.struct_size = sizeof info;
+        const hgcd_status s = hgcd_mesh_get_info(m.w, mm.id, &info);
+        EXPECT(s == (mm.live ? HGCD_OK : HGCD_ERROR_STALE_ID), "mesh info status");
+        if (!mm.live) continue;
+        EXPECT(info.body_count == mm.users, "mesh users %u != %u", info.body_count, mm.users);
+        EXPECT(!std::memcmp(&info.center, &mm.info.center, sizeof info.center) && info.radius == mm.info.radius,
+               "mesh info changed");
+    }
+    if (m.detected) {  // the last tick's pairs stay until the next detect
+        const hgcd_pair *got;
+        size_t count;
+        EXPECT(hgcd_world_pairs(m.w, &got, &count) == HGCD_OK, "pairs");
+        EXPECT(count == m.last_pairs.size() && (!count || !std::memcmp(got, m.last_pairs.data(), count * sizeof *got)),
+               "pairs changed without a detect");
+    }
+}
+
+void after_tick(Model &m, hgcd_status s, const char *what) {
+    EXPECT(s == HGCD_OK, "%s: %s (%s)", what, hgcd_status_string(s), hgcd_world_last_error(m.w));
+    check_pairs(m);
+    const hgcd_pair *got;
+    size_t count;
+    hgcd_world_pairs(m.w, &got, &count);
+    m.last_pairs.assign(got, got + count);
+    m.detected = true;
+    hgcd_stats st;
+    st.struct_size = sizeof st;
+    EXPECT(hgcd_world_stats(m.w, &st) == HGCD_OK, "stats");
+    EXPECT(st.colliding_pairs == count && st.containment_pairs <= count && st.candidate_pairs >= count &&
+               st.narrow_tests <= st.candidate_pairs,
+           "stats inconsistent");
+}
+
+// Mesh facts computed independently of hgcd.
+void check_mesh_info(const MMesh &mm) {
+    const hgcd_mesh_info &i = mm.info;
+    const uint32_t nv = uint32_t(mm.v.size() / 3), nt = uint32_t(mm.t.size() / 3);
+    EXPECT(i.vertex_count == nv && i.triangle_count == nt, "mesh counts");
+    EXPECT(i.closed == uint32_t(oracle_mesh_is_closed(mm.t.data(), nt)), "closed flag %u", i.closed);
+    EXPECT(!i.convex || i.closed, "convex but not closed");
+    uint32_t degenerate = 0;
+    for (uint32_t t = 0; t < nt; ++t) {
+        const double *a = &mm.v[3 * mm.t[3 * t]], *b = &mm.v[3 * mm.t[3 * t + 1]], *c = &mm.v[3 * mm.t[3 * t + 2]];
+        bool zero = true;
+        for (int k = 0; k < 3 && zero; ++k) {
+            const double pa[2] = {a[k], a[(k + 1) % 3]}, pb[2] = {b[k], b[(k + 1) % 3]}, pc[2] = {c[k], c[(k + 1) % 3]};
+            zero = oracle_orient2d(pa, pb, pc) == 0;
+        }
+        degenerate += zero;
+    }
+    EXPECT(i.degenerate_triangle_count == degenerate, "degenerate count %u != %u", i.degenerate_triangle_count, degenerate);
+    std::vector<uint32_t> parent(nv);
+    for (uint32_t k = 0; k < nv; ++k) parent[k] = k;
+    auto root = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    std::vector<char> used(nv, 0);
+    for (uint32_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            used[mm.t[3 * t + k]] = 1;
+            parent[root(mm.t[3 * t + k])] = root(mm.t[3 * t]);
+        }
+    uint32_t comps = 0;
+    for (uint32_t k = 0; k < nv; ++k) comps += used[k] && root(k) == k;
+    EXPECT(i.component_count == comps, "components %u != %u", i.component_count, comps);
+    for (uint32_t k = 0; k < nv; ++k) {
+        if (!used[k]) continue;
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) d2 += (mm.v[3 * k + a] - i.center[a]) * (mm.v[3 * k + a] - i.center[a]);
+        EXPECT(std::sqrt(d2) <= i.radius * (1 + 1e-9) + 1e-300, "vertex %u beyond the radius", k);
+    }
+}
+
+// --------------------------------------------------------------- calls --
+
+void op_mesh_create(Input &in, Model &m) {
+    const uint8_t kind = in.u8();
+    MMesh mm;
+    if (kind < 120) {
+        const Shape &s = presets()[kind % presets().size()];
+        mm.v = s.v;
+        mm.t = s.t;
+    } else {  // random small mesh, degenerate triangles and bad values included
+        const uint32_t nv = in.u8() % 9, nt = in.u8() % 11;
+        for (uint32_t k = 0; k < 3 * nv; ++k) {
+            const uint8_t c = in.u8();
+            mm.v.push_back(c < 240 ? double(int(c % 9) - 4) * 0.5 : kCoords[c % (sizeof kCoords / sizeof kCoords[0])]);
+        }
+        for (uint32_t k = 0; k < 3 * nt; ++k) {
+            const uint8_t c = in.u8();
+            mm.t.push_back(c < 250 ? (nv ? c % nv : 0) : nv + c % 3);
+        }
+    }
+    hgcd_mesh_desc d = hgcd_mesh_desc_default();
+    d.vertices = mm.v.empty() ? nullptr : mm.v.data();
+    d.triangles = mm.t.empty() ? nullptr : mm.t.data();
+    d.vertex_count = uint32_t(mm.v.size() / 3);
+    d.triangle_count = uint32_t(mm.t.size() / 3);
+    static const double dummy_v[3] = {0, 0, 0};
+    static const uint32_t dummy_t[3] = {0, 0, 0};
+    if (!d.vertices) d.vertices = dummy_v;  // counts decide the refusal, as documented
+    if (!d.triangles) d.triangles = dummy_t;
+    hgcd_status expect = HGCD_OK;
+    const uint8_t corrupt = in.u8();
+    const hgcd_mesh_desc *dp = &d;
+    hgcd_mesh out{77, 77}, *outp = &out;
+    switch (corrupt % 16) {
+        case 0: d.struct_size ^= 4; expect = HGCD_ERROR_BAD_DESCRIPTOR; break;
+        case 1: d.init_tag = 0; expect = HGCD_ERROR_BAD_DESCRIPTOR; break;
+        case 2: dp = nullptr; expect = HGCD_ERROR_NULL_ARGUMENT; break;
+        case 3: outp = nullptr; expect = HGCD_ERROR_NULL_ARGUMENT; break;
+        case 4: d.vertices = nullptr; expect = HGCD_ERROR_NULL_ARGUMENT; break;
+        case 5: d.triangles = nullptr; expect = HGCD_ERROR_NULL_ARGUMENT; break;
+        case 6: d.triangle_count = (1u << 26) + 1 + in.u32() % 1000; expect = HGCD_ERROR_INVALID_MESH; break;
+        case 7: d.vertex_count = (1u << 26) + 1; expect = HGCD_ERROR_INVALID_MESH; break;
+        default: break;
+    }
+    if (expect == HGCD_OK) {
+        if (d.triangle_count == 0 || d.vertex_count == 0) expect = HGCD_ERROR_INVALID_MESH;
+        for (double x : mm.v)
+            if (!finite_in_range(x)) expect = HGCD_ERROR_INVALID_MESH;
+        for (uint32_t x : mm.t)
+            if (x >= d.vertex_count) expect = HGCD_ERROR_INVALID_MESH;
+        if (expect == HGCD_OK && m.live_meshes >= kMaxLiveMeshes) return;  // keep the oracle cheap
+    }
+    const hgcd_status s = hgcd_mesh_create(m.w, dp, outp);
+    EXPECT(s == expect, "mesh_create: %s, expected %s (%s)", hgcd_status_string(s), hgcd_status_string(expect),
+           hgcd_world_last_error(m.w));
+    if (s != HGCD_OK) {
+        EXPECT(out.index == 77 && out.generation == 77, "refused mesh_create wrote out_mesh");
+        EXPECT(hgcd_world_last_error(m.w)[0] != 0, "no message");
+        return;
+    }
+    EXPECT(out.generation != 0, "null id");
+    EXPECT(m.issued_meshes.insert({out.index, out.generation}).second, "mesh id {%u,%u} handed out twice", out.index,
+           out.generation);
+    mm.id = out;
+    mm.live = true;
+    mm.info.struct_size = sizeof mm.info;
+    EXPECT(hgcd_mesh_get_info(m.w, out, &mm.info) == HGCD_OK, "info");
+    check_mesh_info(mm);
+    m.meshes.push_back(std::move(mm));
+    ++m.live_meshes;
+}
+
+void op_mesh_destroy(Input &in, Model &m) {
+    const hgcd_mesh id = pick_mesh_id(in, m);
+    const int k = live_mesh_of(m, id);
+    const hgcd_status expect = k < 0 ? HGCD_ERROR_STALE_ID : m.meshes[k].users ? HGCD_ERROR_MESH_IN_USE : HGCD_OK;
+    const hgcd_status s = hgcd_mesh_destroy(m.w, id);
+    EXPECT(s == expect, "mesh_destroy: %s, expected %s", hgcd_status_string(s), hgcd_status_string(expect));
+    if (s == HGCD_OK) {
+        m.meshes[k].live = false;
+        --m.live_meshes;
+    }
+}
+
+void op_body_create(Input &in, Model &m, const Ctx &cx) {
+    hgcd_body_desc d = hgcd_body_desc_default();
+    d.mesh = pick_mesh_id(in, m);
+    for (int k = 0; k < 3; ++k) d.position[k] = coord(in, cx);
+    quaternion(in, d.orientation);
+    for (int k = 0; k < 3; ++k) {
+        const uint8_t c = in.u8();
+        d.velocity[k] = c < 128 ? 0 : kVel[c % (sizeof kVel / sizeof kVel[0])];
+    }
+    const uint8_t sc = in.u8();
+    d.scale = sc < 128 ? 0.25 + double(sc % 16) * 0.125 : kScales[sc % (sizeof kScales / sizeof kScales[0])];
+    if (cx.unit == 0 && sc < 128) d.scale *= 1e-9;  // tiny bodies far out
+    d.user_data = in.u32();
+    hgcd_status expect = HGCD_OK;
+    const int mk = live_mesh_of(m, d.mesh);
+    if (mk < 0) {
+        expect = HGCD_ERROR_STALE_ID;
+    } else if (!pose_ok(d.position, d.orientation)) {
+        expect = HGCD_ERROR_INVALID_ARGUMENT;
+    } else {
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(d.velocity[k])) expect = HGCD_ERROR_INVALID_ARGUMENT;
+        const hgcd_mesh_info &i = m.meshes[mk].info;
+        const double reach = std::fabs(i.center[0]) + std::fabs(i.center[1]) + std::fabs(i.center[2]) + i.radius;
+        if (!std::isfinite(d.scale) || !(d.scale > 0) || d.scale * reach > 1e15) expect = HGCD_ERROR_INVALID_ARGUMENT;
+    }
+    const uint8_t corrupt = in.u8();
+    const hgcd_body_desc *dp = &d;
+    hgcd_body out{77, 77}, *outp = &out;
+    switch (corrupt % 20) {
+        case 0: d.struct_size = 0; expect = HGCD_ERROR_BAD_DESCRIPTOR; break;
+        case 1: dp = nullptr; expect = HGCD_ERROR_NULL_ARGUMENT; break;
+        case 2: outp = nullptr; expect = HGCD_ERROR_NULL_ARGUMENT; break;
+        default: break;
+    }
+    if (expect == HGCD_OK && m.live_bodies >= kMaxLiveBodies) return;
+    const hgcd_status s = hgcd_body_create(m.w, dp, outp);
+    EXPECT(s == expect, "body_create: %s, expected %s (%s)", hgcd_status_string(s), hgcd_status_string(expect),
+           hgcd_world_last_error(m.w));
+    if (s != HGCD_OK) {
+        EXPECT(out.index == 77 && out.generation == 77, "refused body_create wrote out_body");
+        return;
+    }
+    EXPECT(out.generation != 0, "null id");
+    EXPECT(m.issued_bodies.insert({out.index, out.generation}).second, "body id {%u,%u} handed out twice", out.index,
+           out.generation);
+    for (const MBody &b : m.bodies) EXPECT(!b.live || b.id.index != out.index, "index %u of a live body reused", out.index);
+    MBody b;
+    b.id = out;
+    b.live = true;
+    b.mesh = size_t(mk);
+    std::memcpy(b.p, d.position, sizeof b.p);
+    std::memcpy(b.q, d.orientation, sizeof b.q);
+    std::memcpy(b.v, d.velocity, sizeof b.v);
+    b.s = d.scale;
+    b.user = d.user_data;
+    m.bodies.push_back(b);
+    ++m.meshes[mk].users;
+    ++m.live_bodies;
+}
+
+void op_body_destroy(Input &in, Model &m) {
+    const hgcd_body id = pick_body_id(in, m);
+    const int k = live_body_of(m, id);
+    const hgcd_status s = hgcd_body_destroy(m.w, id);
+    EXPECT(s == (k < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK), "body_destroy: %s", hgcd_status_string(s));
+    if (s == HGCD_OK) {
+        m.bodies[k].live = false;
+        --m.meshes[m.bodies[k].mesh].users;
+        --m.live_bodies;
+    }
+}
+
+void op_set_pose(Input &in, Model &m, const Ctx &cx) {
+    const hgcd_body id = pick_body_id(in, m);
+    double p[3], q[4];
+    for (int k = 0; k < 3; ++k) p[k] = coord(in, cx);
+    quaternion(in, q);
+    const uint8_t which = in.u8() % 4;
+    const double *pp = which & 1 ? nullptr : p, *qp = which & 2 ? nullptr : q;
+    const int k = live_body_of(m, id);
+    const hgcd_status expect = k < 0 ? HGCD_ERROR_STALE_ID : pose_ok(pp, qp) ? HGCD_OK : HGCD_ERROR_INVALID_ARGUMENT;
+    const hgcd_status s = hgcd_body_set_pose(m.w, id, pp, qp);
+    EXPECT(s == expect, "set_pose: %s, expected %s", hgcd_status_string(s), hgcd_status_string(expect));
+    if (s == HGCD_OK) {
+        if (pp) std::memcpy(m.bodies[k].p, p, sizeof p);
+        if (qp) std::memcpy(m.bodies[k].q, q, sizeof q);
+    }
+}
+
+void op_set_velocity(Input &in, Model &m) {
+    const hgcd_body id = pick_body_id(in, m);
+    double v[3];
+    for (int k = 0; k < 3; ++k) v[k] = kVel[in.u8() % (sizeof kVel / sizeof kVel[0])];
+    const bool null = in.u8() % 16 == 0;
+    const int k = live_body_of(m, id);
+    hgcd_status expect = null ? HGCD_ERROR_NULL_ARGUMENT : k < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK;
+    if (expect == HGCD_OK)
+        for (int a = 0; a < 3; ++a)
+            if (!std::isfinite(v[a])) expect = HGCD_ERROR_INVALID_ARGUMENT;
+    const hgcd_status s = hgcd_body_set_velocity(m.w, id, null ? nullptr : v);
+    EXPECT(s == expect, "set_velocity: %s, expected %s", hgcd_status_string(s), hgcd_status_string(expect));
+    if (s == HGCD_OK) std::memcpy(m.bodies[k].v, v, sizeof v);
+}
+
+void op_step(Model &m) {
+    // The model's motion: hgcd.h's rule, evaluated the same way.
+    const double dt = m.desc.time_step;
+    bool bad = false;
+    for (const MBody &b : m.bodies)
+        if (b.live)
+            for (int k = 0; k < 3; ++k)
+                if (!finite_in_range(b.p[k] + b.v[k] * dt)) bad = true;
+    if (bad && !m.desc.reflect_at_bounds) {
+        const hgcd_status s = hgcd_world_step(m.w);
+        EXPECT(s == HGCD_ERROR_INVALID_ARGUMENT, "step should be refused: %s", hgcd_status_string(s));
+        return;
+    }
+    for (MBody &b : m.bodies) {
+        if (!b.live) continue;
+        for (int k = 0; k < 3; ++k) {
+            double x = b.p[k] + b.v[k] * dt;
+            if (m.desc.reflect_at_bounds) {
+                const double lo = m.desc.bounds_min[k], hi = m.desc.bounds_max[k];
+                if (x < lo) {
+                    x = 2 * lo - x;
+                    b.v[k] = -b.v[k];
+                } else if (x > hi) {
+                    x = 2 * hi - x;
+                    b.v[k] = -b.v[k];
+                }
+                x = std::min(std::max(x, lo), hi);
+            }
+            b.p[k] = x;
+        }
+    }
+    after_tick(m, hgcd_world_step(m.w), "step");
+}
+
+void op_read(Input &in, Model &m) {
+    const uint8_t k = in.u8() % 8;
+    size_t total = 12345;
+    if (k == 0) {  // copy_pairs with a random capacity
+        const size_t cap = in.u8() % 6;
+        std::vector<hgcd_pair> buf(cap + 1);
+        std::memset(buf.data(), 0xAB, buf.size() * sizeof(hgcd_pair));
+        EXPECT(hgcd_world_copy_pairs(m.w, cap ? buf.data() : nullptr, cap, &total) == HGCD_OK, "copy_pairs");
+        const size_t expect = m.detected ? m.last_pairs.size() : 0;
+        EXPECT(total == expect, "copy_pairs total");
+        const size_t n = std::min(cap, total);
+        EXPECT(!n || !std::memcmp(buf.data(), m.last_pairs.data(), n * sizeof(hgcd_pair)), "copy_pairs content");
+        uint8_t after[sizeof(hgcd_pair)];
+        std::memcpy(after, &buf[n], sizeof after);
+        for (uint8_t x : after) EXPECT(x == 0xAB, "copy_pairs wrote past the count");
+    } else if (k == 1) {
+        EXPECT(hgcd_world_copy_pairs(m.w, nullptr, 1 + in.u8(), &total) == HGCD_ERROR_NULL_ARGUMENT, "copy_pairs NULL");
+    } else if (k == 2) {  // stats with any struct_size
+        unsigned char buf[sizeof(hgcd_stats) + 16];
+        std::memset(buf, 0xCD, sizeof buf);
+        const uint32_t size = in.u8() % 2 ? uint32_t(sizeof(hgcd_stats)) : in.u8();
+        std::memcpy(buf, &size, 4);
+        const hgcd_status s = hgcd_world_stats(m.w, reinterpret_cast<hgcd_stats *>(buf));
+        const size_t eff = size ? size : sizeof(hgcd_stats);
+        EXPECT(s == (eff < 8 ? HGCD_ERROR_BAD_DESCRIPTOR : HGCD_OK), "stats size %u", size);
+        for (size_t x = std::max<size_t>(std::min(eff, sizeof(hgcd_stats)), 4); x < sizeof buf; ++x)
+            EXPECT(buf[x] == 0xCD, "stats wrote past struct_size");
+    } else if (k == 3) {  // mesh info with any struct_size
+        const hgcd_mesh id = pick_mesh_id(in, m);
+        unsigned char buf[sizeof(hgcd_mesh_info) + 16];
+        std::memset(buf, 0xCD, sizeof buf);
+        const uint32_t size = in.u8() % 2 ? uint32_t(sizeof(hgcd_mesh_info)) : in.u8();
+        std::memcpy(buf, &size, 4);
+        const hgcd_status s = hgcd_mesh_get_info(m.w, id, reinterpret_cast<hgcd_mesh_info *>(buf));
+        const size_t eff = size ? size : sizeof(hgcd_mesh_info);
+        const hgcd_status expect = eff < 8 ? HGCD_ERROR_BAD_DESCRIPTOR
+                                   : live_mesh_of(m, id) < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK;
+        EXPECT(s == expect, "mesh_get_info: %s expected %s", hgcd_status_string(s), hgcd_status_string(expect));
+        for (size_t x = std::max<size_t>(std::min(eff, sizeof(hgcd_mesh_info)), 4); x < sizeof buf; ++x)
+            EXPECT(buf[x] == 0xCD, "mesh_get_info wrote past struct_size (or wrote when refusing)");
+    } else if (k == 4) {  // getters on any id, NULL outputs
+        const hgcd_body id = pick_body_id(in, m);
+        const bool live = live_body_of(m, id) >= 0;
+        double p[3], q[4];
+        hgcd_mesh mm;
+        uint64_t u;
+        EXPECT(hgcd_body_get_pose(m.w, id, in.u8() % 2 ? p : nullptr, in.u8() % 2 ? q : nullptr) ==
+                   (live ? HGCD_OK : HGCD_ERROR_STALE_ID),
+               "get_pose");
+        EXPECT(hgcd_body_get_velocity(m.w, id, nullptr) == HGCD_ERROR_NULL_ARGUMENT, "get_velocity NULL");
+        EXPECT(hgcd_body_get_mesh(m.w, id, &mm) == (live ? HGCD_OK : HGCD_ERROR_STALE_ID), "get_mesh");
+        EXPECT(hgcd_body_get_user_data(m.w, id, &u) == (live ? HGCD_OK : HGCD_ERROR_STALE_ID), "get_user_data");
+    } else if (k == 5) {
+        const uint32_t t = in.u8() % 2 ? in.u8() % 4 : 4090 + in.u8() % 12;
+        const hgcd_status s = hgcd_world_set_thread_count(m.w, t);
+        EXPECT(s == (t > 4096 ? HGCD_ERROR_INVALID_ARGUMENT : HGCD_OK), "set_thread_count %u", t);
+        if (s == HGCD_OK && (t == 0 || t > 2)) hgcd_world_set_thread_count(m.w, 1 + t % 2);  // keep runs cheap
+    } else {
+        const hgcd_pair *p;
+        size_t n;
+        EXPECT(hgcd_world_pairs(m.w, &p, nullptr) == HGCD_ERROR_NULL_ARGUMENT, "pairs NULL count");
+        EXPECT(hgcd_world_pairs(m.w, nullptr, &n) == HGCD_ERROR_NULL_ARGUMENT, "pairs NULL out");
+    }
+}
+
+bool make_world(Input &in, Model &m, Ctx &cx) {
+    hgcd_world_desc d = hgcd_world_desc_default();
+    const uint8_t a = in.u8(), b = in.u8(), c = in.u8();
+    d.thread_count = 1 + (a & 1);
+    d.reflect_at_bounds = (a >> 1) & 1;
+    static const double steps[] = {1, 0.5, 0, 2, 1e-3, 1e6, kNaN, -1, kInf};
+    d.time_step = steps[(a >> 2) % 9];
+    static const double cells[][2] = {{0, 0}, {0, 0}, {0, 0}, {0, 1}, {2, 0}, {0.5, 4}, {1e-12, 0},
+                                      {0, 1e-9}, {4, 2}, {kNaN, 0}, {0, -1}, {5e-324, 1.7976931348623157e308}};
+    const int ci = b % 12;
+    d.min_cell_size = cells[ci][0];
+    d.max_cell_size = cells[ci][1];
+    cx.anchor = kAnchors[(b >> 4) % 6];
+    cx.unit = kUnits[c % 4];
+    const double lo = cx.anchor - 4, hi = cx.anchor + 4;
+    for (int k = 0; k < 3; ++k) {
+        d.bounds_min[k] = lo;
+        d.bounds_max[k] = (c >> 2) % 16 == 0 ? lo : hi;  // sometimes empty: refused
+    }
+    bool valid = std::isfinite(d.time_step) && d.time_step >= 0;
+    const double mn = d.min_cell_size, mx = d.max_cell_size;
+    valid = valid && std::isfinite(mn) && std::isfinite(mx) && mn >= 0 && mx >= 0 && !(mn > 0 && mx > 0 && mn > mx);
+    for (int k = 0; k < 3; ++k)
+        valid = valid && finite_in_range(d.bounds_min[k]) && finite_in_range(d.bounds_max[k]) &&
+                d.bounds_min[k] < d.bounds_max[k];
+    hgcd_world *w = reinterpret_cast<hgcd_world *>(0x1);
+    const hgcd_status s = hgcd_world_create(&d, &w);
+    EXPECT(s == (valid ? HGCD_OK : HGCD_ERROR_INVALID_ARGUMENT), "world_create: %s", hgcd_status_string(s));
+    if (s != HGCD_OK) {
+        EXPECT(w == nullptr, "refused world_create left *out_world set");
+        return false;
+    }
+    EXPECT(hgcd_world_last_error(w)[0] == 0, "fresh world has a message");
+    m.w = w;
+    m.desc = d;
+    return true;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int *, char ***) {
+    presets();
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Input in{data, size};
+    Model m;
+    Ctx cx;
+    if (!make_world(in, m, cx)) return 0;
+    int ops = 0;
+    while (!in.empty() && ops++ < 64) {
+        const uint8_t op = in.u8();
+        switch (op % 16) {
+            case 0: case 1: op_mesh_create(in, m); break;
+            case 2: op_mesh_destroy(in, m); break;
+            case 3: case 4: case 5: op_body_create(in, m, cx); break;
+            case 6: op_body_destroy(in, m); break;
+            case 7: case 8: op_set_pose(in, m, cx); break;
+            case 9: op_set_velocity(in, m); break;
+            case 10: op_step(m); break;
+            case 11: case 12: after_tick(m, hgcd_world_detect(m.w), "detect"); break;
+            default: op_read(in, m); break;
+        }
+        check_state(m);
+    }
+    after_tick(m, hgcd_world_detect(m.w), "detect");
+    hgcd_world_destroy(m.w);
+    return 0;
+}
+
+// Figures for tests/VALIDATION.md: printed at exit.
+namespace {
+struct Report {
+    ~Report() {
+        if (g_detects)
+            std::fprintf(stderr, "fuzz_api: %ld detects checked against the oracle (%ld colliding pairs), all equal\n",
+                         g_detects, g_pairs_checked);
+    }
+} g_report;
+}  // namespace

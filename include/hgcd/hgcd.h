@@ -37,9 +37,14 @@
  * ("body_create: position[1] is not finite"). Calls taking a const world only
  * read it and return a status without recording a message, so they can
  * overlap safely. A failed call leaves the world exactly as it was (apart from
- * the recorded message). No call aborts, throws or
- * crashes on bad arguments; out-of-memory is reported as
- * HGCD_ERROR_OUT_OF_MEMORY.
+ * the recorded message); the one exception is HGCD_ERROR_OUT_OF_MEMORY from
+ * hgcd_world_detect and hgcd_world_step, described there. When several
+ * things are wrong, the first of these is reported: a NULL pointer, a
+ * descriptor not from its *_desc_default(), a stale id, a bad value. No call
+ * aborts, throws or crashes on bad arguments; out-of-memory is reported as
+ * HGCD_ERROR_OUT_OF_MEMORY (if the message itself cannot be allocated, it is
+ * the fixed text "out of memory", and a refusal may then be reported as
+ * HGCD_ERROR_OUT_OF_MEMORY instead of its own status).
  *
  * Threading
  * ---------
@@ -63,7 +68,10 @@
  * and world component a of mesh vertex m is c_a + ((R_a0*v0 + R_a1*v1) + R_a2*v2)
  * with v = scale * m (see hgcd_body_desc.scale).
  * Any other implementation of that formula gets the same bits, so results are
- * reproducible outside hgcd.
+ * reproducible outside hgcd. The collision test is exact on these rounded
+ * vertices. Far from the origin their spacing is coarse (0.125 near 1e15,
+ * 1.2e-7 near 1e9): a body much smaller than that has vertices that coincide
+ * or line up, and it then collides as the segments and points they form.
  */
 #ifndef HGCD_H
 #define HGCD_H
@@ -267,9 +275,9 @@ HGCD_API hgcd_status hgcd_world_create(const hgcd_world_desc *desc,
 HGCD_API void hgcd_world_destroy(hgcd_world *world);
 
 /** Detail of the last failed call (of those taking a non-const world) on this
- *  world, or "" if none failed yet. The string is owned by the world and valid
- *  until the next non-const call on it.
- *  NULL world gives a static message. */
+ *  world, or "" if none failed yet: the call and what was wrong, naming the
+ *  field, index or id. The string is owned by the world and valid until the
+ *  next non-const call on it. NULL world gives a static message. */
 HGCD_API const char *hgcd_world_last_error(const hgcd_world *world);
 
 /** Number of live bodies and meshes. NULL world gives 0. */
@@ -298,7 +306,10 @@ HGCD_API hgcd_status hgcd_world_set_contacts(hgcd_world *world,
  *  it), then detects as hgcd_world_detect does. Without reflection, if a move
  *  would take a coordinate beyond 1e15 in magnitude (or make it non-finite),
  *  nothing moves and INVALID_ARGUMENT is returned naming the body.
- *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY. */
+ *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY (the motion, which
+ *  needs no memory, has then been applied and the detection failed as for
+ *  hgcd_world_detect: pairs cleared, statistics zeroed; calling
+ *  hgcd_world_detect finishes the tick). */
 HGCD_API hgcd_status hgcd_world_step(hgcd_world *world);
 
 /** Detects the colliding pairs at the current poses without moving anything.
@@ -451,7 +462,9 @@ HGCD_API hgcd_mesh_desc hgcd_mesh_desc_default(void);
  *  be degenerate (zero area: they then count as the segment or point they
  *  are) and may repeat vertices. The library works out whether the mesh is
  *  closed (every edge shared by an even number of triangles, so it bounds a
- *  volume) and whether it is convex; see hgcd_mesh_info.
+ *  volume) and whether it is convex; see hgcd_mesh_info. The sizes are
+ *  checked before the arrays are read. Creation takes O(n log n) time in the
+ *  mesh size (about a second for two million triangles).
  *  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_MESH, CAPACITY,
  *  OUT_OF_MEMORY. */
 HGCD_API hgcd_status hgcd_mesh_create(hgcd_world *world,
@@ -469,7 +482,10 @@ typedef struct hgcd_mesh_info {
     uint32_t triangle_count;
     /** 1 if every edge is shared by an even number of triangles. */
     uint32_t closed;
-    /** 1 if closed and every vertex lies on or behind every face plane. */
+    /** 1 if closed and every vertex lies on or behind every face plane. The
+     *  test costs triangles x vertices exact orientation tests; beyond 5e7
+     *  of them it is skipped and the mesh reported not convex (still handled
+     *  exactly, without the convex shortcuts). */
     uint32_t convex;
     /** Connected components (via shared vertices). */
     uint32_t component_count;

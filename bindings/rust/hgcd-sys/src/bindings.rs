@@ -530,9 +530,9 @@ extern "C" {
 }
 extern "C" {
     #[doc = " Detail of the last failed call (of those taking a non-const world) on this"]
-    #[doc = "  world, or \"\" if none failed yet. The string is owned by the world and valid"]
-    #[doc = "  until the next non-const call on it."]
-    #[doc = "  NULL world gives a static message."]
+    #[doc = "  world, or \"\" if none failed yet: the call and what was wrong, naming the"]
+    #[doc = "  field, index or id. The string is owned by the world and valid until the"]
+    #[doc = "  next non-const call on it. NULL world gives a static message."]
     pub fn hgcd_world_last_error(world: *const hgcd_world) -> *const ::std::os::raw::c_char;
 }
 extern "C" {
@@ -565,7 +565,10 @@ extern "C" {
     #[doc = "  it), then detects as hgcd_world_detect does. Without reflection, if a move"]
     #[doc = "  would take a coordinate beyond 1e15 in magnitude (or make it non-finite),"]
     #[doc = "  nothing moves and INVALID_ARGUMENT is returned naming the body."]
-    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY."]
+    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY (the motion, which"]
+    #[doc = "  needs no memory, has then been applied and the detection failed as for"]
+    #[doc = "  hgcd_world_detect: pairs cleared, statistics zeroed; calling"]
+    #[doc = "  hgcd_world_detect finishes the tick)."]
     pub fn hgcd_world_step(world: *mut hgcd_world) -> hgcd_status;
 }
 extern "C" {
@@ -1294,7 +1297,9 @@ extern "C" {
     #[doc = "  be degenerate (zero area: they then count as the segment or point they"]
     #[doc = "  are) and may repeat vertices. The library works out whether the mesh is"]
     #[doc = "  closed (every edge shared by an even number of triangles, so it bounds a"]
-    #[doc = "  volume) and whether it is convex; see hgcd_mesh_info."]
+    #[doc = "  volume) and whether it is convex; see hgcd_mesh_info. The sizes are"]
+    #[doc = "  checked before the arrays are read. Creation takes O(n log n) time in the"]
+    #[doc = "  mesh size (about a second for two million triangles)."]
     #[doc = "  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_MESH, CAPACITY,"]
     #[doc = "  OUT_OF_MEMORY."]
     pub fn hgcd_mesh_create(
@@ -1317,7 +1322,10 @@ pub struct hgcd_mesh_info {
     pub triangle_count: u32,
     #[doc = " 1 if every edge is shared by an even number of triangles."]
     pub closed: u32,
-    #[doc = " 1 if closed and every vertex lies on or behind every face plane."]
+    #[doc = " 1 if closed and every vertex lies on or behind every face plane. The"]
+    #[doc = "  test costs triangles x vertices exact orientation tests; beyond 5e7"]
+    #[doc = "  of them it is skipped and the mesh reported not convex (still handled"]
+    #[doc = "  exactly, without the convex shortcuts)."]
     pub convex: u32,
     #[doc = " Connected components (via shared vertices)."]
     pub component_count: u32,

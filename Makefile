@@ -107,5 +107,14 @@ bench:
 	bash scripts/ensure-deps.sh bench
 	bash scripts/run-bench.sh
 
+# The API fuzzer (fuzz/fuzz_api.cpp: libFuzzer, ASan, UBSan, GMP oracle) for
+# FUZZ_SECONDS; what it finds goes to build-fuzz/corpus, crashes to
+# build-fuzz/artifacts.
+FUZZ_SECONDS ?= 300
+.PHONY: fuzz
+fuzz:
+	bash scripts/ensure-deps.sh test
+	bash fuzz/run.sh $(FUZZ_SECONDS)
+
 clean:
 	rm -rf $(BUILD) build build-*

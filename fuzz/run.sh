@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${HGCD_FUZZ_BUILD:-build-fuzz}
 seconds=${1:-${FUZZ_SECONDS:-300}}
-bash fuzz/build.sh
+bash fuzz/build.sh  # exits 77 (and so do we) when clang's libFuzzer runtime is missing
 mkdir -p "$out/corpus" "$out/artifacts"
 log="$out/fuzz.log"
 export OMP_WAIT_POLICY=passive

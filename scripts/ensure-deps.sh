@@ -13,7 +13,10 @@ case "$target" in
            "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/gmp.h:libgmp-dev"
            "/usr/include/ccd/ccd.h:libccd-dev" "bindgen:bindgen" "clang:clang"
            "valgrind:valgrind" "cargo:cargo" "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev"
-           "/usr/include/assimp/Importer.hpp:libassimp-dev") ;;
+           "/usr/include/assimp/Importer.hpp:libassimp-dev"
+           # ThreadSanitizer run (LLVM OpenMP + Archer) and the libFuzzer target:
+           "/usr/lib/llvm-14/lib/libarcher.so:libomp-dev"
+           "/usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a:libclang-rt-14-dev") ;;
   bench)
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
            "/usr/include/ccd/ccd.h:libccd-dev"

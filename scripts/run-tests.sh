@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Every test of hgcd: the CMocka suites through meson (optimised build), the
-# same suites under AddressSanitizer + UndefinedBehaviorSanitizer, the plain
-# Makefile build and install, and the Rust bindings. Called by `make test`.
+# same suites under AddressSanitizer + UndefinedBehaviorSanitizer, the
+# parallel ones under ThreadSanitizer, every test program under valgrind, a
+# short fuzzing run, the plain Makefile build and install, and the Rust
+# bindings. Called by `make test`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
@@ -22,6 +24,24 @@ meson compile -C build-asan >/dev/null
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     HGCD_TEST_TETRA_N=5000 HGCD_SKIP_SLOW_TESTS=1 meson test -C build-asan --print-errorlogs --num-processes "$jobs" \
     --timeout-multiplier 3
+
+step "parallel tests under ThreadSanitizer (clang, LLVM OpenMP with Archer; see scripts/test-tsan.sh)"
+bash scripts/test-tsan.sh
+
+step "tests under valgrind memcheck: leaks and memory errors (see scripts/test-valgrind.sh)"
+bash scripts/test-valgrind.sh build
+
+fuzz_seconds=${HGCD_TEST_FUZZ_SECONDS:-60}
+step "API fuzzer for ${fuzz_seconds} s (libFuzzer, ASan, UBSan, GMP oracle; make fuzz runs it longer)"
+set +e
+bash fuzz/run.sh "$fuzz_seconds"
+rc=$?
+set -e
+if [ $rc -eq 77 ]; then
+    echo "fuzzer SKIPPED: clang or its libFuzzer runtime is missing (scripts/ensure-deps.sh test installs them)"
+elif [ $rc -ne 0 ]; then
+    exit $rc
+fi
 
 step "plain Makefile build, install into a staging directory, link a program against it"
 make -s lib

@@ -103,8 +103,16 @@ if [ ! -f "$out/build.ninja" ]; then
         -Db_sanitize=thread -Db_lundef=false >/dev/null
 fi
 tests=(api world threads validation bvh)
-meson test -C "$out" --list 2>/dev/null | grep -qx ccd && tests+=(ccd)  # when libccd is found
+listed=$(meson test -C "$out" --no-rebuild --list 2>/dev/null)
+if grep -qx ccd <<<"$listed"; then tests+=(ccd); fi  # when libccd is found
 ninja -C "$out" $(printf 'tests/test_%s ' "${tests[@]}") >/dev/null
+for t in "${tests[@]}"; do  # really instrumented, hgcd included
+    syms=$(nm -C "$out/tests/test_$t")
+    if ! grep -q ' __tsan_func_entry$' <<<"$syms" || ! grep -q 'hgcd::World::detect' <<<"$syms"; then
+        echo "ThreadSanitizer: $out/tests/test_$t is not instrumented" >&2
+        exit 1
+    fi
+done
 # Smaller scenes (TSan is 5-15x slower); every test still runs with 2 to 8
 # OpenMP threads per world, and test_threads drives 4 worlds at once.
 export HGCD_TEST_TETRA_N=3000 HGCD_TEST_THREADS_N=4000 HGCD_SKIP_SLOW_TESTS=1 HGCD_TEST_BIG_MESH=100000

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "parallel.hpp"
+
 namespace hgcd {
 
 namespace {
@@ -158,12 +160,13 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         std::vector<uint32_t> changed;
         std::vector<std::vector<uint32_t>> changed_local(threads);
         const size_t L = levels_.size();
-        std::vector<uint64_t> touched(L, 0);
+        std::vector<uint64_t> touched(L, 0), touched_local(size_t(threads) * L, 0);
         uint64_t flagged = 0;
+        RegionGuard guard;
 #pragma omp parallel num_threads(threads) reduction(+ : flagged)
         {
             auto &mine = changed_local[omp_get_thread_num()];
-            std::vector<uint64_t> my_touched(L, 0);
+            uint64_t *my_touched = &touched_local[size_t(omp_get_thread_num()) * L];
 #pragma omp for schedule(static)
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 const int16_t li = level_index(exponent[s]);
@@ -178,7 +181,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 uint8_t f = 0;
                 if (li != level_[s] || gen_[s] != live_gen[s]) {
                     f = 2;
-                    mine.push_back(uint32_t(s));
+                    guard.run([&] { mine.push_back(uint32_t(s)); });
                 } else if (li >= 0 && (c[0] != old[0] || c[1] != old[1] || c[2] != old[2])) {
                     f = 1;
                 }
@@ -194,9 +197,10 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 old[1] = c[1];
                 old[2] = c[2];
             }
-#pragma omp critical
-            for (size_t l = 0; l < L; ++l) touched[l] += my_touched[l];
         }
+        guard.rethrow();
+        for (int t = 0; t < threads; ++t)
+            for (size_t l = 0; l < L; ++l) touched[l] += touched_local[size_t(t) * L + l];
         for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
         std::sort(changed.begin(), changed.end());
         uint64_t finer = 0;  // flagged bodies on levels below li
@@ -210,17 +214,22 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         // and indexed by one thread (lists are independent).
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
         for (int64_t k = 0; k < int64_t(2 * L); ++k) {
-            Level &lv = levels_[k / 2];
-            List &list = (k & 1) ? lv.guests : lv.residents;
-            if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed);
-            gather(list, spheres);
+            guard.run([&] {
+                Level &lv = levels_[k / 2];
+                List &list = (k & 1) ? lv.guests : lv.residents;
+                if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed);
+                gather(list, spheres);
+            });
         }
+        guard.rethrow();
         stats.moved = flagged;
     }
     if (stats.rebuilt) {
+        RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
         for (int64_t k = 0; k < int64_t(2 * levels_.size()); ++k)
-            gather((k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents, spheres);
+            guard.run([&] { gather((k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents, spheres); });
+        guard.rethrow();
     }
     oversize_.clear();
     for (uint32_t s = 0; s < slot_count; ++s)
@@ -460,8 +469,9 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
     for (size_t k = 0; k < oversize_.size(); ++k) items.push_back({2, 0, k, k + 1});
     if (oversize_.size() > 1) items.push_back({3, 0, 0, 0});
 
+    RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t k = 0; k < int64_t(items.size()); ++k) {
+    for (int64_t k = 0; k < int64_t(items.size()); ++k) guard.run([&] {
         const Item &it = items[k];
         std::vector<uint64_t> &mine = out[omp_get_thread_num()];
         if (it.kind == 0) {
@@ -486,7 +496,8 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
                 }
             }
         }
-    }
+    });
+    guard.rethrow();
 }
 
 size_t Grid::memory_bytes() const {

@@ -10,6 +10,7 @@
 #include "ccd_narrow.hpp"
 #include "contact.hpp"
 #include "narrow.hpp"
+#include "parallel.hpp"
 #include "transform.hpp"
 
 namespace hgcd {
@@ -446,6 +447,7 @@ hgcd_status World::detect() {
         std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // parallel to hits (contacts on)
         std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0), ccd_tests(T, 0),
             ccd_fallback(T, 0);
+        RegionGuard guard;
 #pragma omp parallel num_threads(T)
         {
             const int me = omp_get_thread_num();
@@ -455,7 +457,7 @@ hgcd_status World::detect() {
             std::vector<uint64_t> &mine = hits[me];
             std::vector<hgcd_contact> &mine_contacts = hit_contacts[me];
 #pragma omp for schedule(dynamic, 1)
-            for (int64_t c = 0; c < int64_t(chunks.size()); ++c) {
+            for (int64_t c = 0; c < int64_t(chunks.size()); ++c) guard.run([&] {
                 const std::vector<uint64_t> &list = found[chunks[c].list];
                 const size_t end = chunks[c].end;
                 for (size_t k = chunks[c].begin; k < end; ++k) {
@@ -495,11 +497,11 @@ hgcd_status World::detect() {
                         if (hit == Contact::Containment) ++containment[me];
                     }
                 }
-            }
+            });
             tri_tests[me] = scratch.triangle_tests;
             exact[me] = scratch.exact_tests;
             ccd_tests[me] = ccd_scratch.tests;
-            if (want_contacts) {  // sort the contacts with their keys
+            if (want_contacts) guard.run([&] {  // sort the contacts with their keys
                 std::vector<uint32_t> order(mine.size());
                 for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
                 std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return mine[x] < mine[y]; });
@@ -511,10 +513,10 @@ hgcd_status World::detect() {
                 }
                 mine.swap(keys);
                 mine_contacts.swap(sorted);
-            } else {
-                std::sort(mine.begin(), mine.end());  // each thread its own share
-            }
+            });
+            else std::sort(mine.begin(), mine.end());  // each thread its own share
         }
+        guard.rethrow();
         // Merge the sorted shares: the output is in (a, b) order whatever the
         // thread count, so identical bit for bit.
         size_t count = 0;

@@ -17,9 +17,9 @@
  * memory (every allocation after the N-th fails until the call returns, so
  * the error path itself runs without memory).
  *
- * Allocations inside OpenMP parallel regions are not failed by default: see
- * HGCD_OOM_IN_PARALLEL below and tests/VALIDATION.md. HGCD_OOM_STRIDE=k
- * fails every k-th allocation point only (for valgrind). */
+ * Allocations inside OpenMP parallel regions (by any thread of the team)
+ * are failed too with HGCD_OOM_IN_PARALLEL=1 (see below).
+ * HGCD_OOM_STRIDE=k fails every k-th allocation point only (for valgrind). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -335,7 +335,11 @@ static void sweep(int sticky) {
     int dummy = 0;
     run(0, 0, 0, &ref, &dummy);
     assert_true(ref.npairs > 5); /* the scene means something */
-    const int in_parallel = getenv("HGCD_OOM_IN_PARALLEL") != NULL;
+    /* HGCD_OOM_IN_PARALLEL=1: allocations inside OpenMP parallel regions
+     * fail too. Not the default yet: a failure there can leave a per-thread
+     * narrow-phase scratch half resized while the thread goes on with its
+     * next pairs (see tests/VALIDATION.md, open bugs). */
+    const int in_parallel = getenv("HGCD_OOM_IN_PARALLEL") && atoi(getenv("HGCD_OOM_IN_PARALLEL")) != 0;
     /* The number of allocation points: a run armed beyond its end. */
     snapshot counted;
     run(1L << 40, sticky, in_parallel, &counted, &dummy);
@@ -372,9 +376,9 @@ static void sweep(int sticky) {
     printf("%s: %ld of the script's %ld allocation points failed in turn, %d calls returned "
            "HGCD_ERROR_OUT_OF_MEMORY, all recovered\n",
            sticky ? "memory exhausted" : "one failed allocation", runs, points, failed_calls);
-    /* With 2 threads the count can differ by a few between runs (how the
-     * per-thread lists split decides how often a merged list grows). */
-    assert_true(runs > 0 && runs + 16 >= points / (stride > 0 ? stride : 1));
+    /* With 2 threads the count differs between runs (how the per-thread
+     * lists split decides how often a list grows): a loose check. */
+    assert_true(runs > 0 && 2 * runs * (stride > 0 ? stride : 1) >= points);
     snap_free(&ref);
 }
 

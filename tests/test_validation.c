@@ -744,6 +744,50 @@ static void test_generation_wrap(void **state) {
     hgcd_world_destroy(w);
 }
 
+/* ------------------------------------------------------- empty worlds -- */
+
+static void test_empty_worlds(void **state) {
+    (void)state;
+    /* Detect and step with no body, with only destroyed bodies, and with
+     * only oversize bodies (no grid level at all), each twice (the second
+     * takes the grid's incremental path with zero levels).
+     * KNOWN BUG (open, src/grid.cpp, since 18133a0): that path takes
+     * &touched_local[thread * L] of an empty vector (L = 0), undefined
+     * behaviour that UBSan reports. Skipped unless HGCD_TEST_KNOWN_BUGS=1
+     * until it is fixed; then drop this gate. */
+    if (!getenv("HGCD_TEST_KNOWN_BUGS")) {
+        skip();
+        return;
+    }
+    init_shapes();
+    for (int variant = 0; variant < 3; ++variant) {
+        hgcd_world_desc wd = hgcd_world_desc_default();
+        wd.thread_count = 2;
+        wd.max_cell_size = variant == 2 ? 1e-3 : 0; /* every body oversize */
+        hgcd_world *w;
+        assert_int_equal(hgcd_world_create(&wd, &w), HGCD_OK);
+        hgcd_mesh m = make_tetra(w);
+        hgcd_body b[3];
+        if (variant > 0)
+            for (int i = 0; i < 3; ++i) b[i] = make_body(w, m, 1.5 * i);
+        if (variant == 1)
+            for (int i = 0; i < 3; ++i) assert_int_equal(hgcd_body_destroy(w, b[i]), HGCD_OK);
+        for (int tick = 0; tick < 3; ++tick) {
+            assert_int_equal(tick == 1 ? hgcd_world_step(w) : hgcd_world_detect(w), HGCD_OK);
+            const hgcd_pair *p;
+            size_t n;
+            assert_int_equal(hgcd_world_pairs(w, &p, &n), HGCD_OK);
+            assert_int_equal(n, variant == 2 ? 2 : 0);
+            hgcd_stats st;
+            st.struct_size = sizeof st;
+            assert_int_equal(hgcd_world_stats(w, &st), HGCD_OK);
+            assert_int_equal(st.level_count, 0);
+            assert_int_equal(st.oversize_count, variant == 2 ? 3 : 0);
+        }
+        hgcd_world_destroy(w);
+    }
+}
+
 /* --------------------------------------------- counts that would overflow -- */
 
 static void test_overflowing_counts(void **state) {
@@ -1131,6 +1175,7 @@ int main(void) {
         cmocka_unit_test(test_refused_calls_change_nothing),
         cmocka_unit_test(test_ids),
         cmocka_unit_test(test_overflowing_counts),
+        cmocka_unit_test(test_empty_worlds),
         cmocka_unit_test(test_degenerate_and_duplicates),
         cmocka_unit_test(test_far_coordinates_tiny_bodies),
         cmocka_unit_test(test_large_meshes),

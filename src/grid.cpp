@@ -166,7 +166,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
 #pragma omp parallel num_threads(threads) reduction(+ : flagged)
         {
             auto &mine = changed_local[omp_get_thread_num()];
-            uint64_t *my_touched = &touched_local[size_t(omp_get_thread_num()) * L];
+            uint64_t *my_touched = touched_local.data() + size_t(omp_get_thread_num()) * L;
 #pragma omp for schedule(static)
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 const int16_t li = level_index(exponent[s]);

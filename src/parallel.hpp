@@ -1,8 +1,11 @@
 // An exception must not leave an OpenMP region: the runtime would call
 // std::terminate, turning an out-of-memory into an abort. Region bodies run
 // through RegionGuard::run, which keeps the first exception; the caller
-// rethrows it once the region has ended.
+// rethrows it once the region has ended. Once one body has failed, the rest
+// are skipped: the region's result is discarded anyway, and a thread's
+// scratch state may be half updated by the failure.
 #pragma once
+#include <atomic>
 #include <exception>
 
 namespace hgcd {
@@ -11,9 +14,11 @@ class RegionGuard {
   public:
     template <class F>
     void run(F &&f) noexcept {
+        if (failed_.load(std::memory_order_relaxed)) return;
         try {
             f();
         } catch (...) {
+            failed_.store(true, std::memory_order_relaxed);
 #pragma omp critical(hgcd_region_guard)
             if (!first_) first_ = std::current_exception();
         }
@@ -23,6 +28,7 @@ class RegionGuard {
     }
 
   private:
+    std::atomic<bool> failed_{false};
     std::exception_ptr first_;
 };
 

@@ -751,14 +751,8 @@ static void test_empty_worlds(void **state) {
     /* Detect and step with no body, with only destroyed bodies, and with
      * only oversize bodies (no grid level at all), each twice (the second
      * takes the grid's incremental path with zero levels).
-     * KNOWN BUG (open, src/grid.cpp, since 18133a0): that path takes
-     * &touched_local[thread * L] of an empty vector (L = 0), undefined
-     * behaviour that UBSan reports. Skipped unless HGCD_TEST_KNOWN_BUGS=1
-     * until it is fixed; then drop this gate. */
-    if (!getenv("HGCD_TEST_KNOWN_BUGS")) {
-        skip();
-        return;
-    }
+     * Regression: 18133a0 took &touched_local[thread * L] of an empty
+     * vector there (L = 0), undefined behaviour that UBSan reported. */
     init_shapes();
     for (int variant = 0; variant < 3; ++variant) {
         hgcd_world_desc wd = hgcd_world_desc_default();

@@ -103,16 +103,7 @@ static hgcd_mesh_desc mesh_desc_of(const oracle_mesh *m) {
 
 /* -------------------------------------------------------------- scene -- */
 
-typedef struct {
-    uint64_t s;
-} rng;
-static uint64_t next(rng *r) {
-    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-static double unif(rng *r) { return (double)(next(r) >> 11) * 0x1.0p-53; }
+#include "test_rng.h"
 
 static void random_quat(rng *r, double *q) {
     const double u1 = unif(r), u2 = unif(r), u3 = unif(r);

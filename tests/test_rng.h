@@ -1,0 +1,20 @@
+/* The tests' random numbers: splitmix64 (as SCENES.md) and Shoemake's
+ * uniform rotation. Shared by the test programs. */
+#ifndef HGCD_TEST_RNG_H
+#define HGCD_TEST_RNG_H
+
+#include <math.h>
+#include <stdint.h>
+
+typedef struct {
+    uint64_t s;
+} rng;
+static inline uint64_t next(rng *r) {
+    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+static inline double unif(rng *r) { return (double)(next(r) >> 11) * 0x1.0p-53; }
+
+#endif

@@ -42,6 +42,8 @@ runs=(
     "validation *"
     "oom *"
     "threads *"
+    "grid test_touching_on_cell_faces"
+    "grid test_far_coordinates"
     "world test_hand_built_pairs"
     "world test_tetra_scene"
     "world test_oversize_and_cell_limits"

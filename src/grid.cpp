@@ -20,6 +20,8 @@ namespace {
 constexpr int64_t kCoordLimit = (int64_t(1) << 41) - 2;
 constexpr int64_t kCoordBias = int64_t(1) << 41;
 constexpr int64_t kSaturate = int64_t(1) << 62;
+constexpr int kAxisBits = 42;
+constexpr uint64_t kAxisMask = (uint64_t(1) << kAxisBits) - 1;
 constexpr size_t kChunk = 1024;
 
 // 2^k for |k| < 1000, built from the exponent bits (no libm call).
@@ -49,12 +51,6 @@ inline uint64_t clamp_bias(int64_t c) {
 
 inline CellKey pack(uint64_t z, uint64_t y, uint64_t x) {
     return (CellKey(z) << 84) | (CellKey(y) << 42) | CellKey(x);
-}
-
-inline CellKey row_offset(int dz, int dy) {
-    // Components stay within [1, 2^42 - 2], so +-1 never carries: modular
-    // arithmetic on the packed key moves exactly one component.
-    return (CellKey(int64_t(dz)) << 84) + (CellKey(int64_t(dy)) << 42);
 }
 
 // Smallest e with 2^e >= d, for finite d > 0.
@@ -300,111 +296,124 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 void Grid::gather(List &list, const Sphere *spheres) {
     const int64_t m = int64_t(list.entries.size());
     list.spheres.resize(size_t(m));
-    for (int64_t k = 0; k < m; ++k) list.spheres[k] = spheres[list.entries[k].slot];
-    list.cell_keys.clear();
-    list.cell_start.clear();
+    list.xs.resize(size_t(m));
+    const Entry *E = list.entries.data();
     for (int64_t k = 0; k < m; ++k) {
-        if (k == 0 || list.entries[k].key != list.entries[k - 1].key) {
-            const CellKey key = list.entries[k].key;  // by value: the member is packed
-            list.cell_keys.push_back(key);
-            list.cell_start.push_back(uint32_t(k));
+        // The next bodies' spheres are random reads: ask for them early.
+        if (k + 16 < m) __builtin_prefetch(&spheres[E[k + 16].slot]);
+        list.spheres[k] = spheres[E[k].slot];
+        const CellKey key = E[k].key;  // by value: the member is packed
+        list.xs[k] = uint64_t(key) & kAxisMask;
+    }
+    list.row_keys.clear();
+    list.row_start.clear();
+    for (int64_t k = 0; k < m; ++k) {
+        const CellKey row = CellKey(E[k].key) >> kAxisBits;
+        if (k == 0 || row != list.row_keys.back()) {
+            list.row_keys.push_back(row);
+            list.row_start.push_back(uint32_t(k));
         }
     }
-    list.cell_start.push_back(uint32_t(m));
+    list.row_start.push_back(uint32_t(m));
 }
 
 namespace {
 
-// First cell at or after `from` whose key is >= target (cells are sorted).
+// First row at or after `from` whose key is >= target (rows are sorted).
 inline size_t advance(const std::vector<CellKey> &keys, size_t from, CellKey target) {
     while (from < keys.size() && keys[from] < target) ++from;
     return from;
 }
 
-inline size_t first_cell(const std::vector<CellKey> &keys, CellKey target) {
+inline size_t first_row(const std::vector<CellKey> &keys, CellKey target) {
     return size_t(std::lower_bound(keys.begin(), keys.end(), target) - keys.begin());
+}
+
+// Key offset of the row (z + dz, y + dy) from row (z, y). Components stay
+// within [1, 2^42 - 2], so +-1 never carries: modular arithmetic on the
+// packed key moves exactly one component.
+inline CellKey row_step(int dz, int dy) {
+    return (CellKey(int64_t(dz)) << kAxisBits) + CellKey(int64_t(dy));
+}
+
+// Every pair of an entry of [ib, ie) with an entry of [jb, je) (two rows,
+// each sorted by cell x) whose cells are at most one apart in x: a merge,
+// with the window's left end moving forward only.
+template <class EntryT>
+inline void merge_rows(const Sphere *SA, const EntryT *EA, const uint64_t *XA, size_t ib, size_t ie,
+                       const Sphere *SB, const EntryT *EB, const uint64_t *XB, size_t jb, size_t je,
+                       std::vector<uint64_t> &out) {
+    size_t lo = jb;
+    for (size_t i = ib; i < ie && lo < je; ++i) {
+        const uint64_t x = XA[i];
+        while (lo < je && XB[lo] + 1 < x) ++lo;
+        const Sphere a = SA[i];
+        for (size_t j = lo; j < je && XB[j] <= x + 1; ++j)
+            if (overlap(a, SB[j])) out.push_back(pair_key(EA[i].slot, EB[j].slot));
+    }
 }
 
 }  // namespace
 
+// Rows (z, y) of a level's residents, sorted by (z, y, x): each body is
+// compared with the later bodies of its own row up to cell x + 1 (its own
+// cell and the next), and with the rows (z, y+1), (z+1, y-1), (z+1, y) and
+// (z+1, y+1) over cells x-1..x+1 (the later half of the 3x3x3 neighbourhood
+// in key order, so each pair once). Rows are found by cursors that only move
+// forward; the work per body and row is a few integer comparisons, whatever
+// the occupancy of the cells.
 void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
                            std::vector<uint64_t> &out) const {
     const List &R = lv.residents;
-    const std::vector<CellKey> &keys = R.cell_keys;
-    const std::vector<uint32_t> &start = R.cell_start;
+    const std::vector<CellKey> &rows = R.row_keys;
+    const uint32_t *start = R.row_start.data();
     const Sphere *S = R.spheres.data();
     const Entry *E = R.entries.data();
-    const size_t cells = keys.size();
-    // The later half of the 3x3 rows: (dz, dy) after (0, 0) in key order.
-    static const int rows[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+    const uint64_t *X = R.xs.data();
+    static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
     CellKey off[4];
     size_t cur[4];
     for (int r = 0; r < 4; ++r) {
-        off[r] = row_offset(rows[r][0], rows[r][1]);
-        cur[r] = first_cell(keys, keys[begin] + off[r] - 1);
+        off[r] = row_step(later[r][0], later[r][1]);
+        cur[r] = first_row(rows, rows[begin] + off[r]);
     }
-    for (size_t c = begin; c < end; ++c) {
-        const CellKey K = keys[c];
-        const size_t ab = start[c], ae = start[c + 1];
-        // Within the cell: each pair once.
-        for (size_t i = ab; i < ae; ++i)
-            for (size_t j = i + 1; j < ae; ++j)
-                if (overlap(S[i], S[j])) out.push_back(pair_key(E[i].slot, E[j].slot));
-        // The rest: the cell x + 1 of the own row, then the four later rows.
-        size_t runs[5][2];
-        int nruns = 0;
-        if (c + 1 < cells && keys[c + 1] == K + 1) {
-            runs[nruns][0] = start[c + 1];
-            runs[nruns++][1] = start[c + 2];
+    for (size_t row = begin; row < end; ++row) {
+        const size_t b = start[row], e = start[row + 1];
+        for (size_t i = b; i < e; ++i) {
+            const uint64_t x = X[i];
+            const Sphere a = S[i];
+            for (size_t j = i + 1; j < e && X[j] <= x + 1; ++j)
+                if (overlap(a, S[j])) out.push_back(pair_key(E[i].slot, E[j].slot));
         }
         for (int r = 0; r < 4; ++r) {
-            const CellKey lo = K + off[r] - 1, hi = K + off[r] + 1;
-            const size_t first = cur[r] = advance(keys, cur[r], lo);
-            size_t last = first;
-            while (last < cells && keys[last] <= hi) ++last;
-            if (last > first) {
-                runs[nruns][0] = start[first];
-                runs[nruns++][1] = start[last];
-            }
+            const CellKey target = rows[row] + off[r];
+            const size_t k = cur[r] = advance(rows, cur[r], target);
+            if (k < rows.size() && rows[k] == target)
+                merge_rows(S, E, X, b, e, S, E, X, start[k], start[k + 1], out);
         }
-        for (int r = 0; r < nruns; ++r)
-            for (size_t i = ab; i < ae; ++i) {
-                const Sphere a = S[i];
-                for (size_t j = runs[r][0]; j < runs[r][1]; ++j)
-                    if (overlap(a, S[j])) out.push_back(pair_key(E[i].slot, E[j].slot));
-            }
     }
 }
 
+// Rows of a level's guests against the 3x3 rows of residents around each.
 void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
                         std::vector<uint64_t> &out) const {
     const List &G = lv.guests, &R = lv.residents;
-    const std::vector<CellKey> &gkeys = G.cell_keys, &keys = R.cell_keys;
-    const size_t cells = keys.size();
-    if (cells == 0) return;
-    const Sphere *GS = G.spheres.data(), *S = R.spheres.data();
-    const Entry *GE = G.entries.data(), *E = R.entries.data();
+    const std::vector<CellKey> &grows = G.row_keys, &rows = R.row_keys;
+    if (rows.empty()) return;
+    const uint32_t *gstart = G.row_start.data(), *start = R.row_start.data();
     CellKey off[9];
     size_t cur[9];
     for (int r = 0; r < 9; ++r) {
-        off[r] = row_offset(r / 3 - 1, r % 3 - 1);
-        cur[r] = first_cell(keys, gkeys[begin] + off[r] - 1);
+        off[r] = row_step(r / 3 - 1, r % 3 - 1);
+        cur[r] = first_row(rows, grows[begin] + off[r]);
     }
-    for (size_t c = begin; c < end; ++c) {
-        const CellKey K = gkeys[c];
-        const size_t gb = G.cell_start[c], ge = G.cell_start[c + 1];
+    for (size_t row = begin; row < end; ++row) {
         for (int r = 0; r < 9; ++r) {
-            const CellKey lo = K + off[r] - 1, hi = K + off[r] + 1;
-            const size_t first = cur[r] = advance(keys, cur[r], lo);
-            size_t last = first;
-            while (last < cells && keys[last] <= hi) ++last;
-            if (last == first) continue;
-            const size_t rb = R.cell_start[first], re = R.cell_start[last];
-            for (size_t i = gb; i < ge; ++i) {
-                const Sphere a = GS[i];
-                for (size_t j = rb; j < re; ++j)
-                    if (overlap(a, S[j])) out.push_back(pair_key(GE[i].slot, E[j].slot));
-            }
+            const CellKey target = grows[row] + off[r];
+            const size_t k = cur[r] = advance(rows, cur[r], target);
+            if (k < rows.size() && rows[k] == target)
+                merge_rows(G.spheres.data(), G.entries.data(), G.xs.data(), gstart[row], gstart[row + 1],
+                           R.spheres.data(), R.entries.data(), R.xs.data(), start[k], start[k + 1], out);
         }
     }
 }
@@ -452,12 +461,12 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
         size_t begin, end;
     };
     std::vector<Item> items;
-    // Chunks of whole cells holding about kChunk entries each.
+    // Chunks of whole rows holding about kChunk entries each.
     auto chunk = [&](const List &list, int kind, uint32_t li) {
-        const size_t cells = list.cell_keys.size();
-        for (size_t b = 0; b < cells;) {
+        const size_t rows = list.row_keys.size();
+        for (size_t b = 0; b < rows;) {
             size_t e = b + 1;
-            while (e < cells && list.cell_start[e] - list.cell_start[b] < kChunk) ++e;
+            while (e < rows && list.row_start[e] - list.row_start[b] < kChunk) ++e;
             items.push_back({kind, li, b, e});
             b = e;
         }

@@ -73,10 +73,12 @@ class Grid {
     struct List {
         std::vector<Entry> entries;   // sorted by (key, slot)
         std::vector<Sphere> spheres;  // spheres of entries, same order
-        // The occupied cells: distinct keys in order, and where each cell's
-        // entries start (one more than cells, ending with entries.size()).
-        std::vector<CellKey> cell_keys;
-        std::vector<uint32_t> cell_start;
+        std::vector<uint64_t> xs;     // cell x of entries (biased), same order
+        // The occupied rows: distinct (z, y) parts of the keys (key >> 42) in
+        // order, and where each row's entries start (one more than rows,
+        // ending with entries.size()).
+        std::vector<CellKey> row_keys;
+        std::vector<uint32_t> row_start;
     };
     struct Level {
         int exponent;

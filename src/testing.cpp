@@ -3,7 +3,12 @@
 
 #include <cstddef>
 
+#include <algorithm>
+#include <climits>
+#include <vector>
+
 #include "geometry.hpp"
+#include "grid.hpp"
 
 extern "C" {
 
@@ -56,6 +61,34 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
                                              inward_sign)
                ? 1
                : 0;
+}
+
+int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, int threads,
+                         uint64_t *out, uint64_t cap) {
+    try {
+        hgcd::Grid grid;
+        std::vector<uint32_t> gen(n, 1);
+        std::vector<double> r_level(n);
+        std::vector<hgcd::Sphere> spheres(n);
+        const hgcd::GridLimits limits{INT_MIN, INT_MAX};
+        for (int pass = before ? 0 : 1; pass < 2; ++pass) {
+            const double *s = pass ? after : before;
+            for (uint32_t i = 0; i < n; ++i) {
+                spheres[i] = hgcd::Sphere{s[4 * i], s[4 * i + 1], s[4 * i + 2], s[4 * i + 3]};
+                r_level[i] = s[4 * i + 3];
+            }
+            grid.update(spheres.data(), r_level.data(), gen.data(), n, limits, threads);
+        }
+        std::vector<std::vector<uint64_t>> found(threads);
+        grid.find_pairs(spheres.data(), threads, found);
+        std::vector<uint64_t> all;
+        for (auto &f : found) all.insert(all.end(), f.begin(), f.end());
+        std::sort(all.begin(), all.end());
+        std::copy_n(all.begin(), std::min<uint64_t>(cap, all.size()), out);
+        return int64_t(all.size());
+    } catch (...) {
+        return -1;
+    }
 }
 
 }  // extern "C"

@@ -1,0 +1,180 @@
+/* The broad phase alone (src/grid.cpp through src/testing.h) against brute
+ * force: every pair of spheres whose test `dx*dx + dy*dy + dz*dz <= (ra+rb)^2`
+ * (evaluated as the grid evaluates it) holds must be reported, and nothing
+ * else. Scenes aim at the grid's shortcuts: the dense coarse levels where
+ * the reach filter skips neighbouring slabs, spheres touching exactly across
+ * cell faces, centres on cell faces, far-out coordinates, incremental
+ * updates after motion, several thread counts. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "../src/testing.h"
+#include "test_rng.h"
+
+static int cmp_u64(const void *a, const void *b) {
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Brute force over all pairs, sorted. */
+static uint64_t brute(const double *s, uint32_t n, uint64_t **out) {
+    uint64_t cap = 1024, m = 0;
+    uint64_t *p = malloc(cap * sizeof *p);
+    assert_non_null(p);
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t j = i + 1; j < n; ++j) {
+            const double *a = s + 4 * (size_t)i, *b = s + 4 * (size_t)j;
+            const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+            const double rs = a[3] + b[3];
+            if (dx * dx + dy * dy + dz * dz <= rs * rs) {
+                if (m == cap) {
+                    cap *= 2;
+                    p = realloc(p, cap * sizeof *p);
+                    assert_non_null(p);
+                }
+                p[m++] = ((uint64_t)i << 32) | j;
+            }
+        }
+    qsort(p, m, sizeof *p, cmp_u64);
+    *out = p;
+    return m;
+}
+
+/* The grid's pairs for `after` (built from `before` first, if given) equal
+ * brute force, for 1, 2 and 3 threads. Returns the pair count. */
+static uint64_t check(const double *before, const double *after, uint32_t n, const char *what) {
+    uint64_t *want;
+    const uint64_t m = brute(after, n, &want);
+    uint64_t *got = malloc((m + 16) * sizeof *got);
+    assert_non_null(got);
+    for (int threads = 1; threads <= 3; ++threads) {
+        const int64_t k = hgcdi_grid_pairs(before, after, n, threads, got, m + 16);
+        if (k != (int64_t)m || memcmp(got, want, m * sizeof *got) != 0) {
+            uint64_t i = 0;
+            while (i < m && k > (int64_t)i && got[i] == want[i]) ++i;
+            fail_msg("%s, %d threads: grid %lld pairs, brute force %llu; first difference at %llu: "
+                     "grid %llx, brute %llx", what, threads, (long long)k, (unsigned long long)m,
+                     (unsigned long long)i, i < (uint64_t)k ? (unsigned long long)got[i] : 0ull,
+                     i < m ? (unsigned long long)want[i] : 0ull);
+        }
+    }
+    free(got);
+    free(want);
+    return m;
+}
+
+/* Scene tetra's mix: log-uniform radii over three octaves, at its density
+ * (the coarsest level holds about two bodies per cell), moved by up to 0.3. */
+static void test_dense_mixed_levels(void **state) {
+    (void)state;
+    const uint32_t n = 12000;
+    const double side = 50.0;
+    double *a = malloc(4 * sizeof(double) * n), *b = malloc(4 * sizeof(double) * n);
+    rng r = {7};
+    for (uint32_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) a[4 * i + k] = side * unif(&r);
+        a[4 * i + 3] = 0.25 * pow(8.0, unif(&r));
+        for (int k = 0; k < 3; ++k) b[4 * i + k] = a[4 * i + k] + 0.3 * (2 * unif(&r) - 1);
+        b[4 * i + 3] = a[4 * i + 3];
+    }
+    const uint64_t m = check(NULL, a, n, "dense, built");
+    assert_true(m > 5000);  /* the scene is dense enough to mean something */
+    check(a, b, n, "dense, moved");
+    free(a);
+    free(b);
+}
+
+/* Centres on a lattice of step 1/4 (so on cell faces of every level from
+ * 1/4 up), radii powers of two and their sums, many pairs at exactly the
+ * touching distance, which the test counts as overlapping. */
+static void fill_lattice(double *s, uint32_t n, double offset, uint64_t seed) {
+    static const double radii[] = {0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0};
+    rng r = {seed};
+    for (uint32_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) s[4 * i + k] = offset + 0.25 * (double)(next(&r) % 48) - 4.0;
+        s[4 * i + 3] = radii[next(&r) % 7];
+    }
+}
+
+static void test_touching_on_cell_faces(void **state) {
+    (void)state;
+    const uint32_t n = 6000;
+    double *a = malloc(4 * sizeof(double) * n), *b = malloc(4 * sizeof(double) * n);
+    fill_lattice(a, n, 0.0, 11);
+    uint64_t touching = 0;
+    for (uint32_t i = 0; i < n; ++i)  /* some pairs are exactly touching */
+        for (uint32_t j = i + 1; j < n; ++j) {
+            const double *p = a + 4 * i, *q = a + 4 * j;
+            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2], rs = p[3] + q[3];
+            touching += dx * dx + dy * dy + dz * dz == rs * rs;
+        }
+    assert_true(touching > 50);
+    check(NULL, a, n, "lattice");
+    /* Moved by whole lattice steps: bodies change cells, stay on faces. */
+    memcpy(b, a, 4 * sizeof(double) * n);
+    rng r = {12};
+    for (uint32_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) b[4 * i + k] += 0.25 * (double)((int)(next(&r) % 5) - 2);
+    check(a, b, n, "lattice, moved by lattice steps");
+    free(a);
+    free(b);
+}
+
+/* The same lattice far from the origin and on the negative side: cell
+ * coordinates are large, and at 2^45 the fine levels' keys saturate. */
+static void test_far_coordinates(void **state) {
+    (void)state;
+    const uint32_t n = 3000;
+    double *a = malloc(4 * sizeof(double) * n);
+    static const double offsets[] = {-1000.0, 1048576.0, -0x1p40, 0x1p45, 1e12 + 0.5};
+    for (size_t k = 0; k < sizeof offsets / sizeof *offsets; ++k) {
+        char what[64];
+        snprintf(what, sizeof what, "lattice at %g", offsets[k]);
+        fill_lattice(a, n, offsets[k], 20 + k);
+        check(NULL, a, n, what);
+    }
+    free(a);
+}
+
+/* Radii that are not powers of two, with one sphere exactly reaching the
+ * face of its cell from either side, along each axis. */
+static void test_reach_exactly_to_faces(void **state) {
+    (void)state;
+    enum { n = 4000 };
+    static double s[4 * n];
+    rng r = {31};
+    for (uint32_t i = 0; i < n; i += 2) {
+        const int axis = (int)(next(&r) % 3);
+        const double w = 4.0;  /* cell width of radii in (1, 2] */
+        const double ra = 1.0 + unif(&r), rb = 0.1 + 0.5 * unif(&r);
+        double *p = s + 4 * i, *q = s + 4 * (i + 1);
+        for (int k = 0; k < 3; ++k) p[k] = q[k] = w * (double)(next(&r) % 6) + w * unif(&r);
+        /* p's centre at a face, q beyond it at exactly ra + rb (when that is
+         * representable) or just around it. */
+        p[axis] = w * (double)(next(&r) % 6);
+        const int jitter = (int)(next(&r) % 3) - 1;
+        q[axis] = p[axis] - (ra + rb) + jitter * 1e-15;
+        p[3] = ra;
+        q[3] = rb;
+    }
+    check(NULL, s, n, "reach to faces");
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_dense_mixed_levels),
+        cmocka_unit_test(test_touching_on_cell_faces),
+        cmocka_unit_test(test_far_coordinates),
+        cmocka_unit_test(test_reach_exactly_to_faces),
+    };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
+    if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

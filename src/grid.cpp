@@ -49,9 +49,9 @@ inline uint64_t clamp_bias(int64_t c) {
     return uint64_t(c + kCoordBias);
 }
 
-inline CellKey pack(uint64_t z, uint64_t y, uint64_t x) {
-    return (CellKey(z) << 84) | (CellKey(y) << 42) | CellKey(x);
-}
+// The key of the row of cells (z, y): the grid is sparse in y and z, and
+// each row is a sweep along x.
+inline CellKey row_key(uint64_t z, uint64_t y) { return (CellKey(z) << kAxisBits) | CellKey(y); }
 
 // Smallest e with 2^e >= d, for finite d > 0.
 inline int ceil_log2(double d) {
@@ -82,8 +82,8 @@ struct ByKey {
 CellKey Grid::key_of(uint32_t slot, int level_index) const {
     const int own = level_[slot];
     const int shift = std::min(levels_[level_index].exponent - levels_[own].exponent, 63);
-    const int64_t *c = &cell_[3 * size_t(slot)];
-    return pack(clamp_bias(c[2] >> shift), clamp_bias(c[1] >> shift), clamp_bias(c[0] >> shift));
+    const int64_t *c = &cell_[2 * size_t(slot)];
+    return row_key(clamp_bias(c[1] >> shift), clamp_bias(c[0] >> shift));
 }
 
 GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
@@ -121,7 +121,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
 
     level_.resize(slot_count, kNone);
     gen_.resize(slot_count, 0);
-    cell_.resize(3 * size_t(slot_count), 0);
+    cell_.resize(2 * size_t(slot_count), 0);
 
     auto level_index = [&](int e) -> int16_t {
         if (e == INT_MIN) return kNone;
@@ -139,19 +139,18 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             gen_[s] = live_gen[s];
             if (level_[s] >= 0) {
                 const int e = exponent[s];
-                cell_[3 * s] = cell_coord(spheres[s].x, e);
-                cell_[3 * s + 1] = cell_coord(spheres[s].y, e);
-                cell_[3 * s + 2] = cell_coord(spheres[s].z, e);
+                cell_[2 * s] = cell_coord(spheres[s].y, e);
+                cell_[2 * s + 1] = cell_coord(spheres[s].z, e);
             }
         }
         rebuild(slot_count, threads);
         stats.rebuilt = true;
         stats.moved = slot_count;  // every body (re-)entered
     } else {
-        // Per body: 0 same cell, 1 moved to another cell of the same level,
+        // Per body: 0 same row, 1 moved to another row of the same level,
         // 2 membership changed (new, destroyed, slot reused, or other level).
-        // A body whose own cell is unchanged keeps every coarser cell too, so
-        // only flagged bodies touch the lists.
+        // A body whose own row is unchanged keeps every coarser row too, so
+        // only flagged bodies touch the lists (moves along x never do).
         std::vector<uint8_t> flag(slot_count, 0);
         std::vector<uint32_t> changed;
         std::vector<std::vector<uint32_t>> changed_local(threads);
@@ -166,19 +165,18 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
 #pragma omp for schedule(static)
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 const int16_t li = level_index(exponent[s]);
-                int64_t c[3] = {0, 0, 0};
+                int64_t c[2] = {0, 0};
                 if (li >= 0) {
                     const int e = exponent[s];
-                    c[0] = cell_coord(spheres[s].x, e);
-                    c[1] = cell_coord(spheres[s].y, e);
-                    c[2] = cell_coord(spheres[s].z, e);
+                    c[0] = cell_coord(spheres[s].y, e);
+                    c[1] = cell_coord(spheres[s].z, e);
                 }
-                int64_t *old = &cell_[3 * s];
+                int64_t *old = &cell_[2 * s];
                 uint8_t f = 0;
                 if (li != level_[s] || gen_[s] != live_gen[s]) {
                     f = 2;
                     guard.run([&] { mine.push_back(uint32_t(s)); });
-                } else if (li >= 0 && (c[0] != old[0] || c[1] != old[1] || c[2] != old[2])) {
+                } else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) {
                     f = 1;
                 }
                 if (f) {
@@ -191,7 +189,6 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 gen_[s] = live_gen[s];
                 old[0] = c[0];
                 old[1] = c[1];
-                old[2] = c[2];
             }
         }
         guard.rethrow();
@@ -230,11 +227,6 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     oversize_.clear();
     for (uint32_t s = 0; s < slot_count; ++s)
         if (level_[s] == kOversize) oversize_.push_back(s);
-    for (auto &lv : levels_) {
-        double rmax = 0;
-        for (const Sphere &sp : lv.residents.spheres) rmax = std::max(rmax, sp.r);
-        lv.max_radius = rmax;
-    }
     built_ = true;
     return stats;
 }
@@ -294,27 +286,65 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 }
 
 void Grid::gather(List &list, const Sphere *spheres) {
-    const int64_t m = int64_t(list.entries.size());
-    list.spheres.resize(size_t(m));
-    list.xs.resize(size_t(m));
-    const Entry *E = list.entries.data();
-    for (int64_t k = 0; k < m; ++k) {
+    const size_t m = list.entries.size();
+    list.spheres.resize(m);
+    Entry *E = list.entries.data();
+    Sphere *S = list.spheres.data();
+    double rmax = 0;
+    for (size_t k = 0; k < m; ++k) {
         // The next bodies' spheres are random reads: ask for them early.
         if (k + 16 < m) __builtin_prefetch(&spheres[E[k + 16].slot]);
-        list.spheres[k] = spheres[E[k].slot];
-        const CellKey key = E[k].key;  // by value: the member is packed
-        list.xs[k] = uint64_t(key) & kAxisMask;
+        S[k] = spheres[E[k].slot];
+        rmax = std::max(rmax, S[k].r);
     }
+    list.max_radius = rmax;
     list.row_keys.clear();
     list.row_start.clear();
-    for (int64_t k = 0; k < m; ++k) {
-        const CellKey row = CellKey(E[k].key) >> kAxisBits;
+    for (size_t k = 0; k < m; ++k) {
+        const CellKey row = E[k].key;  // by value: the member is packed
         if (k == 0 || row != list.row_keys.back()) {
             list.row_keys.push_back(row);
             list.row_start.push_back(uint32_t(k));
         }
     }
     list.row_start.push_back(uint32_t(m));
+    // Each row sorted by centre x. Between ticks the order barely changes, so
+    // insertion sort is linear; a row it would take long over (a rebuild, or
+    // many bodies entering one row) is sorted outright.
+    const size_t rows = list.row_keys.size();
+    for (size_t r = 0; r < rows; ++r) {
+        const size_t b = list.row_start[r], e = list.row_start[r + 1];
+        size_t budget = 8 * (e - b) + 64;
+        bool sorted = true;
+        for (size_t k = b + 1; k < e && sorted; ++k) {
+            if (!(S[k].x < S[k - 1].x)) continue;
+            const Sphere sk = S[k];
+            const Entry ek = E[k];
+            size_t j = k;
+            for (; j > b && sk.x < S[j - 1].x; --j) {
+                S[j] = S[j - 1];
+                E[j] = E[j - 1];
+                if (--budget == 0) break;
+            }
+            S[j] = sk;
+            E[j] = ek;
+            sorted = budget != 0;
+        }
+        if (sorted) continue;
+        std::vector<uint32_t> order(e - b);
+        for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
+        std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
+            return S[b + p].x < S[b + q].x || (S[b + p].x == S[b + q].x && E[b + p].slot < E[b + q].slot);
+        });
+        std::vector<Sphere> ts(order.size());
+        std::vector<Entry> te(order.size());
+        for (size_t k = 0; k < order.size(); ++k) {
+            ts[k] = S[b + order[k]];
+            te[k] = E[b + order[k]];
+        }
+        std::copy(ts.begin(), ts.end(), S + b);
+        std::copy(te.begin(), te.end(), E + b);
+    }
 }
 
 namespace {
@@ -336,32 +366,41 @@ inline CellKey row_step(int dz, int dy) {
     return (CellKey(int64_t(dz)) << kAxisBits) + CellKey(int64_t(dy));
 }
 
-// Every pair of an entry of [ib, ie) with an entry of [jb, je) (two rows,
-// each sorted by cell x) whose cells are at most one apart in x: a merge,
-// with the window's left end moving forward only.
+// How far along x a sphere of radius r can reach a sphere of radius at most
+// rmax. A pair the window leaves out has |xa - xb| > (ra + rb)(1 + 1e-9), which
+// overlap() evaluates as disjoint whatever its rounding; window ends are
+// compared after rounding, which is monotone, so nothing inside is lost. The
+// 1e-150 covers squares that underflow to zero.
+inline double reach(double r, double rmax) { return (r + rmax) * (1 + 1e-9) + 1e-150; }
+
+// Every overlapping pair of an entry of row A [ib, ie) with an entry of row
+// B [jb, je), both sorted by centre x: a sweep whose window's left end only
+// moves forward (it trails by the largest reach of A), trimmed per sphere.
 template <class EntryT>
-inline void merge_rows(const Sphere *SA, const EntryT *EA, const uint64_t *XA, size_t ib, size_t ie,
-                       const Sphere *SB, const EntryT *EB, const uint64_t *XB, size_t jb, size_t je,
+inline void sweep_rows(const Sphere *SA, const EntryT *EA, size_t ib, size_t ie, double rmax_a,
+                       const Sphere *SB, const EntryT *EB, size_t jb, size_t je, double rmax_b,
                        std::vector<uint64_t> &out) {
+    const double widest = reach(rmax_a, rmax_b);
     size_t lo = jb;
-    for (size_t i = ib; i < ie && lo < je; ++i) {
-        const uint64_t x = XA[i];
-        while (lo < je && XB[lo] + 1 < x) ++lo;
+    for (size_t i = ib; i < ie; ++i) {
         const Sphere a = SA[i];
-        for (size_t j = lo; j < je && XB[j] <= x + 1; ++j)
+        while (lo < je && SB[lo].x < a.x - widest) ++lo;
+        if (lo == je) break;
+        const double w = reach(a.r, rmax_b), left = a.x - w, right = a.x + w;
+        size_t j = lo;
+        while (j < je && SB[j].x < left) ++j;
+        for (; j < je && SB[j].x <= right; ++j)
             if (overlap(a, SB[j])) out.push_back(pair_key(EA[i].slot, EB[j].slot));
     }
 }
 
 }  // namespace
 
-// Rows (z, y) of a level's residents, sorted by (z, y, x): each body is
-// compared with the later bodies of its own row up to cell x + 1 (its own
-// cell and the next), and with the rows (z, y+1), (z+1, y-1), (z+1, y) and
-// (z+1, y+1) over cells x-1..x+1 (the later half of the 3x3x3 neighbourhood
-// in key order, so each pair once). Rows are found by cursors that only move
-// forward; the work per body and row is a few integer comparisons, whatever
-// the occupancy of the cells.
+// A level's residents, rows (z, y) sorted by key and each by centre x: each
+// body is compared with the later bodies of its own row within its reach,
+// and swept against the rows (z, y+1), (z+1, y-1), (z+1, y) and (z+1, y+1)
+// (the later half of the 3x3 rows around it in key order, so each pair
+// once). Rows are found by cursors that only move forward.
 void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
                            std::vector<uint64_t> &out) const {
     const List &R = lv.residents;
@@ -369,7 +408,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     const uint32_t *start = R.row_start.data();
     const Sphere *S = R.spheres.data();
     const Entry *E = R.entries.data();
-    const uint64_t *X = R.xs.data();
+    const double rmax = R.max_radius;
     static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
     CellKey off[4];
     size_t cur[4];
@@ -380,16 +419,16 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     for (size_t row = begin; row < end; ++row) {
         const size_t b = start[row], e = start[row + 1];
         for (size_t i = b; i < e; ++i) {
-            const uint64_t x = X[i];
             const Sphere a = S[i];
-            for (size_t j = i + 1; j < e && X[j] <= x + 1; ++j)
+            const double right = a.x + reach(a.r, rmax);
+            for (size_t j = i + 1; j < e && S[j].x <= right; ++j)
                 if (overlap(a, S[j])) out.push_back(pair_key(E[i].slot, E[j].slot));
         }
         for (int r = 0; r < 4; ++r) {
             const CellKey target = rows[row] + off[r];
             const size_t k = cur[r] = advance(rows, cur[r], target);
             if (k < rows.size() && rows[k] == target)
-                merge_rows(S, E, X, b, e, S, E, X, start[k], start[k + 1], out);
+                sweep_rows(S, E, b, e, rmax, S, E, start[k], start[k + 1], rmax, out);
         }
     }
 }
@@ -412,8 +451,8 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
             const CellKey target = grows[row] + off[r];
             const size_t k = cur[r] = advance(rows, cur[r], target);
             if (k < rows.size() && rows[k] == target)
-                merge_rows(G.spheres.data(), G.entries.data(), G.xs.data(), gstart[row], gstart[row + 1],
-                           R.spheres.data(), R.entries.data(), R.xs.data(), start[k], start[k + 1], out);
+                sweep_rows(G.spheres.data(), G.entries.data(), gstart[row], gstart[row + 1], G.max_radius,
+                           R.spheres.data(), R.entries.data(), start[k], start[k + 1], R.max_radius, out);
         }
     }
 }
@@ -422,29 +461,28 @@ void Grid::query_oversize(uint32_t slot, const Sphere *spheres,
                           std::vector<uint64_t> &out) const {
     const Sphere &o = spheres[slot];
     for (const Level &lv : levels_) {
-        const std::vector<Entry> &E = lv.residents.entries;
-        const std::vector<Sphere> &S = lv.residents.spheres;
-        const size_t m = E.size();
+        const List &R = lv.residents;
+        const Entry *E = R.entries.data();
+        const Sphere *S = R.spheres.data();
+        const size_t m = R.entries.size();
         if (m == 0) continue;
-        const double ext = o.r + lv.max_radius;
+        const double ext = o.r + R.max_radius;
         const int e = lv.exponent;
-        const uint64_t lx = clamp_bias(cell_coord(o.x - ext, e)), hx = clamp_bias(cell_coord(o.x + ext, e));
         const uint64_t ly = clamp_bias(cell_coord(o.y - ext, e)), hy = clamp_bias(cell_coord(o.y + ext, e));
         const uint64_t lz = clamp_bias(cell_coord(o.z - ext, e)), hz = clamp_bias(cell_coord(o.z + ext, e));
         const double rows = double(hz - lz + 1) * double(hy - ly + 1);
-        if (rows * 32 >= double(m)) {
+        if (rows * 32 >= double(R.row_keys.size())) {
             for (size_t j = 0; j < m; ++j)
                 if (overlap(o, S[j])) out.push_back(pair_key(slot, E[j].slot));
             continue;
         }
+        const double w = reach(o.r, R.max_radius), left = o.x - w, right = o.x + w;
         for (uint64_t z = lz; z <= hz; ++z) {
             for (uint64_t y = ly; y <= hy; ++y) {
-                const CellKey lo = pack(z, y, lx), hi = pack(z, y, hx);
-                size_t j = size_t(std::lower_bound(E.begin(), E.end(), lo,
-                                                   [](const Entry &en, CellKey k) { return en.key < k; }) -
-                                  E.begin());
-                for (; j < m && E[j].key <= hi; ++j)
-                    if (overlap(o, S[j])) out.push_back(pair_key(slot, E[j].slot));
+                const size_t k = first_row(R.row_keys, row_key(z, y));
+                if (k == R.row_keys.size() || R.row_keys[k] != row_key(z, y)) continue;
+                for (size_t j = R.row_start[k]; j < R.row_start[k + 1] && S[j].x <= right; ++j)
+                    if (S[j].x >= left && overlap(o, S[j])) out.push_back(pair_key(slot, E[j].slot));
             }
         }
     }

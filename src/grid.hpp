@@ -73,18 +73,16 @@ class Grid {
     struct List {
         std::vector<Entry> entries;   // sorted by (key, slot)
         std::vector<Sphere> spheres;  // spheres of entries, same order
-        std::vector<uint64_t> xs;     // cell x of entries (biased), same order
-        // The occupied rows: distinct (z, y) parts of the keys (key >> 42) in
-        // order, and where each row's entries start (one more than rows,
-        // ending with entries.size()).
+        // The occupied rows: distinct keys in order, and where each row's
+        // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
+        double max_radius = 0;  // of spheres
     };
     struct Level {
         int exponent;
         List residents;
         List guests;  // bodies of finer levels, keyed by their cell here
-        double max_radius = 0;
     };
     static constexpr int16_t kNone = -1;
     static constexpr int16_t kOversize = -2;

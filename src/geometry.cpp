@@ -984,6 +984,12 @@ bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
     return tri_tri_finish(p, q, sp, sq);
 }
 
+bool tri_tri_intersect_signed(const double *const *p, const double *const *q,
+                              const int *sp, const int *sq) {
+    if (all_same_nonzero(sp) || all_same_nonzero(sq)) return false;
+    return tri_tri_finish(p, q, sp, sq);
+}
+
 void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
                       const double *v2) {
     t.v[0] = v0;

@@ -35,6 +35,13 @@ void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
 // Same answer as tri_tri_intersect on the triangles' vertices.
 bool tri_tri_intersect(const PreparedTriangle &p, const PreparedTriangle &q);
 
+// Same answer as tri_tri_intersect(p[0], p[1], p[2], q[0], q[1], q[2]), for
+// callers that already hold the exact signs sp[i] = orient3d(q0, q1, q2, p_i)
+// and sq[i] = orient3d(p0, p1, p2, q_i) (e.g. shared by the faces of two
+// tetrahedra). The signs must be exact and in this vertex order.
+bool tri_tri_intersect_signed(const double *const *p, const double *const *q,
+                              const int *sp, const int *sq);
+
 // Parity test: true if p lies inside the solid bounded by the closed mesh
 // (every edge shared by an even number of triangles). Precondition: p is not
 // on the mesh surface (the caller has shown the surfaces disjoint). verts are

@@ -154,6 +154,16 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
         m.convex = convex && sign != 0;
         m.inward_sign = m.convex ? sign : 0;
     }
+    if (vertex_count == 4 && triangle_count == 4) {
+        unsigned seen = 0;  // bit (6 - sum of the indices): the vertex a face misses
+        for (uint32_t t = 0; t < 4; ++t) {
+            const uint32_t *f = &m.triangles[3 * t];
+            if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) seen |= 1u << (6 - (f[0] + f[1] + f[2]));
+        }
+        m.tetra = seen == 0xF;
+        for (int v = 0; v < 4; ++v)
+            for (int k = 0; k < 3; ++k) m.tetra_local[4 * k + v] = vertices[3 * v + k];
+    }
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
     *out = std::move(m);

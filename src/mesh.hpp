@@ -23,6 +23,12 @@ struct Mesh {
     std::vector<uint32_t> component_vertices;
     double center[3] = {0, 0, 0};  // centre of the vertex box
     double radius = 0;             // reaches every vertex from center
+    // 4 vertices whose 4 triangles are the 4 distinct vertex triples (any
+    // order and orientation): the surface is the boundary of the 4 points'
+    // hull (or the hull itself when they are coplanar) in any pose, and the
+    // narrow phase takes a dedicated exact path (narrow.cpp, tetra pairs).
+    bool tetra = false;
+    double tetra_local[12] = {};  // x0..x3, y0..y3, z0..z3 (mesh frame)
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;

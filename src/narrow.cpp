@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "bvh.hpp"
 #include "geometry.hpp"
@@ -405,10 +409,323 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
     return Contact::None;
 }
 
+
+// ---------------------------------------------------------------------------
+// Tetra path: both meshes are tetrahedra (Mesh::tetra: 4 vertices, the 4
+// distinct vertex triples as triangles), the `tetra` scene's only shape.
+//
+// For such a mesh the closed solid in any pose is the hull of its 4 rounded
+// world vertices: the triangles cover the hull's boundary (or the whole hull
+// when the points are coplanar), a ray from a point off the surface crosses
+// that boundary an odd number of times exactly when it starts in the open
+// interior, and a flat hull has no interior (each of its points is covered by
+// two triangles). So the answer depends only on the two point sets, the
+// triangles can be taken in a fixed order, and with exact signs
+//   - a vertex of B is in A's solid off its surface iff it is strictly on the
+//     inner side of all four face planes of A (barycentric signs);
+//   - it is outside A's solid if it is strictly on the outer side of one face
+//     plane (for a flat A: strictly off its plane).
+// Face f of a tetrahedron misses vertex f; its triangle is kFace[f], and with
+// these orders orient3d(face f, vertex f) has the sign of -orient3d(v0, v1,
+// v2, v3) for every f (each is an odd permutation of 0 1 2 3): one inner sign
+// per tetrahedron, 0 when it is flat.
+//
+// Every sign is exact: a face plane is evaluated at two points per vector
+// with the arithmetic and error bound of geometry.cpp's plane_sides3
+// (|det| > 2^-50 perm + 2^-960 certifies the sign), except that the factors
+// |fl(x - t0)| of the permanent are replaced by the extent fl(hi - lo) of the
+// box holding both bodies, which is no smaller (x and t0 lie in that box and
+// rounding is monotone), so the bound only grows. Uncertain signs stay
+// undecided until a step needs them, then the exact orient3d computes them.
+//
+// Decisions, in order: a face plane of one body with all of the other body
+// strictly on its outer side: no contact. A vertex of B strictly inside A
+// and one strictly outside: B's surface (connected, containing the edge
+// between them) crosses A's boundary: Surface. All of B strictly inside A:
+// Containment (B's hull in A's open interior, surfaces apart). The same with
+// A and B swapped. Anything else (edge crossings, touching, undecided
+// filters) makes every sign exact, takes the same decisions, then runs the
+// exact triangle test on the face pairs with those signs; if no pair meets,
+// there is no contact (a solid holding the other's surface would hold all its
+// vertices strictly inside, which the exact decisions catch).
+
+// Two doubles per vector (SSE2 or NEON registers as they are; the lanes do
+// IEEE double operations, so every value has the bits of the scalar code).
+typedef double V2 __attribute__((vector_size(16)));
+typedef int64_t M2 __attribute__((vector_size(16)));
+
+inline V2 vmin(V2 a, V2 b) {
+#if defined(__SSE2__)
+    return _mm_min_pd(a, b);
+#else
+    return a < b ? a : b;
+#endif
+}
+inline V2 vmax(V2 a, V2 b) {
+#if defined(__SSE2__)
+    return _mm_max_pd(a, b);
+#else
+    return a > b ? a : b;
+#endif
+}
+// Bit i set when a[i] < b[i].
+inline unsigned less_bits(V2 a, V2 b) {
+#if defined(__SSE2__)
+    return unsigned(_mm_movemask_pd(_mm_cmplt_pd(a, b)));
+#else
+    const M2 m = a < b;
+    return unsigned((m[0] & 1) | (m[1] & 2));
+#endif
+}
+inline V2 vabs(V2 a) { return (V2)((M2)a & (M2{} + INT64_MAX)); }
+template <int L> inline V2 lane(V2 a) { return __builtin_shufflevector(a, a, L, L); }
+
+// Face f misses vertex f. The faces go in pairs (0, 1) and (2, 3), one per
+// lane, chosen so that each face vertex vector is one shuffle of the vertex
+// pairs (0, 1) and (2, 3).
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+struct TetWorld {
+    V2 x[2], y[2], z[2];  // world vertices: lanes (0, 1) in [0], (2, 3) in [1]
+    double lo[3], hi[3];
+};
+
+inline double hmin(V2 a, V2 b) {
+    const V2 m = vmin(a, b);
+    return std::min(m[0], m[1]);
+}
+inline double hmax(V2 a, V2 b) {
+    const V2 m = vmax(a, b);
+    return std::max(m[0], m[1]);
+}
+
+inline void tet_world(const BodyPose &b, TetWorld &w) {
+    const Rotation r = rotation_of(b.orientation);
+    const double s = b.scale, *c = b.position, *l = b.mesh->tetra_local;
+    for (int h = 0; h < 2; ++h) {
+        V2 mx, my, mz;
+        std::memcpy(&mx, l + 2 * h, sizeof mx);
+        std::memcpy(&my, l + 4 + 2 * h, sizeof my);
+        std::memcpy(&mz, l + 8 + 2 * h, sizeof mz);
+        // transform_point's operations in its order, one vertex per lane.
+        const V2 lx = s * mx, ly = s * my, lz = s * mz;
+        w.x[h] = c[0] + ((r.m[0] * lx + r.m[1] * ly) + r.m[2] * lz);
+        w.y[h] = c[1] + ((r.m[3] * lx + r.m[4] * ly) + r.m[5] * lz);
+        w.z[h] = c[2] + ((r.m[6] * lx + r.m[7] * ly) + r.m[8] * lz);
+    }
+    w.lo[0] = hmin(w.x[0], w.x[1]);
+    w.lo[1] = hmin(w.y[0], w.y[1]);
+    w.lo[2] = hmin(w.z[0], w.z[1]);
+    w.hi[0] = hmax(w.x[0], w.x[1]);
+    w.hi[1] = hmax(w.y[0], w.y[1]);
+    w.hi[2] = hmax(w.z[0], w.z[1]);
+}
+
+struct TetPlanes {  // faces (0, 1) in [0], (2, 3) in [1]
+    V2 t0x[2], t0y[2], t0z[2], nx[2], ny[2], nz[2], bound[2];
+};
+
+inline void plane_pair(TetPlanes &p, int h, V2 t0x, V2 t0y, V2 t0z, V2 t1x, V2 t1y, V2 t1z, V2 t2x,
+                       V2 t2y, V2 t2z, double ex, double ey, double ez) {
+    const V2 e1x = t1x - t0x, e1y = t1y - t0y, e1z = t1z - t0z;
+    const V2 e2x = t2x - t0x, e2y = t2y - t0y, e2z = t2z - t0z;
+    const V2 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, f = e1y * e2x;
+    p.t0x[h] = t0x;
+    p.t0y[h] = t0y;
+    p.t0z[h] = t0z;
+    p.nx[h] = a - b;
+    p.ny[h] = c - d;
+    p.nz[h] = e - f;
+    const V2 anx = vabs(a) + vabs(b), any = vabs(c) + vabs(d), anz = vabs(e) + vabs(f);
+    p.bound[h] = 0x1p-50 * ((ex * anx + ey * any) + ez * anz) + 0x1p-960;
+}
+
+// Face planes of w, with the certifying bound for points in a box of extent
+// (ex, ey, ez) that also holds w.
+inline void tet_planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
+    const V2 *x = w.x, *y = w.y, *z = w.z;
+#define HGCD_SH(v, i, j) __builtin_shufflevector(v[0], v[1], i, j)
+    // faces 0 = (1 2 3), 1 = (0 3 2)
+    plane_pair(p, 0, HGCD_SH(x, 1, 0), HGCD_SH(y, 1, 0), HGCD_SH(z, 1, 0), x[1], y[1], z[1],
+               HGCD_SH(x, 3, 2), HGCD_SH(y, 3, 2), HGCD_SH(z, 3, 2), ex, ey, ez);
+    // faces 2 = (0 1 3), 3 = (0 2 1)
+    plane_pair(p, 1, HGCD_SH(x, 0, 0), HGCD_SH(y, 0, 0), HGCD_SH(z, 0, 0), HGCD_SH(x, 1, 2),
+               HGCD_SH(y, 1, 2), HGCD_SH(z, 1, 2), HGCD_SH(x, 3, 1), HGCD_SH(y, 3, 1),
+               HGCD_SH(z, 3, 1), ex, ey, ez);
+#undef HGCD_SH
+}
+
+// -orient3d(face, point) for the faces of pair h, points per lane.
+inline V2 plane_eval(const TetPlanes &p, int h, V2 px, V2 py, V2 pz) {
+    return ((px - p.t0x[h]) * p.nx[h] + (py - p.t0y[h]) * p.ny[h]) + (pz - p.t0z[h]) * p.nz[h];
+}
+
+// Certified signs of the four vertices of one body against the four faces of
+// the other: bit v of pos[f] / neg[f] when orient3d(face f, vertex v) is
+// surely positive / negative; in neither, undecided.
+struct TetSides {
+    unsigned pos[4], neg[4];
+    int inner;  // sign of orient3d(face f, vertex f) of the faces' own tetrahedron
+};
+
+// Face F against the four vertices of o (two per vector).
+template <int F>
+inline void tet_face(const TetPlanes &p, const TetWorld &o, TetSides &s) {
+    constexpr int h = F / 2, l = F % 2;
+    const V2 t0x = lane<l>(p.t0x[h]), t0y = lane<l>(p.t0y[h]), t0z = lane<l>(p.t0z[h]);
+    const V2 nx = lane<l>(p.nx[h]), ny = lane<l>(p.ny[h]), nz = lane<l>(p.nz[h]);
+    const V2 bound = lane<l>(p.bound[h]), minus = -bound;
+    const V2 d0 = ((o.x[0] - t0x) * nx + (o.y[0] - t0y) * ny) + (o.z[0] - t0z) * nz;
+    const V2 d1 = ((o.x[1] - t0x) * nx + (o.y[1] - t0y) * ny) + (o.z[1] - t0z) * nz;
+    s.pos[F] = less_bits(d0, minus) | less_bits(d1, minus) << 2;  // d = -orient3d
+    s.neg[F] = less_bits(bound, d0) | less_bits(bound, d1) << 2;
+}
+
+// Sign of orient3d(face f, vertex f), the same for every f: from any
+// certified lane, else exactly.
+inline int tet_inner_sign(const TetWorld &w, const TetPlanes &p) {
+    const V2 d0 = plane_eval(p, 0, w.x[0], w.y[0], w.z[0]);  // faces 0, 1 at vertices 0, 1
+    const V2 d1 = plane_eval(p, 1, w.x[1], w.y[1], w.z[1]);  // faces 2, 3 at vertices 2, 3
+    if (less_bits(d0, -p.bound[0]) | less_bits(d1, -p.bound[1])) return 1;
+    if (less_bits(p.bound[0], d0) | less_bits(p.bound[1], d1)) return -1;
+    const double v0[3] = {w.x[0][0], w.y[0][0], w.z[0][0]}, v1[3] = {w.x[0][1], w.y[0][1], w.z[0][1]},
+                 v2[3] = {w.x[1][0], w.y[1][0], w.z[1][0]}, v3[3] = {w.x[1][1], w.y[1][1], w.z[1][1]};
+    return orient3d(v1, v2, v3, v0);  // face 0 and vertex 0
+}
+
+// Face f has every vertex of the other body certainly strictly on its outer
+// side (on either side when the tetrahedron is flat: it lies in the plane).
+inline bool tet_face_separates(const TetSides &s, int f) {
+    const bool pos = s.pos[f] == 0xF, neg = s.neg[f] == 0xF;
+    return s.inner > 0 ? neg : s.inner < 0 ? pos : pos || neg;
+}
+
+// Signs of the other body's vertices against the faces of w; true (and the
+// signs left incomplete) as soon as a face separates the bodies.
+inline bool tet_sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o, TetSides &s) {
+    s.inner = tet_inner_sign(w, p);
+    tet_face<0>(p, o, s);
+    if (tet_face_separates(s, 0)) return true;
+    tet_face<1>(p, o, s);
+    if (tet_face_separates(s, 1)) return true;
+    tet_face<2>(p, o, s);
+    if (tet_face_separates(s, 2)) return true;
+    tet_face<3>(p, o, s);
+    return tet_face_separates(s, 3);
+}
+
+inline bool tet_separated(const TetSides &s) {
+    return tet_face_separates(s, 0) || tet_face_separates(s, 1) || tet_face_separates(s, 2) ||
+           tet_face_separates(s, 3);
+}
+
+// From the certified signs: 2 surely Surface (a vertex strictly inside, one
+// strictly outside), 1 surely Containment (all strictly inside), 0 undecided.
+inline int tet_verdict(const TetSides &s) {
+    if (s.inner == 0) return 0;
+    const unsigned *inner = s.inner > 0 ? s.pos : s.neg, *outer = s.inner > 0 ? s.neg : s.pos;
+    const unsigned in = inner[0] & inner[1] & inner[2] & inner[3];
+    if (in == 0xF) return 1;
+    return in && (outer[0] | outer[1] | outer[2] | outer[3]) ? 2 : 0;
+}
+
+inline void tet_aos(const TetWorld &w, double (*v)[3]) {
+    for (int i = 0; i < 4; ++i) {
+        v[i][0] = w.x[i / 2][i % 2];
+        v[i][1] = w.y[i / 2][i % 2];
+        v[i][2] = w.z[i / 2][i % 2];
+    }
+}
+
+// Makes every sign of s exact: an undecided one is computed exactly (and
+// stays in neither set when it is 0).
+inline void tet_resolve(const double (*t)[3], const double (*o)[3], TetSides &s) {
+    for (int f = 0; f < 4; ++f) {
+        unsigned open = ~(s.pos[f] | s.neg[f]) & 0xF;
+        while (open) {
+            const int v = __builtin_ctz(open);
+            open &= open - 1;
+            const int sign = orient3d(t[kFace[f][0]], t[kFace[f][1]], t[kFace[f][2]], o[v]);
+            if (sign > 0) s.pos[f] |= 1u << v;
+            if (sign < 0) s.neg[f] |= 1u << v;
+        }
+    }
+}
+
+inline int sign_of(const TetSides &s, int f, int v) {
+    return int((s.pos[f] >> v) & 1) - int((s.neg[f] >> v) & 1);
+}
+
+// Everything the certified signs left open: the same decisions on exact
+// signs, then the exact triangle test on the face pairs whose planes do not
+// already keep them apart.
+__attribute__((noinline)) Contact collide_tetra_exact(const TetWorld &ta, const TetWorld &tb,
+                                                      TetSides &sab, TetSides &sba,
+                                                      NarrowScratch &scratch) {
+    double wa[4][3], wb[4][3];
+    tet_aos(ta, wa);
+    tet_aos(tb, wb);
+    tet_resolve(wa, wb, sab);
+    tet_resolve(wb, wa, sba);
+    if (tet_separated(sab) || tet_separated(sba)) return Contact::None;
+    const int va = tet_verdict(sab), vb = tet_verdict(sba);
+    if (va == 2 || vb == 2) return Contact::Surface;
+    if (va == 1 || vb == 1) return Contact::Containment;
+    for (int f = 0; f < 4; ++f) {
+        const unsigned mf = 0xFu & ~(1u << f);  // the vertices of face f
+        const double *p[3] = {wa[kFace[f][0]], wa[kFace[f][1]], wa[kFace[f][2]]};
+        for (int g = 0; g < 4; ++g) {
+            const unsigned mg = 0xFu & ~(1u << g);
+            // One triangle strictly on one side of the other's plane.
+            if ((sab.pos[f] & mg) == mg || (sab.neg[f] & mg) == mg || (sba.pos[g] & mf) == mf ||
+                (sba.neg[g] & mf) == mf)
+                continue;
+            const double *q[3] = {wb[kFace[g][0]], wb[kFace[g][1]], wb[kFace[g][2]]};
+            const int sp[3] = {sign_of(sba, g, kFace[f][0]), sign_of(sba, g, kFace[f][1]),
+                               sign_of(sba, g, kFace[f][2])};
+            const int sq[3] = {sign_of(sab, f, kFace[g][0]), sign_of(sab, f, kFace[g][1]),
+                               sign_of(sab, f, kFace[g][2])};
+            ++scratch.triangle_tests;
+            if (tri_tri_intersect_signed(p, q, sp, sq)) return Contact::Surface;
+        }
+    }
+    // Surfaces apart: a solid holding the other's surface holds all its
+    // vertices strictly inside, which the exact verdicts above would have
+    // reported.
+    return Contact::None;
+}
+
+Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
+    TetWorld ta, tb;
+    tet_world(a, ta);
+    tet_world(b, tb);
+    // Exact prefilter: the solids lie inside these boxes.
+    if (ta.hi[0] < tb.lo[0] || tb.hi[0] < ta.lo[0] || ta.hi[1] < tb.lo[1] || tb.hi[1] < ta.lo[1] ||
+        ta.hi[2] < tb.lo[2] || tb.hi[2] < ta.lo[2])
+        return Contact::None;
+    ++scratch.exact_tests;
+    // Extent of a box holding both bodies (bounds |fl(x - t0)| for the filters).
+    const double ex = std::max(ta.hi[0], tb.hi[0]) - std::min(ta.lo[0], tb.lo[0]);
+    const double ey = std::max(ta.hi[1], tb.hi[1]) - std::min(ta.lo[1], tb.lo[1]);
+    const double ez = std::max(ta.hi[2], tb.hi[2]) - std::min(ta.lo[2], tb.lo[2]);
+    TetPlanes pa, pb;
+    TetSides sab, sba;  // b's vertices against a's faces, and a's against b's
+    tet_planes(ta, ex, ey, ez, pa);
+    if (tet_sides_separate(ta, pa, tb, sab)) return Contact::None;
+    tet_planes(tb, ex, ey, ez, pb);
+    if (tet_sides_separate(tb, pb, ta, sba)) return Contact::None;
+    const int va = tet_verdict(sab), vb = tet_verdict(sba);
+    if (va == 2 || vb == 2) return Contact::Surface;
+    if (va == 1 || vb == 1) return Contact::Containment;
+    return collide_tetra_exact(ta, tb, sab, sba, scratch);
+}
+
 }  // namespace
 
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
+    // (A witness asks for the triangles of the general path's order.)
+    if (a.mesh->tetra && b.mesh->tetra && !witness) return collide_tetra(a, b, s);
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);

@@ -550,6 +550,173 @@ static void test_tetra_reference_counts(void **state) {
     }
 }
 
+
+/* The dedicated path for pairs of 4-vertex meshes whose triangles are the 4
+ * faces (narrow.cpp, collide_tetra): proper, flat, collinear and repeated-point
+ * tetrahedra with faces in several orders and orientations, placed to touch
+ * exactly (shared vertex, edge and face, coplanar faces, one inside the other,
+ * flat inside solid) and then on a 0.5 grid with exact rotations. Pairs and
+ * containment counts must equal the oracle's. */
+enum { TV_REGULAR, TV_CORNER, TV_MIRROR, TV_FLAT_QUAD, TV_FLAT_TRI, TV_LINE, TV_BENT, TV_REPEAT, TV_COUNT };
+static const double tv_v[TV_COUNT][12] = {
+    {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1},
+    {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1},
+    {0, 0, 0, -1, 0, 0, 0, 1, 0, 0, 0, 1},     /* the corner mirrored in x = 0 */
+    {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0},      /* coplanar, convex position */
+    {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0},  /* coplanar, one point inside */
+    {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0},      /* collinear */
+    {0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0},      /* three collinear */
+    {0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1},      /* a repeated point */
+};
+static const uint32_t tv_t[3][12] = {
+    {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2},
+    {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2},
+    {3, 2, 1, 2, 3, 0, 1, 0, 3, 0, 1, 2},
+};
+
+typedef struct {
+    hgcd_world *w;
+    hgcd_mesh mesh[TV_COUNT];
+    oracle_mesh om[TV_COUNT];
+    size_t n, cap;
+    const oracle_mesh **bm;
+    double *p, *q, *s;
+} tv_scene;
+
+static void tv_init(tv_scene *sc, size_t cap) {
+    memset(sc, 0, sizeof *sc);
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    assert_int_equal(hgcd_world_create(&wd, &sc->w), HGCD_OK);
+    for (int k = 0; k < TV_COUNT; ++k) {
+        const oracle_mesh om = {tv_v[k], tv_t[k % 3], 4, 4, 1};
+        sc->om[k] = om;
+        hgcd_mesh_desc md = hgcd_mesh_desc_default();
+        md.vertices = tv_v[k];
+        md.triangles = tv_t[k % 3];
+        md.vertex_count = 4;
+        md.triangle_count = 4;
+        assert_int_equal(hgcd_mesh_create(sc->w, &md, &sc->mesh[k]), HGCD_OK);
+    }
+    sc->cap = cap;
+    sc->bm = malloc(cap * sizeof *sc->bm);
+    sc->p = malloc(3 * cap * sizeof(double));
+    sc->q = malloc(4 * cap * sizeof(double));
+    sc->s = malloc(cap * sizeof(double));
+}
+
+static void tv_add(tv_scene *sc, int shape, double x, double y, double z, const double *q, double scale) {
+    assert_true(sc->n < sc->cap);
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    bd.mesh = sc->mesh[shape];
+    bd.position[0] = x;
+    bd.position[1] = y;
+    bd.position[2] = z;
+    memcpy(bd.orientation, q, sizeof bd.orientation);
+    bd.scale = scale;
+    hgcd_body b;
+    assert_int_equal(hgcd_body_create(sc->w, &bd, &b), HGCD_OK);
+    assert_int_equal(b.index, sc->n);
+    sc->bm[sc->n] = &sc->om[shape];
+    memcpy(&sc->p[3 * sc->n], bd.position, 3 * sizeof(double));
+    memcpy(&sc->q[4 * sc->n], q, 4 * sizeof(double));
+    sc->s[sc->n] = scale;
+    ++sc->n;
+}
+
+/* Compares pairs and containment count with the oracle; returns the pairs. */
+static size_t tv_check(tv_scene *sc, int (*has)[2], size_t expect_count) {
+    assert_int_equal(hgcd_world_detect(sc->w), HGCD_OK);
+    const size_t n = oracle_colliding_pairs(sc->n, sc->bm, sc->p, sc->q, sc->s, NULL, 0);
+    uint32_t *expect = malloc((2 * n + 2) * sizeof(uint32_t));
+    assert_int_equal(oracle_colliding_pairs(sc->n, sc->bm, sc->p, sc->q, sc->s, expect, n), n);
+    const hgcd_pair *got;
+    size_t count;
+    assert_int_equal(hgcd_world_pairs(sc->w, &got, &count), HGCD_OK);
+    assert_int_equal(count, n);
+    for (size_t k = 0; k < n; ++k) {
+        if (got[k].a.index != expect[2 * k] || got[k].b.index != expect[2 * k + 1])
+            fprintf(stderr, "tetra pair %zu: hgcd (%u, %u), oracle (%u, %u)\n", k, got[k].a.index, got[k].b.index,
+                    expect[2 * k], expect[2 * k + 1]);
+        assert_int_equal(got[k].a.index, expect[2 * k]);
+        assert_int_equal(got[k].b.index, expect[2 * k + 1]);
+    }
+    for (size_t e = 0; e < expect_count; ++e) { /* the configurations meant to touch do */
+        int seen = 0;
+        for (size_t k = 0; k < n; ++k) seen |= got[k].a.index == (uint32_t)has[e][0] && got[k].b.index == (uint32_t)has[e][1];
+        if (!seen) fprintf(stderr, "expected pair (%d, %d) missing\n", has[e][0], has[e][1]);
+        assert_true(seen);
+    }
+    hgcd_stats st;
+    st.struct_size = sizeof st;
+    assert_int_equal(hgcd_world_stats(sc->w, &st), HGCD_OK);
+    assert_int_equal(st.containment_pairs, oracle_last_containment_pairs());
+    free(expect);
+    return n;
+}
+
+static void tv_free(tv_scene *sc) {
+    hgcd_world_destroy(sc->w);
+    free(sc->bm);
+    free(sc->p);
+    free(sc->q);
+    free(sc->s);
+}
+
+static void test_tetra_path_degenerate(void **state) {
+    (void)state;
+    const double id[4] = {0, 0, 0, 1}, rz[4] = {0, 0, 1, 0}, rx[4] = {1, 0, 0, 0};
+    tv_scene sc;
+    tv_init(&sc, 64);
+    /* Each configuration 50 units from the others. */
+    tv_add(&sc, TV_CORNER, 0, 0, 0, id, 1); /* 0, 1: share the vertex (1, 0, 0) only */
+    tv_add(&sc, TV_CORNER, 1, 0, 0, id, 1);
+    tv_add(&sc, TV_CORNER, 50, 0, 0, id, 1); /* 2, 3: share the face x = 50 */
+    tv_add(&sc, TV_MIRROR, 50, 0, 0, id, 1);
+    tv_add(&sc, TV_CORNER, 100, 0, 0, id, 1); /* 4, 5: coplanar faces z = 0 overlap, solids apart */
+    tv_add(&sc, TV_CORNER, 100.25, 0.25, 0, rx, 1);
+    tv_add(&sc, TV_REGULAR, 150, 0, 0, id, 1); /* 6, 7: one inside the other */
+    tv_add(&sc, TV_REGULAR, 150, 0, 0, rz, 0.25);
+    tv_add(&sc, TV_REGULAR, 200, 0, 0, id, 3); /* 8, 9: flat quad inside a solid */
+    tv_add(&sc, TV_FLAT_QUAD, 200, 0, 0.5, id, 1);
+    tv_add(&sc, TV_FLAT_QUAD, 250, 0, 0, id, 1); /* 10, 11: coplanar flat quads overlap */
+    tv_add(&sc, TV_FLAT_QUAD, 250.5, 0.5, 0, rz, 1);
+    tv_add(&sc, TV_FLAT_QUAD, 300, 0, 0, id, 1); /* 12, 13: parallel flat quads apart */
+    tv_add(&sc, TV_FLAT_QUAD, 300, 0, 0.5, id, 1);
+    tv_add(&sc, TV_CORNER, 350, 0, 0, id, 1); /* 14, 15: a segment through a face */
+    tv_add(&sc, TV_LINE, 349.5, 0.25, 0.25, id, 1);
+    tv_add(&sc, TV_CORNER, 400, 0, 0, id, 1); /* 16, 17: flat triangle's point on an edge */
+    tv_add(&sc, TV_FLAT_TRI, 400.5, -0.5, 0, rz, 1);
+    tv_add(&sc, TV_CORNER, 450, 0, 0, id, 1); /* 18, 19: repeated-point tetra inside, off the surface */
+    tv_add(&sc, TV_REPEAT, 450.1, 0.1, 0.1, id, 0.25);
+    tv_add(&sc, TV_CORNER, 500, 0, 0, id, 1); /* 20, 21: edge on edge, crossing */
+    tv_add(&sc, TV_BENT, 500.5, -0.5, 0, rz, 1);
+    tv_add(&sc, TV_REGULAR, 550, 0, 0, id, 1); /* 22, 23: one ulp apart along x */
+    tv_add(&sc, TV_REGULAR, 552.0000000000001, 0, 0, rz, 1);
+    int has[][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {8, 9}, {10, 11}, {14, 15}, {18, 19}};
+    tv_check(&sc, has, sizeof has / sizeof has[0]);
+    tv_free(&sc);
+
+    /* Dense exact grids of every variant. */
+    const double r = 0.70710678118654757;
+    const double quats[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0},
+                               {0.5, 0.5, 0.5, 0.5}, {-0.5, 0.5, -0.5, 0.5}, {0, 0, r, r}};
+    size_t total = 0;
+    for (uint64_t seed = 40; seed < 44; ++seed) {
+        rng g = {seed};
+        tv_init(&sc, 220);
+        for (int i = 0; i < 220; ++i) {
+            const double x = 0.5 * (double)(next(&g) % 9), y = 0.5 * (double)(next(&g) % 9),
+                         z = 0.5 * (double)(next(&g) % 9);
+            const int shape = (int)(next(&g) % TV_COUNT);
+            const double scale = 0.5 * (double)(1 + next(&g) % 4);
+            tv_add(&sc, shape, x, y, z, quats[next(&g) % (seed == 43 ? 7 : 6)], scale);
+        }
+        total += tv_check(&sc, NULL, 0);
+        tv_free(&sc);
+    }
+    assert_true(total > 1000);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hand_built_pairs),
@@ -561,6 +728,7 @@ int main(void) {
         cmocka_unit_test(test_thread_counts_identical),
         cmocka_unit_test(test_tetra_scene),
         cmocka_unit_test(test_tetra_reference_counts),
+        cmocka_unit_test(test_tetra_path_degenerate),
     };
     /* Sanitizer and valgrind runs pick tests by name (cmocka patterns). */
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));

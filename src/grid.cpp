@@ -53,11 +53,19 @@ inline uint64_t clamp_bias(int64_t c) {
 // each row is a sweep along x.
 inline CellKey row_key(uint64_t z, uint64_t y) { return (CellKey(z) << kAxisBits) | CellKey(y); }
 
-// Smallest e with 2^e >= d, for finite d > 0.
+// Smallest e with 2^e >= d, for finite d > 0 (from the bits: this runs for
+// every body on every tick).
 inline int ceil_log2(double d) {
-    int k;
-    const double m = std::frexp(d, &k);  // d = m * 2^k, m in [0.5, 1)
-    return m == 0.5 ? k - 1 : k;
+    uint64_t bits;
+    std::memcpy(&bits, &d, sizeof bits);
+    const int biased = int(bits >> 52) & 0x7ff;
+    if (biased == 0) {  // subnormal: rare, leave it to libm
+        int k;
+        const double m = std::frexp(d, &k);
+        return m == 0.5 ? k - 1 : k;
+    }
+    const bool power = (bits & ((uint64_t(1) << 52) - 1)) == 0;
+    return biased - 1023 + (power ? 0 : 1);
 }
 
 inline bool overlap(const Sphere &a, const Sphere &b) {
@@ -101,20 +109,19 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         int e = std::max(ceil_log2(2 * r_level[s]), limits.min_exponent);
         // The sphere test radius carries a position-dependent rounding margin;
         // a body whose test sphere no longer fits its cell width is oversize.
-        if (e > limits.max_exponent || 2 * spheres[s].r > std::ldexp(1.0, e)) e = INT_MAX;
+        if (e > limits.max_exponent || 2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)))
+            e = INT_MAX;
         exponent[s] = e;
     }
+    // The exponents in use, ascending. Levels are few; a body's exponent is
+    // almost always one seen already, found by a linear scan.
     std::vector<int> present;
-    {
-        std::vector<int> sorted;
-        for (uint32_t s = 0; s < slot_count; ++s)
-            if (exponent[s] != INT_MIN && exponent[s] != INT_MAX &&
-                (sorted.empty() || sorted.back() != exponent[s]))
-                sorted.push_back(exponent[s]);
-        std::sort(sorted.begin(), sorted.end());
-        sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-        present = std::move(sorted);
+    for (uint32_t s = 0; s < slot_count; ++s) {
+        const int e = exponent[s];
+        if (e == INT_MIN || e == INT_MAX) continue;
+        if (std::find(present.begin(), present.end(), e) == present.end()) present.push_back(e);
     }
+    std::sort(present.begin(), present.end());
     bool same_levels = built_ && present.size() == levels_.size();
     for (size_t i = 0; same_levels && i < present.size(); ++i)
         same_levels = levels_[i].exponent == present[i];
@@ -143,7 +150,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 cell_[2 * s + 1] = cell_coord(spheres[s].z, e);
             }
         }
-        rebuild(slot_count, threads);
+        rebuild(spheres, slot_count, threads);
         stats.rebuilt = true;
         stats.moved = slot_count;  // every body (re-)entered
     } else {
@@ -231,7 +238,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     return stats;
 }
 
-void Grid::rebuild(uint32_t slot_count, int threads) {
+void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int16_t own = level_[s];
         if (own < 0) continue;
@@ -243,7 +250,13 @@ void Grid::rebuild(uint32_t slot_count, int threads) {
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t k = 0; k < lists; ++k) {
         List &list = (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents;
-        std::sort(list.entries.begin(), list.entries.end(), ByKey<Entry>());
+        // Rows sorted by centre x already, as gather keeps them.
+        std::sort(list.entries.begin(), list.entries.end(), [&](const Entry &a, const Entry &b) {
+            const CellKey ka = a.key, kb = b.key;
+            if (ka != kb) return ka < kb;
+            const double xa = spheres[a.slot].x, xb = spheres[b.slot].x;
+            return xa < xb || (xa == xb && a.slot < b.slot);
+        });
     }
 }
 
@@ -309,8 +322,8 @@ void Grid::gather(List &list, const Sphere *spheres) {
     }
     list.row_start.push_back(uint32_t(m));
     // Each row sorted by centre x. Between ticks the order barely changes, so
-    // insertion sort is linear; a row it would take long over (a rebuild, or
-    // many bodies entering one row) is sorted outright.
+    // insertion sort is linear; a row it would take long over (many bodies
+    // entering one row) is sorted outright.
     const size_t rows = list.row_keys.size();
     for (size_t r = 0; r < rows; ++r) {
         const size_t b = list.row_start[r], e = list.row_start[r + 1];

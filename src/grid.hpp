@@ -87,7 +87,7 @@ class Grid {
     static constexpr int16_t kNone = -1;
     static constexpr int16_t kOversize = -2;
 
-    void rebuild(uint32_t slot_count, int threads);
+    void rebuild(const Sphere *spheres, uint32_t slot_count, int threads);
     void update_list(List &list, int level_index, bool guests,
                        const std::vector<uint8_t> &flag, const std::vector<uint32_t> &changed);
     static void gather(List &list, const Sphere *spheres);

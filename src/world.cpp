@@ -26,6 +26,24 @@ constexpr double kUnitTolerance = 1e-6;
 // 1 + 2e-6 (see rotation_stretch); the rest is slack for rounding margins.
 constexpr double kLevelInflation = 1 + 4e-6;
 
+// Sorts pair keys ascending: least significant digit first, 11 bits a pass,
+// as many passes as the largest key needs (4 for slots below 2^22). A
+// comparison sort of a tick's pairs cost more than the rest of the merge.
+void sort_keys(std::vector<uint64_t> &keys) {
+    uint64_t any = 0;
+    for (uint64_t k : keys) any |= k;
+    if (keys.size() < 2 || any == 0) return;
+    const int bits = 64 - __builtin_clzll(any);
+    std::vector<uint64_t> tmp(keys.size());
+    for (int shift = 0; shift < bits; shift += 11) {
+        uint32_t count[2049] = {0};
+        for (uint64_t k : keys) ++count[((k >> shift) & 2047) + 1];
+        for (int d = 0; d < 2048; ++d) count[d + 1] += count[d];
+        for (uint64_t k : keys) tmp[count[(k >> shift) & 2047]++] = k;
+        keys.swap(tmp);
+    }
+}
+
 std::string vec_text(const char *name, int k) {
     return std::string(name) + "[" + std::to_string(k) + "]";
 }
@@ -384,9 +402,10 @@ void World::compute_spheres(int threads) {
         const Placement &pl = place_[s];
         const double *q = pl.orientation;
         const double *c = pl.position;
-        const Rotation r = rotation_of(q);
-        double center[3];
-        transform_point(r, c, pl.scale, m.center, center);
+        double center[3] = {c[0], c[1], c[2]};
+        // A mesh centred on its origin (most are) needs no rotation here.
+        if (m.center[0] != 0 || m.center[1] != 0 || m.center[2] != 0)
+            transform_point(rotation_of(q), c, pl.scale, m.center, center);
         const double stretch = rotation_stretch(q);
         const double reach = pl.scale * stretch * m.radius;
         // The world vertices and this centre carry rounding errors of a few
@@ -514,7 +533,7 @@ hgcd_status World::detect() {
                 mine.swap(keys);
                 mine_contacts.swap(sorted);
             });
-            else std::sort(mine.begin(), mine.end());  // each thread its own share
+            else guard.run([&] { sort_keys(mine); });  // each thread its own share
         }
         guard.rethrow();
         // Merge the sorted shares: the output is in (a, b) order whatever the

@@ -449,6 +449,17 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
 // there is no contact (a solid holding the other's surface would hold all its
 // vertices strictly inside, which the exact decisions catch).
 
+// On x86-64 the pair test is also compiled for AVX and picked at run time:
+// the same two-lane operations with VEX encoding (no register copies for
+// SSE2's two-operand forms), no FMA, so the same bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define HGCD_TET_CLONES __attribute__((target_clones("avx", "default")))
+#define HGCD_TET_INLINE inline __attribute__((always_inline))
+#else
+#define HGCD_TET_CLONES
+#define HGCD_TET_INLINE inline
+#endif
+
 // Two doubles per vector (SSE2 or NEON registers as they are; the lanes do
 // IEEE double operations, so every value has the bits of the scalar code).
 typedef double V2 __attribute__((vector_size(16)));
@@ -499,7 +510,7 @@ inline double hmax(V2 a, V2 b) {
     return std::max(m[0], m[1]);
 }
 
-inline void tet_world(const BodyPose &b, TetWorld &w) {
+HGCD_TET_INLINE void tet_world(const BodyPose &b, TetWorld &w) {
     const Rotation r = rotation_of(b.orientation);
     const double s = b.scale, *c = b.position, *l = b.mesh->tetra_local;
     for (int h = 0; h < 2; ++h) {
@@ -542,7 +553,7 @@ inline void plane_pair(TetPlanes &p, int h, V2 t0x, V2 t0y, V2 t0z, V2 t1x, V2 t
 
 // Face planes of w, with the certifying bound for points in a box of extent
 // (ex, ey, ez) that also holds w.
-inline void tet_planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
+HGCD_TET_INLINE void tet_planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
     const V2 *x = w.x, *y = w.y, *z = w.z;
 #define HGCD_SH(v, i, j) __builtin_shufflevector(v[0], v[1], i, j)
     // faces 0 = (1 2 3), 1 = (0 3 2)
@@ -602,7 +613,7 @@ inline bool tet_face_separates(const TetSides &s, int f) {
 
 // Signs of the other body's vertices against the faces of w; true (and the
 // signs left incomplete) as soon as a face separates the bodies.
-inline bool tet_sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o, TetSides &s) {
+HGCD_TET_INLINE bool tet_sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o, TetSides &s) {
     s.inner = tet_inner_sign(w, p);
     tet_face<0>(p, o, s);
     if (tet_face_separates(s, 0)) return true;
@@ -695,7 +706,7 @@ __attribute__((noinline)) Contact collide_tetra_exact(const TetWorld &ta, const 
     return Contact::None;
 }
 
-Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
+HGCD_TET_CLONES Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
     TetWorld ta, tb;
     tet_world(a, ta);
     tet_world(b, tb);
@@ -708,16 +719,22 @@ Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scrat
     const double ex = std::max(ta.hi[0], tb.hi[0]) - std::min(ta.lo[0], tb.lo[0]);
     const double ey = std::max(ta.hi[1], tb.hi[1]) - std::min(ta.lo[1], tb.lo[1]);
     const double ez = std::max(ta.hi[2], tb.hi[2]) - std::min(ta.lo[2], tb.lo[2]);
-    TetPlanes pa, pb;
-    TetSides sab, sba;  // b's vertices against a's faces, and a's against b's
-    tet_planes(ta, ex, ey, ez, pa);
-    if (tet_sides_separate(ta, pa, tb, sab)) return Contact::None;
-    tet_planes(tb, ex, ey, ez, pb);
-    if (tet_sides_separate(tb, pb, ta, sba)) return Contact::None;
-    const int va = tet_verdict(sab), vb = tet_verdict(sba);
-    if (va == 2 || vb == 2) return Contact::Surface;
-    if (va == 1 || vb == 1) return Contact::Containment;
-    return collide_tetra_exact(ta, tb, sab, sba, scratch);
+    // The larger body's faces first: they separate more often (on scene
+    // tetra, 19% fewer pairs need the second body's faces).
+    const TetWorld *u = &ta, *v = &tb;
+    if ((tb.hi[0] - tb.lo[0]) + (tb.hi[1] - tb.lo[1]) + (tb.hi[2] - tb.lo[2]) >
+        (ta.hi[0] - ta.lo[0]) + (ta.hi[1] - ta.lo[1]) + (ta.hi[2] - ta.lo[2]))
+        std::swap(u, v);
+    TetPlanes pu, pv;
+    TetSides suv, svu;  // v's vertices against u's faces, and u's against v's
+    tet_planes(*u, ex, ey, ez, pu);
+    if (tet_sides_separate(*u, pu, *v, suv)) return Contact::None;
+    tet_planes(*v, ex, ey, ez, pv);
+    if (tet_sides_separate(*v, pv, *u, svu)) return Contact::None;
+    const int vu = tet_verdict(suv), vv = tet_verdict(svu);
+    if (vu == 2 || vv == 2) return Contact::Surface;
+    if (vu == 1 || vv == 1) return Contact::Containment;
+    return collide_tetra_exact(*u, *v, suv, svu, scratch);
 }
 
 }  // namespace

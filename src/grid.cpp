@@ -23,6 +23,13 @@ constexpr int64_t kSaturate = int64_t(1) << 62;
 constexpr int kAxisBits = 42;
 constexpr uint64_t kAxisMask = (uint64_t(1) << kAxisBits) - 1;
 constexpr size_t kChunk = 1024;
+// Grid::List::reach bits: the neighbouring rows a sphere can reach.
+constexpr uint8_t kReachYLo = 1, kReachYHi = 2, kReachZLo = 4, kReachZHi = 8, kReachAll = 15;
+
+// The bits a sphere needs to meet the row (z + dz, y + dy).
+inline uint8_t reach_needed(int dz, int dy) {
+    return uint8_t((dy < 0 ? kReachYLo : dy > 0 ? kReachYHi : 0) | (dz < 0 ? kReachZLo : dz > 0 ? kReachZHi : 0));
+}
 
 // 2^k for |k| < 1000, built from the exponent bits (no libm call).
 inline double pow2(int k) {
@@ -79,9 +86,10 @@ inline uint64_t pair_key(uint32_t a, uint32_t b) {
 }
 
 template <class T>
-struct ByKey {
+struct ByRowX {
     bool operator()(const T &a, const T &b) const {
-        return a.key < b.key || (a.key == b.key && a.slot < b.slot);
+        const CellKey ka = a.key, kb = b.key;  // by value: the member is packed
+        return ka < kb || (ka == kb && (a.x < b.x || (a.x == b.x && a.slot < b.slot)));
     }
 };
 
@@ -113,18 +121,41 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             e = INT_MAX;
         exponent[s] = e;
     }
-    // The exponents in use, ascending. Levels are few; a body's exponent is
-    // almost always one seen already, found by a linear scan.
-    std::vector<int> present;
+    // The exponents in use, ascending, with their body counts. Levels are
+    // few; a body's exponent is almost always the one before, or one seen.
+    std::vector<std::pair<int, uint64_t>> census;
+    size_t last = 0;
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int e = exponent[s];
         if (e == INT_MIN || e == INT_MAX) continue;
-        if (std::find(present.begin(), present.end(), e) == present.end()) present.push_back(e);
+        if (last < census.size() && census[last].first == e) {
+            ++census[last].second;
+            continue;
+        }
+        last = 0;
+        while (last < census.size() && census[last].first != e) ++last;
+        if (last == census.size()) census.push_back({e, 0});
+        ++census[last].second;
     }
-    std::sort(present.begin(), present.end());
+    std::sort(census.begin(), census.end());
+    std::vector<int> present(census.size());
+    // A level whose bodies are very few beside the bodies of the finer levels
+    // keeps no guest list: its residents query the finer levels by range
+    // instead (scene tetra at 750k has 1 or 2 bodies a hair above radius 2 on
+    // a fourth level, which would otherwise carry every other body as a
+    // guest). Hysteresis keeps the choice from flapping.
+    std::vector<uint8_t> down(census.size(), 0);
+    uint64_t finer = 0;
+    for (size_t i = 0; i < census.size(); ++i) {
+        present[i] = census[i].first;
+        const uint64_t own = census[i].second;
+        const bool was = built_ && i < levels_.size() && levels_[i].exponent == present[i] && levels_[i].down;
+        down[i] = was ? own * 16 < finer : own * 64 < finer;
+        finer += own;
+    }
     bool same_levels = built_ && present.size() == levels_.size();
     for (size_t i = 0; same_levels && i < present.size(); ++i)
-        same_levels = levels_[i].exponent == present[i];
+        same_levels = levels_[i].exponent == present[i] && levels_[i].down == bool(down[i]);
 
     level_.resize(slot_count, kNone);
     gen_.resize(slot_count, 0);
@@ -139,7 +170,10 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     if (!same_levels) {
         levels_.clear();
         levels_.resize(present.size());
-        for (size_t i = 0; i < present.size(); ++i) levels_[i].exponent = present[i];
+        for (size_t i = 0; i < present.size(); ++i) {
+            levels_[i].exponent = present[i];
+            levels_[i].down = down[i] != 0;
+        }
 #pragma omp parallel for num_threads(threads) schedule(static)
         for (int64_t s = 0; s < int64_t(slot_count); ++s) {
             level_[s] = level_index(exponent[s]);
@@ -203,12 +237,12 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             for (size_t l = 0; l < L; ++l) touched[l] += touched_local[size_t(t) * L + l];
         for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
         std::sort(changed.begin(), changed.end());
-        uint64_t finer = 0;  // flagged bodies on levels below li
+        uint64_t moved_finer = 0;  // flagged bodies on levels below li
         std::vector<uint8_t> dirty(2 * L, 0);
         for (size_t li = 0; li < L; ++li) {
             dirty[2 * li] = touched[li] != 0;
-            dirty[2 * li + 1] = finer != 0;
-            finer += touched[li];
+            dirty[2 * li + 1] = moved_finer != 0 && !levels_[li].down;
+            moved_finer += touched[li];
         }
         // One parallel region over all lists: each list is updated, gathered
         // and indexed by one thread (lists are independent).
@@ -217,8 +251,8 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             guard.run([&] {
                 Level &lv = levels_[k / 2];
                 List &list = (k & 1) ? lv.guests : lv.residents;
-                if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed);
-                gather(list, spheres);
+                if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed, spheres);
+                gather(list, lv.exponent, spheres);
             });
         }
         guard.rethrow();
@@ -228,7 +262,10 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
         for (int64_t k = 0; k < int64_t(2 * levels_.size()); ++k)
-            guard.run([&] { gather((k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents, spheres); });
+            guard.run([&] {
+                Level &lv = levels_[k / 2];
+                gather((k & 1) ? lv.guests : lv.residents, lv.exponent, spheres);
+            });
         guard.rethrow();
     }
     oversize_.clear();
@@ -242,9 +279,9 @@ void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int16_t own = level_[s];
         if (own < 0) continue;
-        levels_[own].residents.entries.push_back({key_of(s, own), s, gen_[s]});
+        levels_[own].residents.entries.push_back({key_of(s, own), s, float(spheres[s].x)});
         for (size_t li = size_t(own) + 1; li < levels_.size(); ++li)
-            levels_[li].guests.entries.push_back({key_of(s, int(li)), s, gen_[s]});
+            if (!levels_[li].down) levels_[li].guests.entries.push_back({key_of(s, int(li)), s, float(spheres[s].x)});
     }
     const int64_t lists = int64_t(2 * levels_.size());
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
@@ -260,14 +297,13 @@ void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
     }
 }
 
-// Drops entries of bodies that left the list and re-keys those that changed
-// cell, keeping the array sorted.
 // Drops the entries of bodies whose membership changed (flag 2), re-keys
-// those of bodies that moved (flag 1) if their cell at this level changed,
-// and enters the changed bodies that now belong here; the array stays
-// sorted.
+// those of bodies that moved (flag 1) if their row at this level changed,
+// and enters the changed bodies that now belong here, each at its place by
+// (row, x) (x as of the last gather for the others), so that gather's
+// insertion sort has little left to do.
 void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_t> &flag,
-                         const std::vector<uint32_t> &changed) {
+                       const std::vector<uint32_t> &changed, const Sphere *spheres) {
     std::vector<Entry> &entries = list.entries;
     std::vector<Entry> add;
     size_t w = 0;  // kept entries are compacted in place
@@ -279,26 +315,27 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
         } else if (f == 1) {
             const CellKey key = key_of(en.slot, li);
             if (key == en.key) entries[w++] = en;
-            else add.push_back({key, en.slot, en.gen});
+            else add.push_back({key, en.slot, float(spheres[en.slot].x)});
         }
     }
     for (uint32_t s : changed) {
         const int16_t own = level_[s];
-        if (guests ? (own >= 0 && own < li) : own == li) add.push_back({key_of(s, li), s, gen_[s]});
+        if (guests ? (own >= 0 && own < li) : own == li)
+            add.push_back({key_of(s, li), s, float(spheres[s].x)});
     }
-    std::sort(add.begin(), add.end(), ByKey<Entry>());
+    std::sort(add.begin(), add.end(), ByRowX<Entry>());
     // Merge from the back, in place: entries[0, w) and add into entries[0, n).
     const size_t n = w + add.size();
     entries.resize(n);
     size_t i = w, j = add.size(), k = n;
-    const ByKey<Entry> less;
+    const ByRowX<Entry> less;
     while (j > 0) {
         if (i > 0 && less(add[j - 1], entries[i - 1])) entries[--k] = entries[--i];
         else entries[--k] = add[--j];
     }
 }
 
-void Grid::gather(List &list, const Sphere *spheres) {
+void Grid::gather(List &list, int exponent, const Sphere *spheres) {
     const size_t m = list.entries.size();
     list.spheres.resize(m);
     Entry *E = list.entries.data();
@@ -358,6 +395,34 @@ void Grid::gather(List &list, const Sphere *spheres) {
         std::copy(ts.begin(), ts.end(), S + b);
         std::copy(te.begin(), te.end(), E + b);
     }
+    for (size_t k = 0; k < m; ++k) E[k].x = float(S[k].x);
+    // Which neighbouring rows each sphere can reach (kReach* bits): a row
+    // y - 1 needs y - r_i - r_j < y0 (the row's lower face), and every
+    // sphere it can meet here has r_j <= w / 2 (a level's residents fit its
+    // cells), so a sphere farther than r_i + w/2 from a face skips the rows
+    // beyond. Inflated as the x window is (see reach()), in cell units,
+    // where v - c is within 2^-53 of exact; a centre not truly in its row
+    // (far keys saturate) reaches every row.
+    list.reach.resize(m);
+    uint8_t *F = list.reach.data();
+    if (!(exponent > -1000 && exponent < 1000)) {
+        std::fill(F, F + m, kReachAll);
+        return;
+    }
+    const double inv = pow2(-exponent);
+    for (size_t r = 0; r < rows; ++r) {
+        const CellKey key = list.row_keys[r];
+        const double cy = double(int64_t(uint64_t(key) & kAxisMask) - kCoordBias);
+        const double cz = double(int64_t(uint64_t(key >> kAxisBits) & kAxisMask) - kCoordBias);
+        for (size_t k = list.row_start[r]; k < list.row_start[r + 1]; ++k) {
+            const double fy = S[k].y * inv - cy, fz = S[k].z * inv - cz;
+            const double reach = (S[k].r * inv + 0.5) * (1 + 1e-9) + 1e-12;
+            const bool inside = (fy >= 0) & (fy < 1) & (fz >= 0) & (fz < 1) & (reach < 1);
+            const unsigned bits = (fy < reach ? kReachYLo : 0) | (1 - fy <= reach ? kReachYHi : 0) |
+                                  (fz < reach ? kReachZLo : 0) | (1 - fz <= reach ? kReachZHi : 0);
+            F[k] = uint8_t(inside ? bits : kReachAll);
+        }
+    }
 }
 
 namespace {
@@ -390,12 +455,13 @@ inline double reach(double r, double rmax) { return (r + rmax) * (1 + 1e-9) + 1e
 // B [jb, je), both sorted by centre x: a sweep whose window's left end only
 // moves forward (it trails by the largest reach of A), trimmed per sphere.
 template <class EntryT>
-inline void sweep_rows(const Sphere *SA, const EntryT *EA, size_t ib, size_t ie, double rmax_a,
-                       const Sphere *SB, const EntryT *EB, size_t jb, size_t je, double rmax_b,
-                       std::vector<uint64_t> &out) {
+inline void sweep_rows(const Sphere *SA, const EntryT *EA, const uint8_t *FA, uint8_t need, size_t ib,
+                       size_t ie, double rmax_a, const Sphere *SB, const EntryT *EB, size_t jb, size_t je,
+                       double rmax_b, std::vector<uint64_t> &out) {
     const double widest = reach(rmax_a, rmax_b);
     size_t lo = jb;
     for (size_t i = ib; i < ie; ++i) {
+        if ((FA[i] & need) != need) continue;  // row B is beyond this sphere's reach
         const Sphere a = SA[i];
         while (lo < je && SB[lo].x < a.x - widest) ++lo;
         if (lo == je) break;
@@ -423,6 +489,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     const Entry *E = R.entries.data();
     const double rmax = R.max_radius;
     static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+    const uint8_t *F = R.reach.data();
     CellKey off[4];
     size_t cur[4];
     for (int r = 0; r < 4; ++r) {
@@ -441,7 +508,8 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
             const CellKey target = rows[row] + off[r];
             const size_t k = cur[r] = advance(rows, cur[r], target);
             if (k < rows.size() && rows[k] == target)
-                sweep_rows(S, E, b, e, rmax, S, E, start[k], start[k + 1], rmax, out);
+                sweep_rows(S, E, F, reach_needed(later[r][0], later[r][1]), b, e, rmax, S, E, start[k],
+                           start[k + 1], rmax, out);
         }
     }
 }
@@ -464,16 +532,17 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
             const CellKey target = grows[row] + off[r];
             const size_t k = cur[r] = advance(rows, cur[r], target);
             if (k < rows.size() && rows[k] == target)
-                sweep_rows(G.spheres.data(), G.entries.data(), gstart[row], gstart[row + 1], G.max_radius,
-                           R.spheres.data(), R.entries.data(), start[k], start[k + 1], R.max_radius, out);
+                sweep_rows(G.spheres.data(), G.entries.data(), G.reach.data(), reach_needed(r / 3 - 1, r % 3 - 1),
+                           gstart[row], gstart[row + 1], G.max_radius, R.spheres.data(), R.entries.data(),
+                           start[k], start[k + 1], R.max_radius, out);
         }
     }
 }
 
-void Grid::query_oversize(uint32_t slot, const Sphere *spheres,
-                          std::vector<uint64_t> &out) const {
-    const Sphere &o = spheres[slot];
-    for (const Level &lv : levels_) {
+void Grid::query_levels(const Sphere &o, uint32_t slot, size_t level_end,
+                        std::vector<uint64_t> &out) const {
+    for (size_t li = 0; li < level_end; ++li) {
+        const Level &lv = levels_[li];
         const List &R = lv.residents;
         const Entry *E = R.entries.data();
         const Sphere *S = R.spheres.data();
@@ -507,7 +576,7 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
     // body, and one for the oversize-oversize sweep. Chunks are small and
     // scheduled dynamically, because dense cells cost far more than sparse ones.
     struct Item {
-        int kind;  // 0 residents, 1 guests, 2 oversize body, 3 oversize sweep
+        int kind;  // 0 residents, 1 guests, 2 oversize body, 3 oversize sweep, 4 residents querying down
         uint32_t level;
         size_t begin, end;
     };
@@ -523,8 +592,14 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
         }
     };
     for (uint32_t li = 0; li < levels_.size(); ++li) {
-        chunk(levels_[li].residents, 0, li);
-        if (!levels_[li].residents.entries.empty()) chunk(levels_[li].guests, 1, li);
+        const Level &lv = levels_[li];
+        chunk(lv.residents, 0, li);
+        if (lv.down) {
+            for (size_t b = 0; b < lv.residents.entries.size(); b += 64)
+                items.push_back({4, li, b, std::min(lv.residents.entries.size(), b + 64)});
+        } else if (!lv.residents.entries.empty()) {
+            chunk(lv.guests, 1, li);
+        }
     }
     for (size_t k = 0; k < oversize_.size(); ++k) items.push_back({2, 0, k, k + 1});
     if (oversize_.size() > 1) items.push_back({3, 0, 0, 0});
@@ -539,7 +614,10 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
         } else if (it.kind == 1) {
             sweep_guests(levels_[it.level], it.begin, it.end, mine);
         } else if (it.kind == 2) {
-            query_oversize(oversize_[it.begin], spheres, mine);
+            query_levels(spheres[oversize_[it.begin]], oversize_[it.begin], levels_.size(), mine);
+        } else if (it.kind == 4) {
+            const List &R = levels_[it.level].residents;
+            for (size_t j = it.begin; j < it.end; ++j) query_levels(R.spheres[j], R.entries[j].slot, it.level, mine);
         } else {
             std::vector<uint32_t> order(oversize_);
             std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {

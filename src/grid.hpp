@@ -67,7 +67,7 @@ class Grid {
     struct __attribute__((packed, aligned(8))) Entry {
         CellKey key;
         uint32_t slot;
-        uint32_t gen;
+        float x;  // centre x as of the last gather: orders merges within a row
     };
     static_assert(sizeof(Entry) == 24, "Entry layout");
     struct List {
@@ -77,28 +77,32 @@ class Grid {
         // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
+        std::vector<uint8_t> reach;  // neighbouring rows each sphere can reach (grid.cpp)
         double max_radius = 0;  // of spheres
     };
     struct Level {
         int exponent;
         List residents;
-        List guests;  // bodies of finer levels, keyed by their cell here
+        List guests;  // bodies of finer levels, keyed by their row here
+        bool down = false;  // no guests: the residents query the finer levels
     };
     static constexpr int16_t kNone = -1;
     static constexpr int16_t kOversize = -2;
 
     void rebuild(const Sphere *spheres, uint32_t slot_count, int threads);
-    void update_list(List &list, int level_index, bool guests,
-                       const std::vector<uint8_t> &flag, const std::vector<uint32_t> &changed);
-    static void gather(List &list, const Sphere *spheres);
+    void update_list(List &list, int level_index, bool guests, const std::vector<uint8_t> &flag,
+                     const std::vector<uint32_t> &changed, const Sphere *spheres);
+    static void gather(List &list, int exponent, const Sphere *spheres);
     CellKey key_of(uint32_t slot, int level_index) const;
     // Pairs of the cells [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,
                          std::vector<uint64_t> &out) const;
     void sweep_guests(const Level &lv, size_t begin, size_t end,
                       std::vector<uint64_t> &out) const;
-    void query_oversize(uint32_t slot, const Sphere *spheres,
-                        std::vector<uint64_t> &out) const;
+    // Pairs of sphere o (body slot) with the residents of levels [0, level_end),
+    // by range queries over their rows.
+    void query_levels(const Sphere &o, uint32_t slot, size_t level_end,
+                      std::vector<uint64_t> &out) const;
 
     std::vector<Level> levels_;       // ascending exponent
     std::vector<uint32_t> oversize_;  // slots, ascending

@@ -167,12 +167,37 @@ static void test_reach_exactly_to_faces(void **state) {
     check(NULL, s, n, "reach to faces");
 }
 
+/* A few large spheres among many small ones: the coarse levels hold too few
+ * bodies to keep a guest list and query the finer levels instead; moving
+ * the scene takes the incremental path with that choice kept, and growing
+ * the number of large spheres switches it back (a rebuild). */
+static void test_few_large_among_many(void **state) {
+    (void)state;
+    const uint32_t n = 8000;
+    double *a = malloc(4 * sizeof(double) * n), *b = malloc(4 * sizeof(double) * n);
+    rng r = {41};
+    for (uint32_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) a[4 * i + k] = 40.0 * unif(&r);
+        const int large = i % 400 == 0;
+        a[4 * i + 3] = large ? 2.0 + 14.0 * unif(&r) : 0.1 + 0.3 * unif(&r);
+        for (int k = 0; k < 3; ++k) b[4 * i + k] = a[4 * i + k] + 0.5 * (2 * unif(&r) - 1);
+        b[4 * i + 3] = a[4 * i + 3];
+    }
+    check(NULL, a, n, "few large");
+    check(a, b, n, "few large, moved");
+    for (uint32_t i = 0; i < n; i += 3) b[4 * i + 3] = 2.0 + 6.0 * unif(&r);  /* many large now */
+    check(a, b, n, "many large after few");
+    free(a);
+    free(b);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dense_mixed_levels),
         cmocka_unit_test(test_touching_on_cell_faces),
         cmocka_unit_test(test_far_coordinates),
         cmocka_unit_test(test_reach_exactly_to_faces),
+        cmocka_unit_test(test_few_large_among_many),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));

@@ -593,37 +593,47 @@ hgcd_status World::step() {
     const double t0 = omp_get_wtime();
     const int64_t n = int64_t(live_gen_.size());
     const double dt = time_step_;
-    // First check that every move stays finite and in range, then move: a
-    // refused step moves nothing.
-    int64_t bad = -1;
+    // Unless the world reflects (every move then ends inside its box), first
+    // check that every move stays finite and in range, then move: a refused
+    // step moves nothing.
+    if (!reflect_) {
+        int64_t bad = -1;
 #pragma omp parallel for num_threads(T) schedule(static) reduction(max : bad)
-    for (int64_t s = 0; s < n; ++s) {
-        if (!live_gen_[s]) continue;
-        for (int k = 0; k < 3; ++k) {
-            const double x = place_[s].position[k] + velocity_[3 * s + k] * dt;
-            if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, s);
+        for (int64_t s = 0; s < n; ++s) {
+            if (!live_gen_[s]) continue;
+            for (int k = 0; k < 3; ++k) {
+                const double x = place_[s].position[k] + velocity_[3 * s + k] * dt;
+                if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, s);
+            }
         }
+        if (bad >= 0)
+            return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_step: body " + std::to_string(bad) +
+                                                         " would leave the coordinate range (|x| <= 1e15)");
     }
-    if (bad >= 0 && !reflect_)
-        return fail(HGCD_ERROR_INVALID_ARGUMENT,
-                    "world_step: body " + std::to_string(bad) + " would leave the coordinate range (|x| <= 1e15)");
+    // Locals, so the compiler need not reload them after each store.
+    const bool reflect = reflect_;
+    const double lo[3] = {bounds_min_[0], bounds_min_[1], bounds_min_[2]};
+    const double hi[3] = {bounds_max_[0], bounds_max_[1], bounds_max_[2]};
+    Placement *place = place_.data();
+    double *velocity = velocity_.data();
+    const uint32_t *live = live_gen_.data();
 #pragma omp parallel for num_threads(T) schedule(static)
     for (int64_t s = 0; s < n; ++s) {
-        if (!live_gen_[s]) continue;
+        if (!live[s]) continue;
         for (int k = 0; k < 3; ++k) {
-            double &c = place_[s].position[k];
-            double &v = velocity_[3 * s + k];
+            double &c = place[s].position[k];
+            double &v = velocity[3 * s + k];
             double x = c + v * dt;
-            if (reflect_) {
-                if (x < bounds_min_[k]) {
-                    x = 2 * bounds_min_[k] - x;
+            if (reflect) {
+                if (x < lo[k]) {
+                    x = 2 * lo[k] - x;
                     v = -v;
-                } else if (x > bounds_max_[k]) {
-                    x = 2 * bounds_max_[k] - x;
+                } else if (x > hi[k]) {
+                    x = 2 * hi[k] - x;
                     v = -v;
                 }
                 // A move longer than the box is clamped rather than leaving it.
-                x = std::min(std::max(x, bounds_min_[k]), bounds_max_[k]);
+                x = std::min(std::max(x, lo[k]), hi[k]);
             }
             c = x;
         }

@@ -581,7 +581,7 @@ struct TetSides {
 
 // Face F against the four vertices of o (two per vector).
 template <int F>
-inline void tet_face(const TetPlanes &p, const TetWorld &o, TetSides &s) {
+HGCD_TET_INLINE void tet_face(const TetPlanes &p, const TetWorld &o, TetSides &s) {
     constexpr int h = F / 2, l = F % 2;
     const V2 t0x = lane<l>(p.t0x[h]), t0y = lane<l>(p.t0y[h]), t0z = lane<l>(p.t0z[h]);
     const V2 nx = lane<l>(p.nx[h]), ny = lane<l>(p.ny[h]), nz = lane<l>(p.nz[h]);
@@ -594,11 +594,13 @@ inline void tet_face(const TetPlanes &p, const TetWorld &o, TetSides &s) {
 
 // Sign of orient3d(face f, vertex f), the same for every f: from any
 // certified lane, else exactly.
-inline int tet_inner_sign(const TetWorld &w, const TetPlanes &p) {
+HGCD_TET_INLINE int tet_inner_sign(const TetWorld &w, const TetPlanes &p) {
     const V2 d0 = plane_eval(p, 0, w.x[0], w.y[0], w.z[0]);  // faces 0, 1 at vertices 0, 1
+    if (less_bits(d0, -p.bound[0])) return 1;
+    if (less_bits(p.bound[0], d0)) return -1;
     const V2 d1 = plane_eval(p, 1, w.x[1], w.y[1], w.z[1]);  // faces 2, 3 at vertices 2, 3
-    if (less_bits(d0, -p.bound[0]) | less_bits(d1, -p.bound[1])) return 1;
-    if (less_bits(p.bound[0], d0) | less_bits(p.bound[1], d1)) return -1;
+    if (less_bits(d1, -p.bound[1])) return 1;
+    if (less_bits(p.bound[1], d1)) return -1;
     const double v0[3] = {w.x[0][0], w.y[0][0], w.z[0][0]}, v1[3] = {w.x[0][1], w.y[0][1], w.z[0][1]},
                  v2[3] = {w.x[1][0], w.y[1][0], w.z[1][0]}, v3[3] = {w.x[1][1], w.y[1][1], w.z[1][1]};
     return orient3d(v1, v2, v3, v0);  // face 0 and vertex 0
@@ -632,7 +634,7 @@ inline bool tet_separated(const TetSides &s) {
 
 // From the certified signs: 2 surely Surface (a vertex strictly inside, one
 // strictly outside), 1 surely Containment (all strictly inside), 0 undecided.
-inline int tet_verdict(const TetSides &s) {
+HGCD_TET_INLINE int tet_verdict(const TetSides &s) {
     if (s.inner == 0) return 0;
     const unsigned *inner = s.inner > 0 ? s.pos : s.neg, *outer = s.inner > 0 ? s.neg : s.pos;
     const unsigned in = inner[0] & inner[1] & inner[2] & inner[3];
@@ -649,8 +651,9 @@ inline void tet_aos(const TetWorld &w, double (*v)[3]) {
 }
 
 // Makes every sign of s exact: an undecided one is computed exactly (and
-// stays in neither set when it is 0).
-inline void tet_resolve(const double (*t)[3], const double (*o)[3], TetSides &s) {
+// stays in neither set when it is 0). True if there was one.
+inline bool tet_resolve(const double (*t)[3], const double (*o)[3], TetSides &s) {
+    bool any = false;
     for (int f = 0; f < 4; ++f) {
         unsigned open = ~(s.pos[f] | s.neg[f]) & 0xF;
         while (open) {
@@ -659,8 +662,10 @@ inline void tet_resolve(const double (*t)[3], const double (*o)[3], TetSides &s)
             const int sign = orient3d(t[kFace[f][0]], t[kFace[f][1]], t[kFace[f][2]], o[v]);
             if (sign > 0) s.pos[f] |= 1u << v;
             if (sign < 0) s.neg[f] |= 1u << v;
+            any = true;
         }
     }
+    return any;
 }
 
 inline int sign_of(const TetSides &s, int f, int v) {
@@ -670,27 +675,32 @@ inline int sign_of(const TetSides &s, int f, int v) {
 // Everything the certified signs left open: the same decisions on exact
 // signs, then the exact triangle test on the face pairs whose planes do not
 // already keep them apart.
-__attribute__((noinline)) Contact collide_tetra_exact(const TetWorld &ta, const TetWorld &tb,
+__attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact(const TetWorld &ta, const TetWorld &tb,
                                                       TetSides &sab, TetSides &sba,
                                                       NarrowScratch &scratch) {
     double wa[4][3], wb[4][3];
     tet_aos(ta, wa);
     tet_aos(tb, wb);
-    tet_resolve(wa, wb, sab);
-    tet_resolve(wb, wa, sba);
-    if (tet_separated(sab) || tet_separated(sba)) return Contact::None;
-    const int va = tet_verdict(sab), vb = tet_verdict(sba);
-    if (va == 2 || vb == 2) return Contact::Surface;
-    if (va == 1 || vb == 1) return Contact::Containment;
-    for (int f = 0; f < 4; ++f) {
-        const unsigned mf = 0xFu & ~(1u << f);  // the vertices of face f
+    // (The caller took these decisions on the certified signs already.)
+    if (tet_resolve(wa, wb, sab) | tet_resolve(wb, wa, sba)) {
+        if (tet_separated(sab) || tet_separated(sba)) return Contact::None;
+        const int va = tet_verdict(sab), vb = tet_verdict(sba);
+        if (va == 2 || vb == 2) return Contact::Surface;
+        if (va == 1 || vb == 1) return Contact::Containment;
+    }
+    // Face pairs (f, g) with one triangle strictly on one side of the other's
+    // plane are skipped. kHolds[S]: the faces whose 3 vertices all lie in the
+    // vertex set S (face g misses vertex g).
+    static constexpr unsigned kHolds[16] = {0, 0, 0, 0, 0, 0, 0, 8, 0, 0, 0, 4, 0, 2, 1, 15};
+    const unsigned apart[4] = {kHolds[sba.pos[0]] | kHolds[sba.neg[0]], kHolds[sba.pos[1]] | kHolds[sba.neg[1]],
+                               kHolds[sba.pos[2]] | kHolds[sba.neg[2]], kHolds[sba.pos[3]] | kHolds[sba.neg[3]]};
+    for (int f = 0; f < 4; ++f) {  // apart[g]: bit f; kHolds[sab.*[f]]: bit g
+        unsigned todo = ~(kHolds[sab.pos[f]] | kHolds[sab.neg[f]]) & 0xF;
         const double *p[3] = {wa[kFace[f][0]], wa[kFace[f][1]], wa[kFace[f][2]]};
-        for (int g = 0; g < 4; ++g) {
-            const unsigned mg = 0xFu & ~(1u << g);
-            // One triangle strictly on one side of the other's plane.
-            if ((sab.pos[f] & mg) == mg || (sab.neg[f] & mg) == mg || (sba.pos[g] & mf) == mf ||
-                (sba.neg[g] & mf) == mf)
-                continue;
+        while (todo) {
+            const int g = __builtin_ctz(todo);
+            todo &= todo - 1;
+            if ((apart[g] >> f) & 1) continue;
             const double *q[3] = {wb[kFace[g][0]], wb[kFace[g][1]], wb[kFace[g][2]]};
             const int sp[3] = {sign_of(sba, g, kFace[f][0]), sign_of(sba, g, kFace[f][1]),
                                sign_of(sba, g, kFace[f][2])};
@@ -740,9 +750,10 @@ HGCD_TET_CLONES Contact collide_tetra(const BodyPose &a, const BodyPose &b, Narr
 }  // namespace
 
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
-    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
-    // (A witness asks for the triangles of the general path's order.)
+    // (A tetrahedron has no tree; a witness asks for the general path's
+    // triangle order.)
     if (a.mesh->tetra && b.mesh->tetra && !witness) return collide_tetra(a, b, s);
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);

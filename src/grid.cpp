@@ -23,6 +23,7 @@ constexpr int64_t kSaturate = int64_t(1) << 62;
 constexpr int kAxisBits = 42;
 constexpr uint64_t kAxisMask = (uint64_t(1) << kAxisBits) - 1;
 constexpr size_t kChunk = 1024;
+constexpr int kBlock = 4;  // spheres per step of a sweep's window
 // Grid::List::reach bits: the neighbouring rows a sphere can reach.
 constexpr uint8_t kReachYLo = 1, kReachYHi = 2, kReachZLo = 4, kReachZHi = 8, kReachAll = 15;
 
@@ -337,15 +338,24 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 
 void Grid::gather(List &list, int exponent, const Sphere *spheres) {
     const size_t m = list.entries.size();
-    list.spheres.resize(m);
+    // Padded so that the sweep's blocks of kBlock may read past the end.
+    list.sx.resize(m + kBlock);
+    list.sy.resize(m + kBlock);
+    list.sz.resize(m + kBlock);
+    list.sr.resize(m + kBlock);
     Entry *E = list.entries.data();
-    Sphere *S = list.spheres.data();
+    double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
+    for (size_t k = m; k < m + kBlock; ++k) X[k] = Y[k] = Z[k] = R[k] = 0;
     double rmax = 0;
     for (size_t k = 0; k < m; ++k) {
         // The next bodies' spheres are random reads: ask for them early.
         if (k + 16 < m) __builtin_prefetch(&spheres[E[k + 16].slot]);
-        S[k] = spheres[E[k].slot];
-        rmax = std::max(rmax, S[k].r);
+        const Sphere &sp = spheres[E[k].slot];
+        X[k] = sp.x;
+        Y[k] = sp.y;
+        Z[k] = sp.z;
+        R[k] = sp.r;
+        rmax = std::max(rmax, sp.r);
     }
     list.max_radius = rmax;
     list.row_keys.clear();
@@ -367,16 +377,22 @@ void Grid::gather(List &list, int exponent, const Sphere *spheres) {
         size_t budget = 8 * (e - b) + 64;
         bool sorted = true;
         for (size_t k = b + 1; k < e && sorted; ++k) {
-            if (!(S[k].x < S[k - 1].x)) continue;
-            const Sphere sk = S[k];
+            if (!(X[k] < X[k - 1])) continue;
+            const double kx = X[k], ky = Y[k], kz = Z[k], kr = R[k];
             const Entry ek = E[k];
             size_t j = k;
-            for (; j > b && sk.x < S[j - 1].x; --j) {
-                S[j] = S[j - 1];
+            for (; j > b && kx < X[j - 1]; --j) {
+                X[j] = X[j - 1];
+                Y[j] = Y[j - 1];
+                Z[j] = Z[j - 1];
+                R[j] = R[j - 1];
                 E[j] = E[j - 1];
                 if (--budget == 0) break;
             }
-            S[j] = sk;
+            X[j] = kx;
+            Y[j] = ky;
+            Z[j] = kz;
+            R[j] = kr;
             E[j] = ek;
             sorted = budget != 0;
         }
@@ -384,18 +400,27 @@ void Grid::gather(List &list, int exponent, const Sphere *spheres) {
         std::vector<uint32_t> order(e - b);
         for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
         std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
-            return S[b + p].x < S[b + q].x || (S[b + p].x == S[b + q].x && E[b + p].slot < E[b + q].slot);
+            return X[b + p] < X[b + q] || (X[b + p] == X[b + q] && E[b + p].slot < E[b + q].slot);
         });
-        std::vector<Sphere> ts(order.size());
+        std::vector<double> t(4 * order.size());
         std::vector<Entry> te(order.size());
         for (size_t k = 0; k < order.size(); ++k) {
-            ts[k] = S[b + order[k]];
-            te[k] = E[b + order[k]];
+            const size_t from = b + order[k];
+            t[4 * k] = X[from];
+            t[4 * k + 1] = Y[from];
+            t[4 * k + 2] = Z[from];
+            t[4 * k + 3] = R[from];
+            te[k] = E[from];
         }
-        std::copy(ts.begin(), ts.end(), S + b);
-        std::copy(te.begin(), te.end(), E + b);
+        for (size_t k = 0; k < order.size(); ++k) {
+            X[b + k] = t[4 * k];
+            Y[b + k] = t[4 * k + 1];
+            Z[b + k] = t[4 * k + 2];
+            R[b + k] = t[4 * k + 3];
+            E[b + k] = te[k];
+        }
     }
-    for (size_t k = 0; k < m; ++k) E[k].x = float(S[k].x);
+    for (size_t k = 0; k < m; ++k) E[k].x = float(X[k]);
     // Which neighbouring rows each sphere can reach (kReach* bits): a row
     // y - 1 needs y - r_i - r_j < y0 (the row's lower face), and every
     // sphere it can meet here has r_j <= w / 2 (a level's residents fit its
@@ -415,8 +440,8 @@ void Grid::gather(List &list, int exponent, const Sphere *spheres) {
         const double cy = double(int64_t(uint64_t(key) & kAxisMask) - kCoordBias);
         const double cz = double(int64_t(uint64_t(key >> kAxisBits) & kAxisMask) - kCoordBias);
         for (size_t k = list.row_start[r]; k < list.row_start[r + 1]; ++k) {
-            const double fy = S[k].y * inv - cy, fz = S[k].z * inv - cz;
-            const double reach = (S[k].r * inv + 0.5) * (1 + 1e-9) + 1e-12;
+            const double fy = Y[k] * inv - cy, fz = Z[k] * inv - cz;
+            const double reach = (R[k] * inv + 0.5) * (1 + 1e-9) + 1e-12;
             const bool inside = (fy >= 0) & (fy < 1) & (fz >= 0) & (fz < 1) & (reach < 1);
             const unsigned bits = (fy < reach ? kReachYLo : 0) | (1 - fy <= reach ? kReachYHi : 0) |
                                   (fz < reach ? kReachZLo : 0) | (1 - fz <= reach ? kReachZHi : 0);
@@ -444,6 +469,16 @@ inline CellKey row_step(int dz, int dy) {
     return (CellKey(int64_t(dz)) << kAxisBits) + CellKey(int64_t(dy));
 }
 
+// Two doubles and their comparison masks, as vector extensions: SSE2 on
+// x86-64, NEON on arm64, wider where the compiler may.
+typedef double V2 __attribute__((vector_size(16)));
+typedef int64_t M2 __attribute__((vector_size(16)));
+inline V2 load2(const double *p) {
+    V2 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
 // How far along x a sphere of radius r can reach a sphere of radius at most
 // rmax. A pair the window leaves out has |xa - xb| > (ra + rb)(1 + 1e-9), which
 // overlap() evaluates as disjoint whatever its rounding; window ends are
@@ -454,22 +489,41 @@ inline double reach(double r, double rmax) { return (r + rmax) * (1 + 1e-9) + 1e
 // Every overlapping pair of an entry of row A [ib, ie) with an entry of row
 // B [jb, je), both sorted by centre x: a sweep whose window's left end only
 // moves forward (it trails by the largest reach of A), trimmed per sphere.
+// The window is tested kBlock spheres at a time with vector arithmetic
+// (elementwise, the same operations in the same order as overlap(), so the
+// same answers), the lanes outside the window or the row masked off:
+// branches on each sphere pair were mispredicted too often.
 template <class EntryT>
-inline void sweep_rows(const Sphere *SA, const EntryT *EA, const uint8_t *FA, uint8_t need, size_t ib,
-                       size_t ie, double rmax_a, const Sphere *SB, const EntryT *EB, size_t jb, size_t je,
-                       double rmax_b, std::vector<uint64_t> &out) {
+inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const uint8_t *FA, uint8_t need,
+                       size_t ib, size_t ie, double rmax_a, const Grid::SphereArrays &B, const EntryT *EB,
+                       size_t jb, size_t je, double rmax_b, std::vector<uint64_t> &out) {
     const double widest = reach(rmax_a, rmax_b);
+    const double *BX = B.x, *BY = B.y, *BZ = B.z, *BR = B.r;
     size_t lo = jb;
     for (size_t i = ib; i < ie; ++i) {
         if ((FA[i] & need) != need) continue;  // row B is beyond this sphere's reach
-        const Sphere a = SA[i];
-        while (lo < je && SB[lo].x < a.x - widest) ++lo;
+        const double ax = A.x[i];
+        while (lo < je && BX[lo] < ax - widest) ++lo;
         if (lo == je) break;
-        const double w = reach(a.r, rmax_b), left = a.x - w, right = a.x + w;
-        size_t j = lo;
-        while (j < je && SB[j].x < left) ++j;
-        for (; j < je && SB[j].x <= right; ++j)
-            if (overlap(a, SB[j])) out.push_back(pair_key(EA[i].slot, EB[j].slot));
+        const double ay = A.y[i], az = A.z[i], ar = A.r[i];
+        const double w = reach(ar, rmax_b), left = ax - w, right = ax + w;
+        for (size_t j = lo; j < je; j += kBlock) {
+            unsigned hits = 0;
+            for (int h = 0; h < kBlock; h += 2) {
+                const V2 bx = load2(BX + j + h), by = load2(BY + j + h), bz = load2(BZ + j + h),
+                         br = load2(BR + j + h);
+                const V2 dx = ax - bx, dy = ay - by, dz = az - bz, rs = ar + br;
+                const M2 in = (bx >= left) & (bx <= right) & (dx * dx + dy * dy + dz * dz <= rs * rs);
+                hits |= unsigned((in[0] & 1) | (in[1] & 2)) << h;
+            }
+            if (j + kBlock > je) hits &= (1u << (je - j)) - 1;
+            while (hits) {
+                const size_t k = j + size_t(__builtin_ctz(hits));
+                hits &= hits - 1;
+                out.push_back(pair_key(EA[i].slot, EB[k].slot));
+            }
+            if (!(BX[std::min(j + kBlock, je) - 1] <= right)) break;  // the window ends in this block
+        }
     }
 }
 
@@ -485,7 +539,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     const List &R = lv.residents;
     const std::vector<CellKey> &rows = R.row_keys;
     const uint32_t *start = R.row_start.data();
-    const Sphere *S = R.spheres.data();
+    const SphereArrays S = R.arrays();
     const Entry *E = R.entries.data();
     const double rmax = R.max_radius;
     static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
@@ -499,10 +553,10 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     for (size_t row = begin; row < end; ++row) {
         const size_t b = start[row], e = start[row + 1];
         for (size_t i = b; i < e; ++i) {
-            const Sphere a = S[i];
+            const Sphere a = S.at(i);
             const double right = a.x + reach(a.r, rmax);
-            for (size_t j = i + 1; j < e && S[j].x <= right; ++j)
-                if (overlap(a, S[j])) out.push_back(pair_key(E[i].slot, E[j].slot));
+            for (size_t j = i + 1; j < e && S.x[j] <= right; ++j)
+                if (overlap(a, S.at(j))) out.push_back(pair_key(E[i].slot, E[j].slot));
         }
         for (int r = 0; r < 4; ++r) {
             const CellKey target = rows[row] + off[r];
@@ -532,8 +586,8 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
             const CellKey target = grows[row] + off[r];
             const size_t k = cur[r] = advance(rows, cur[r], target);
             if (k < rows.size() && rows[k] == target)
-                sweep_rows(G.spheres.data(), G.entries.data(), G.reach.data(), reach_needed(r / 3 - 1, r % 3 - 1),
-                           gstart[row], gstart[row + 1], G.max_radius, R.spheres.data(), R.entries.data(),
+                sweep_rows(G.arrays(), G.entries.data(), G.reach.data(), reach_needed(r / 3 - 1, r % 3 - 1),
+                           gstart[row], gstart[row + 1], G.max_radius, R.arrays(), R.entries.data(),
                            start[k], start[k + 1], R.max_radius, out);
         }
     }
@@ -545,7 +599,7 @@ void Grid::query_levels(const Sphere &o, uint32_t slot, size_t level_end,
         const Level &lv = levels_[li];
         const List &R = lv.residents;
         const Entry *E = R.entries.data();
-        const Sphere *S = R.spheres.data();
+        const SphereArrays S = R.arrays();
         const size_t m = R.entries.size();
         if (m == 0) continue;
         const double ext = o.r + R.max_radius;
@@ -555,7 +609,7 @@ void Grid::query_levels(const Sphere &o, uint32_t slot, size_t level_end,
         const double rows = double(hz - lz + 1) * double(hy - ly + 1);
         if (rows * 32 >= double(R.row_keys.size())) {
             for (size_t j = 0; j < m; ++j)
-                if (overlap(o, S[j])) out.push_back(pair_key(slot, E[j].slot));
+                if (overlap(o, S.at(j))) out.push_back(pair_key(slot, E[j].slot));
             continue;
         }
         const double w = reach(o.r, R.max_radius), left = o.x - w, right = o.x + w;
@@ -563,8 +617,8 @@ void Grid::query_levels(const Sphere &o, uint32_t slot, size_t level_end,
             for (uint64_t y = ly; y <= hy; ++y) {
                 const size_t k = first_row(R.row_keys, row_key(z, y));
                 if (k == R.row_keys.size() || R.row_keys[k] != row_key(z, y)) continue;
-                for (size_t j = R.row_start[k]; j < R.row_start[k + 1] && S[j].x <= right; ++j)
-                    if (S[j].x >= left && overlap(o, S[j])) out.push_back(pair_key(slot, E[j].slot));
+                for (size_t j = R.row_start[k]; j < R.row_start[k + 1] && S.x[j] <= right; ++j)
+                    if (S.x[j] >= left && overlap(o, S.at(j))) out.push_back(pair_key(slot, E[j].slot));
             }
         }
     }
@@ -617,7 +671,7 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
             query_levels(spheres[oversize_[it.begin]], oversize_[it.begin], levels_.size(), mine);
         } else if (it.kind == 4) {
             const List &R = levels_[it.level].residents;
-            for (size_t j = it.begin; j < it.end; ++j) query_levels(R.spheres[j], R.entries[j].slot, it.level, mine);
+            for (size_t j = it.begin; j < it.end; ++j) query_levels(R.arrays().at(j), R.entries[j].slot, it.level, mine);
         } else {
             std::vector<uint32_t> order(oversize_);
             std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
@@ -643,7 +697,7 @@ size_t Grid::memory_bytes() const {
                    cell_.capacity() * sizeof(int64_t) + oversize_.capacity() * sizeof(uint32_t);
     for (const Level &lv : levels_)
         bytes += (lv.residents.entries.capacity() + lv.guests.entries.capacity()) * sizeof(Entry) +
-                 (lv.residents.spheres.capacity() + lv.guests.spheres.capacity()) * sizeof(Sphere);
+                 (lv.residents.sx.capacity() + lv.guests.sx.capacity()) * 4 * sizeof(double);
     return bytes;
 }
 

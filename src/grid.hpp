@@ -70,15 +70,24 @@ class Grid {
         float x;  // centre x as of the last gather: orders merges within a row
     };
     static_assert(sizeof(Entry) == 24, "Entry layout");
+  public:
+    struct SphereArrays {
+        const double *x, *y, *z, *r;
+        Sphere at(size_t k) const { return Sphere{x[k], y[k], z[k], r[k]}; }
+    };
+
+  private:
     struct List {
         std::vector<Entry> entries;   // sorted by (key, slot)
-        std::vector<Sphere> spheres;  // spheres of entries, same order
+        // Spheres of entries, same order, as four arrays (padded at the end).
+        std::vector<double> sx, sy, sz, sr;
         // The occupied rows: distinct keys in order, and where each row's
         // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
         std::vector<uint8_t> reach;  // neighbouring rows each sphere can reach (grid.cpp)
         double max_radius = 0;  // of spheres
+        SphereArrays arrays() const { return SphereArrays{sx.data(), sy.data(), sz.data(), sr.data()}; }
     };
     struct Level {
         int exponent;

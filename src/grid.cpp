@@ -24,6 +24,8 @@ constexpr int kAxisBits = 42;
 constexpr uint64_t kAxisMask = (uint64_t(1) << kAxisBits) - 1;
 constexpr size_t kChunk = 1024;
 constexpr int kBlock = 4;  // spheres per step of a sweep's window
+// Rows are 2^kRowShift cells high and deep.
+constexpr int kRowShift = 1;
 // Grid::List::reach bits: the neighbouring rows a sphere can reach.
 constexpr uint8_t kReachYLo = 1, kReachYHi = 2, kReachZLo = 4, kReachZHi = 8, kReachAll = 15;
 
@@ -181,8 +183,8 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             gen_[s] = live_gen[s];
             if (level_[s] >= 0) {
                 const int e = exponent[s];
-                cell_[2 * s] = cell_coord(spheres[s].y, e);
-                cell_[2 * s + 1] = cell_coord(spheres[s].z, e);
+                cell_[2 * s] = cell_coord(spheres[s].y, e + kRowShift);
+                cell_[2 * s + 1] = cell_coord(spheres[s].z, e + kRowShift);
             }
         }
         rebuild(spheres, slot_count, threads);
@@ -210,8 +212,8 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 int64_t c[2] = {0, 0};
                 if (li >= 0) {
                     const int e = exponent[s];
-                    c[0] = cell_coord(spheres[s].y, e);
-                    c[1] = cell_coord(spheres[s].z, e);
+                    c[0] = cell_coord(spheres[s].y, e + kRowShift);
+                    c[1] = cell_coord(spheres[s].z, e + kRowShift);
                 }
                 int64_t *old = &cell_[2 * s];
                 uint8_t f = 0;
@@ -430,18 +432,18 @@ void Grid::gather(List &list, int exponent, const Sphere *spheres) {
     // (far keys saturate) reaches every row.
     list.reach.resize(m);
     uint8_t *F = list.reach.data();
-    if (!(exponent > -1000 && exponent < 1000)) {
+    if (!(exponent > -990 && exponent < 990)) {
         std::fill(F, F + m, kReachAll);
         return;
     }
-    const double inv = pow2(-exponent);
+    const double inv = pow2(-exponent - kRowShift), half = 0.5 * pow2(-kRowShift);
     for (size_t r = 0; r < rows; ++r) {
         const CellKey key = list.row_keys[r];
         const double cy = double(int64_t(uint64_t(key) & kAxisMask) - kCoordBias);
         const double cz = double(int64_t(uint64_t(key >> kAxisBits) & kAxisMask) - kCoordBias);
         for (size_t k = list.row_start[r]; k < list.row_start[r + 1]; ++k) {
             const double fy = Y[k] * inv - cy, fz = Z[k] * inv - cz;
-            const double reach = (R[k] * inv + 0.5) * (1 + 1e-9) + 1e-12;
+            const double reach = (R[k] * inv + half) * (1 + 1e-9) + 1e-12;
             const bool inside = (fy >= 0) & (fy < 1) & (fz >= 0) & (fz < 1) & (reach < 1);
             const unsigned bits = (fy < reach ? kReachYLo : 0) | (1 - fy <= reach ? kReachYHi : 0) |
                                   (fz < reach ? kReachZLo : 0) | (1 - fz <= reach ? kReachZHi : 0);
@@ -603,7 +605,7 @@ void Grid::query_levels(const Sphere &o, uint32_t slot, size_t level_end,
         const size_t m = R.entries.size();
         if (m == 0) continue;
         const double ext = o.r + R.max_radius;
-        const int e = lv.exponent;
+        const int e = lv.exponent + kRowShift;
         const uint64_t ly = clamp_bias(cell_coord(o.y - ext, e)), hy = clamp_bias(cell_coord(o.y + ext, e));
         const uint64_t lz = clamp_bias(cell_coord(o.z - ext, e)), hz = clamp_bias(cell_coord(o.z + ext, e));
         const double rows = double(hz - lz + 1) * double(hy - ly + 1);

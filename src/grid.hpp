@@ -1,24 +1,31 @@
 // Broad phase: the hierarchical grid of the paper, stored as sorted arrays.
 //
-// Levels are cubic cells of width 2^e. A body lives on the finest level whose
-// width is at least its bounding sphere's diameter, in the one cell that holds
-// its centre, so any body it overlaps on its own level sits in one of the 3x3x3
-// neighbouring cells. It is also entered as a "guest" in every coarser level
-// (the paper's "noted in every level with larger size"), keyed by the coarse
-// cell of its centre; a guest is compared with the residents of the 3x3x3
-// coarse cells around it. Each pair is thus produced exactly once: same-level
-// pairs from the earlier entry of the sorted order, cross-level pairs from the
-// finer body. Bodies too large for the coarsest allowed level form an
-// oversize set, compared with the residents of every level by range queries
-// and with each other by a sweep on x.
+// Levels have cells of width w = 2^e. A body lives on the finest level whose
+// width is at least its bounding sphere's diameter, so every body it can
+// overlap on its own level has its centre within one cell width of its own.
+// It is also entered as a "guest" in every coarser level (the paper's "noted
+// in every level with larger size") and compared there with that level's
+// residents. Each pair is produced exactly once: same-level pairs from the
+// earlier entry of the sorted order, cross-level pairs from the finer body.
+// Bodies too large for the coarsest allowed level form an oversize set,
+// compared with the residents of every level by range queries and with each
+// other by a sweep on x. A level whose bodies are very few beside those of
+// the finer levels keeps no guests; its residents query the finer levels by
+// range instead.
 //
-// Each level keeps its residents and its guests as arrays of (cell key, body)
-// sorted by key, with keys ordered (z, y, x): the three cells x-1..x+1 of a
-// row are contiguous, so a neighbourhood is 9 contiguous runs, found by
-// cursors that only move forward while the bodies are visited in order. No
-// hashing, no pointer chasing, and the parallel pair search only reads.
-// Motion updates the arrays incrementally: bodies whose cell did not change
-// keep their entries; the rest are re-keyed and merged back in one linear pass.
+// Within a level the grid is sparse in y and z and swept along x: a body is
+// keyed by its row, the (z, y) cell of its centre for cells two widths high
+// and deep, and each level keeps its residents and its guests as arrays of
+// (row key, body) sorted by key and, within a row, by centre x. A body then
+// meets only the bodies of the 3x3 rows around its own that it can reach
+// (each body records which neighbouring rows its sphere reaches), within a
+// window along x of its radius plus the largest radius there; rows are found
+// by cursors that only move forward while rows are visited in order, and a
+// window is tested four spheres at a time. No hashing, no pointer chasing,
+// and the parallel pair search only reads. Motion updates the arrays
+// incrementally: bodies whose row did not change keep their entries (moves
+// along x never re-key), the rest are re-keyed and merged back in one linear
+// pass, and an insertion sort restores the x order within rows.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -38,7 +45,7 @@ struct GridLimits {
 };
 
 struct GridUpdateStats {
-    uint64_t moved = 0;  // bodies that changed cell or membership
+    uint64_t moved = 0;  // bodies that changed row or membership
     bool rebuilt = false;
 };
 
@@ -103,7 +110,7 @@ class Grid {
                      const std::vector<uint32_t> &changed, const Sphere *spheres);
     static void gather(List &list, int exponent, const Sphere *spheres);
     CellKey key_of(uint32_t slot, int level_index) const;
-    // Pairs of the cells [begin, end) of a level's residents (or guests).
+    // Pairs of the rows [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,
                          std::vector<uint64_t> &out) const;
     void sweep_guests(const Level &lv, size_t begin, size_t end,
@@ -118,7 +125,7 @@ class Grid {
     // Per slot, as of the last update.
     std::vector<int16_t> level_;      // index into levels_, kNone or kOversize
     std::vector<uint32_t> gen_;       // live generation seen
-    std::vector<int64_t> cell_;       // 3 per slot: cell at its own level
+    std::vector<int64_t> cell_;       // 2 per slot: row (y, z) at its own level
     bool built_ = false;
 };
 

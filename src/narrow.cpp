@@ -455,9 +455,11 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define HGCD_TET_CLONES __attribute__((target_clones("avx", "default")))
 #define HGCD_TET_INLINE inline __attribute__((always_inline))
+#define HGCD_TET_AVX2 1
 #else
 #define HGCD_TET_CLONES
 #define HGCD_TET_INLINE inline
+#define HGCD_TET_AVX2 0
 #endif
 
 // Two doubles per vector (SSE2 or NEON registers as they are; the lanes do
@@ -716,10 +718,12 @@ __attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact(const TetW
     return Contact::None;
 }
 
-HGCD_TET_CLONES Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
+// The pair test over a set of kernels K (world, planes, sides_separate).
+template <class K>
+HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
     TetWorld ta, tb;
-    tet_world(a, ta);
-    tet_world(b, tb);
+    K::world(a, ta);
+    K::world(b, tb);
     // Exact prefilter: the solids lie inside these boxes.
     if (ta.hi[0] < tb.lo[0] || tb.hi[0] < ta.lo[0] || ta.hi[1] < tb.lo[1] || tb.hi[1] < ta.lo[1] ||
         ta.hi[2] < tb.lo[2] || tb.hi[2] < ta.lo[2])
@@ -737,23 +741,158 @@ HGCD_TET_CLONES Contact collide_tetra(const BodyPose &a, const BodyPose &b, Narr
         std::swap(u, v);
     TetPlanes pu, pv;
     TetSides suv, svu;  // v's vertices against u's faces, and u's against v's
-    tet_planes(*u, ex, ey, ez, pu);
-    if (tet_sides_separate(*u, pu, *v, suv)) return Contact::None;
-    tet_planes(*v, ex, ey, ez, pv);
-    if (tet_sides_separate(*v, pv, *u, svu)) return Contact::None;
+    K::planes(*u, ex, ey, ez, pu);
+    if (K::sides_separate(*u, pu, *v, suv)) return Contact::None;
+    K::planes(*v, ex, ey, ez, pv);
+    if (K::sides_separate(*v, pv, *u, svu)) return Contact::None;
     const int vu = tet_verdict(suv), vv = tet_verdict(svu);
     if (vu == 2 || vv == 2) return Contact::Surface;
     if (vu == 1 || vv == 1) return Contact::Containment;
     return collide_tetra_exact(*u, *v, suv, svu, scratch);
 }
 
+struct KernelsV2 {
+    static HGCD_TET_INLINE void world(const BodyPose &b, TetWorld &w) { tet_world(b, w); }
+    static HGCD_TET_INLINE void planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
+        tet_planes(w, ex, ey, ez, p);
+    }
+    static HGCD_TET_INLINE bool sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o,
+                                               TetSides &s) {
+        return tet_sides_separate(w, p, o, s);
+    }
+};
+
+HGCD_TET_CLONES Contact collide_tetra_v2(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
+    return collide_tetra_with<KernelsV2>(a, b, scratch);
+}
+
+#if HGCD_TET_AVX2
+// The same kernels four lanes wide for CPUs with AVX2 (vpermpd for the face
+// shuffles), picked at run time. Each lane does the operations of the V2
+// kernels in the same order, without FMA: the same bits, the same signs. The
+// kernels have no target of their own: they are only ever expanded inside
+// collide_tetra_avx2, whose target allows the AVX builtins.
+typedef double V4 __attribute__((vector_size(32)));
+typedef int64_t M4 __attribute__((vector_size(32)));
+
+struct KernelsV4 {
+    static HGCD_TET_INLINE void load(V4 &v, const void *p) { std::memcpy(&v, p, sizeof v); }
+    static HGCD_TET_INLINE void store(void *p, const V4 &v) { std::memcpy(p, &v, sizeof v); }
+    static HGCD_TET_INLINE unsigned less(const V4 &a, const V4 &b) {  // bit i: a[i] < b[i]
+        const M4 m = a < b;
+        V2 lo, hi;
+        std::memcpy(&lo, &m, sizeof lo);
+        std::memcpy(&hi, reinterpret_cast<const char *>(&m) + sizeof lo, sizeof hi);
+        return unsigned(_mm_movemask_pd(lo) | _mm_movemask_pd(hi) << 2);
+    }
+    static HGCD_TET_INLINE void world(const BodyPose &b, TetWorld &w) {
+        const Rotation r = rotation_of(b.orientation);
+        const double s = b.scale, *c = b.position, *l = b.mesh->tetra_local;
+        V4 mx, my, mz;
+        load(mx, l);
+        load(my, l + 4);
+        load(mz, l + 8);
+        const V4 lx = s * mx, ly = s * my, lz = s * mz;
+        store(w.x, c[0] + ((r.m[0] * lx + r.m[1] * ly) + r.m[2] * lz));
+        store(w.y, c[1] + ((r.m[3] * lx + r.m[4] * ly) + r.m[5] * lz));
+        store(w.z, c[2] + ((r.m[6] * lx + r.m[7] * ly) + r.m[8] * lz));
+        w.lo[0] = hmin(w.x[0], w.x[1]);
+        w.lo[1] = hmin(w.y[0], w.y[1]);
+        w.lo[2] = hmin(w.z[0], w.z[1]);
+        w.hi[0] = hmax(w.x[0], w.x[1]);
+        w.hi[1] = hmax(w.y[0], w.y[1]);
+        w.hi[2] = hmax(w.z[0], w.z[1]);
+    }
+    static HGCD_TET_INLINE void planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
+        V4 x, y, z;
+        load(x, w.x);
+        load(y, w.y);
+        load(z, w.z);
+        // Faces 0..3 = (1 2 3), (0 3 2), (0 1 3), (0 2 1), one per lane.
+        const V4 t0x = __builtin_shufflevector(x, x, 1, 0, 0, 0), t0y = __builtin_shufflevector(y, y, 1, 0, 0, 0),
+                 t0z = __builtin_shufflevector(z, z, 1, 0, 0, 0);
+        const V4 e1x = __builtin_shufflevector(x, x, 2, 3, 1, 2) - t0x,
+                 e1y = __builtin_shufflevector(y, y, 2, 3, 1, 2) - t0y,
+                 e1z = __builtin_shufflevector(z, z, 2, 3, 1, 2) - t0z;
+        const V4 e2x = __builtin_shufflevector(x, x, 3, 2, 3, 1) - t0x,
+                 e2y = __builtin_shufflevector(y, y, 3, 2, 3, 1) - t0y,
+                 e2z = __builtin_shufflevector(z, z, 3, 2, 3, 1) - t0z;
+        const V4 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, f = e1y * e2x;
+        store(p.t0x, t0x);
+        store(p.t0y, t0y);
+        store(p.t0z, t0z);
+        store(p.nx, a - b);
+        store(p.ny, c - d);
+        store(p.nz, e - f);
+        const M4 m = M4{} + INT64_MAX;  // clears the sign bit
+        const V4 anx = (V4)((M4)a & m) + (V4)((M4)b & m), any = (V4)((M4)c & m) + (V4)((M4)d & m),
+                 anz = (V4)((M4)e & m) + (V4)((M4)f & m);
+        store(p.bound, 0x1p-50 * ((ex * anx + ey * any) + ez * anz) + 0x1p-960);
+    }
+    template <int F>
+    static HGCD_TET_INLINE void face(const TetPlanes &p, const V4 &x, const V4 &y, const V4 &z, TetSides &s) {
+        constexpr int h = F / 2, l = F % 2;
+        const V4 tx = V4{} + p.t0x[h][l], ty = V4{} + p.t0y[h][l], tz = V4{} + p.t0z[h][l];
+        const V4 nx = V4{} + p.nx[h][l], ny = V4{} + p.ny[h][l], nz = V4{} + p.nz[h][l];
+        const V4 bound = V4{} + p.bound[h][l], minus = V4{} - p.bound[h][l];
+        const V4 d = ((x - tx) * nx + (y - ty) * ny) + (z - tz) * nz;  // -orient3d
+        s.pos[F] = less(d, minus);
+        s.neg[F] = less(bound, d);
+    }
+    static HGCD_TET_INLINE bool sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o,
+                                               TetSides &s) {
+        V4 x, y, z, tx, ty, tz, nx, ny, nz, bound;
+        load(x, w.x);
+        load(y, w.y);
+        load(z, w.z);
+        load(tx, p.t0x);
+        load(ty, p.t0y);
+        load(tz, p.t0z);
+        load(nx, p.nx);
+        load(ny, p.ny);
+        load(nz, p.nz);
+        load(bound, p.bound);
+        // Face f at its own vertex f: the tetrahedron's sign (tet_inner_sign).
+        const V4 d = ((x - tx) * nx + (y - ty) * ny) + (z - tz) * nz;
+        s.inner = less(d, -bound) ? 1 : less(bound, d) ? -1 : tet_inner_sign(w, p);
+        load(x, o.x);
+        load(y, o.y);
+        load(z, o.z);
+        face<0>(p, x, y, z, s);
+        if (tet_face_separates(s, 0)) return true;
+        face<1>(p, x, y, z, s);
+        if (tet_face_separates(s, 1)) return true;
+        face<2>(p, x, y, z, s);
+        if (tet_face_separates(s, 2)) return true;
+        face<3>(p, x, y, z, s);
+        return tet_face_separates(s, 3);
+    }
+};
+
+__attribute__((target("avx2"))) Contact collide_tetra_avx2(const BodyPose &a, const BodyPose &b,
+                                                           NarrowScratch &scratch) {
+    return collide_tetra_with<KernelsV4>(a, b, scratch);
+}
+#endif
+
+Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
+#if HGCD_TET_AVX2
+    static const bool avx2 = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0;
+    }();
+    if (avx2) return collide_tetra_avx2(a, b, scratch);
+#endif
+    return collide_tetra_v2(a, b, scratch);
+}
+
 }  // namespace
 
-Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
-    // (A tetrahedron has no tree; a witness asks for the general path's
-    // triangle order.)
-    if (a.mesh->tetra && b.mesh->tetra && !witness) return collide_tetra(a, b, s);
-    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
+namespace {
+
+// The direct path for small meshes other than tetrahedron pairs.
+__attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
+                                                 Witness *witness) {
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);
@@ -809,6 +948,16 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness 
         return Contact::Containment;
     }
     return Contact::None;
+}
+
+}  // namespace
+
+Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
+    // (A tetrahedron has no tree; a witness asks for the general path's
+    // triangle order.)
+    if (a.mesh->tetra && b.mesh->tetra && !witness) return collide_tetra(a, b, s);
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
+    return collide_direct(a, b, s, witness);
 }
 
 }  // namespace hgcd

@@ -109,37 +109,58 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                              const uint32_t *live_gen, uint32_t slot_count,
                              const GridLimits &limits, int threads) {
     GridUpdateStats stats;
-    // Level exponent per slot; INT_MIN: empty slot, INT_MAX: oversize.
+    // Level exponent per slot; INT_MIN: empty slot, INT_MAX: oversize. With
+    // it, per thread, the exponents in use with their body counts (levels
+    // are few; a body's exponent is almost always the one before) and the
+    // oversize slots, ascending (static schedule: thread t has the t-th
+    // range of slots).
     std::vector<int> exponent(slot_count);
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-        if (!live_gen[s]) {
-            exponent[s] = INT_MIN;
-            continue;
+    std::vector<std::vector<std::pair<int, uint64_t>>> census_local(threads);
+    std::vector<std::vector<uint32_t>> oversize_local(threads);
+    {
+        RegionGuard guard;
+#pragma omp parallel num_threads(threads)
+        {
+            auto &census_mine = census_local[omp_get_thread_num()];
+            auto &oversize_mine = oversize_local[omp_get_thread_num()];
+            size_t last = 0;
+#pragma omp for schedule(static)
+            for (int64_t s = 0; s < int64_t(slot_count); ++s) {
+                if (!live_gen[s]) {
+                    exponent[s] = INT_MIN;
+                    continue;
+                }
+                int e = std::max(ceil_log2(2 * r_level[s]), limits.min_exponent);
+                // The sphere test radius carries a position-dependent rounding margin;
+                // a body whose test sphere no longer fits its cell width is oversize.
+                if (e > limits.max_exponent ||
+                    2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)))
+                    e = INT_MAX;
+                exponent[s] = e;
+                if (e == INT_MAX) {
+                    guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
+                    continue;
+                }
+                if (last < census_mine.size() && census_mine[last].first == e) {
+                    ++census_mine[last].second;
+                    continue;
+                }
+                last = 0;
+                while (last < census_mine.size() && census_mine[last].first != e) ++last;
+                if (last == census_mine.size()) guard.run([&] { census_mine.push_back({e, 0}); });
+                if (last < census_mine.size()) ++census_mine[last].second;
+            }
         }
-        int e = std::max(ceil_log2(2 * r_level[s]), limits.min_exponent);
-        // The sphere test radius carries a position-dependent rounding margin;
-        // a body whose test sphere no longer fits its cell width is oversize.
-        if (e > limits.max_exponent || 2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)))
-            e = INT_MAX;
-        exponent[s] = e;
+        guard.rethrow();
     }
-    // The exponents in use, ascending, with their body counts. Levels are
-    // few; a body's exponent is almost always the one before, or one seen.
     std::vector<std::pair<int, uint64_t>> census;
-    size_t last = 0;
-    for (uint32_t s = 0; s < slot_count; ++s) {
-        const int e = exponent[s];
-        if (e == INT_MIN || e == INT_MAX) continue;
-        if (last < census.size() && census[last].first == e) {
-            ++census[last].second;
-            continue;
+    for (const auto &local : census_local)
+        for (const auto &c : local) {
+            size_t k = 0;
+            while (k < census.size() && census[k].first != c.first) ++k;
+            if (k == census.size()) census.push_back({c.first, 0});
+            census[k].second += c.second;
         }
-        last = 0;
-        while (last < census.size() && census[last].first != e) ++last;
-        if (last == census.size()) census.push_back({e, 0});
-        ++census[last].second;
-    }
     std::sort(census.begin(), census.end());
     std::vector<int> present(census.size());
     // A level whose bodies are very few beside the bodies of the finer levels
@@ -272,8 +293,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         guard.rethrow();
     }
     oversize_.clear();
-    for (uint32_t s = 0; s < slot_count; ++s)
-        if (level_[s] == kOversize) oversize_.push_back(s);
+    for (const auto &local : oversize_local) oversize_.insert(oversize_.end(), local.begin(), local.end());
     built_ = true;
     return stats;
 }

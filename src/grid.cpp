@@ -9,6 +9,10 @@
 
 #include "parallel.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace hgcd {
 
 namespace {
@@ -491,8 +495,31 @@ inline CellKey row_step(int dz, int dy) {
     return (CellKey(int64_t(dz)) << kAxisBits) + CellKey(int64_t(dy));
 }
 
-// Two doubles and their comparison masks, as vector extensions: SSE2 on
-// x86-64, NEON on arm64, wider where the compiler may.
+// One sphere against kBlock = 4 consecutive spheres of a row (arrays x, y,
+// z, r): bit k of the result is set when sphere k lies in the window
+// [left, right] along x and overlaps, by the same operations in the same
+// order as overlap(). SSE2 on x86-64 (two lanes twice), vector extensions
+// elsewhere (NEON on arm64).
+#if defined(__SSE2__)
+struct Lanes {
+    __m128d ax, ay, az, ar, left, right;
+    Lanes(double x, double y, double z, double r, double l, double h)
+        : ax(_mm_set1_pd(x)), ay(_mm_set1_pd(y)), az(_mm_set1_pd(z)), ar(_mm_set1_pd(r)),
+          left(_mm_set1_pd(l)), right(_mm_set1_pd(h)) {}
+    unsigned two(const double *x, const double *y, const double *z, const double *r) const {
+        const __m128d bx = _mm_loadu_pd(x);
+        const __m128d dx = _mm_sub_pd(ax, bx), dy = _mm_sub_pd(ay, _mm_loadu_pd(y)),
+                      dz = _mm_sub_pd(az, _mm_loadu_pd(z)), rs = _mm_add_pd(ar, _mm_loadu_pd(r));
+        const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+        const __m128d in = _mm_and_pd(_mm_and_pd(_mm_cmpge_pd(bx, left), _mm_cmple_pd(bx, right)),
+                                      _mm_cmple_pd(d2, _mm_mul_pd(rs, rs)));
+        return unsigned(_mm_movemask_pd(in));
+    }
+    unsigned test(const double *x, const double *y, const double *z, const double *r) const {
+        return two(x, y, z, r) | two(x + 2, y + 2, z + 2, r + 2) << 2;
+    }
+};
+#else
 typedef double V2 __attribute__((vector_size(16)));
 typedef int64_t M2 __attribute__((vector_size(16)));
 inline V2 load2(const double *p) {
@@ -500,6 +527,22 @@ inline V2 load2(const double *p) {
     std::memcpy(&v, p, sizeof v);
     return v;
 }
+struct Lanes {
+    double ax, ay, az, ar, left, right;
+    Lanes(double x, double y, double z, double r, double l, double h)
+        : ax(x), ay(y), az(z), ar(r), left(l), right(h) {}
+    unsigned test(const double *x, const double *y, const double *z, const double *r) const {
+        unsigned hits = 0;
+        for (int h = 0; h < kBlock; h += 2) {
+            const V2 bx = load2(x + h), dx = ax - bx, dy = ay - load2(y + h), dz = az - load2(z + h),
+                     rs = ar + load2(r + h);
+            const M2 in = (bx >= left) & (bx <= right) & (dx * dx + dy * dy + dz * dz <= rs * rs);
+            hits |= unsigned((in[0] & 1) | (in[1] & 2)) << h;
+        }
+        return hits;
+    }
+};
+#endif
 
 // How far along x a sphere of radius r can reach a sphere of radius at most
 // rmax. A pair the window leaves out has |xa - xb| > (ra + rb)(1 + 1e-9), which
@@ -529,15 +572,9 @@ inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const uint
         if (lo == je) break;
         const double ay = A.y[i], az = A.z[i], ar = A.r[i];
         const double w = reach(ar, rmax_b), left = ax - w, right = ax + w;
+        const Lanes lanes(ax, ay, az, ar, left, right);
         for (size_t j = lo; j < je; j += kBlock) {
-            unsigned hits = 0;
-            for (int h = 0; h < kBlock; h += 2) {
-                const V2 bx = load2(BX + j + h), by = load2(BY + j + h), bz = load2(BZ + j + h),
-                         br = load2(BR + j + h);
-                const V2 dx = ax - bx, dy = ay - by, dz = az - bz, rs = ar + br;
-                const M2 in = (bx >= left) & (bx <= right) & (dx * dx + dy * dy + dz * dz <= rs * rs);
-                hits |= unsigned((in[0] & 1) | (in[1] & 2)) << h;
-            }
+            unsigned hits = lanes.test(BX + j, BY + j, BZ + j, BR + j);
             if (j + kBlock > je) hits &= (1u << (je - j)) - 1;
             while (hits) {
                 const size_t k = j + size_t(__builtin_ctz(hits));

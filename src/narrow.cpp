@@ -778,6 +778,7 @@ typedef int64_t M4 __attribute__((vector_size(32)));
 struct KernelsV4 {
     static HGCD_TET_INLINE void load(V4 &v, const void *p) { std::memcpy(&v, p, sizeof v); }
     static HGCD_TET_INLINE void store(void *p, const V4 &v) { std::memcpy(p, &v, sizeof v); }
+#define HGCD_SPLAT4(v) (V4{(v), (v), (v), (v)})
     static HGCD_TET_INLINE unsigned less(const V4 &a, const V4 &b) {  // bit i: a[i] < b[i]
         const M4 m = a < b;
         V2 lo, hi;
@@ -832,9 +833,9 @@ struct KernelsV4 {
     template <int F>
     static HGCD_TET_INLINE void face(const TetPlanes &p, const V4 &x, const V4 &y, const V4 &z, TetSides &s) {
         constexpr int h = F / 2, l = F % 2;
-        const V4 tx = V4{} + p.t0x[h][l], ty = V4{} + p.t0y[h][l], tz = V4{} + p.t0z[h][l];
-        const V4 nx = V4{} + p.nx[h][l], ny = V4{} + p.ny[h][l], nz = V4{} + p.nz[h][l];
-        const V4 bound = V4{} + p.bound[h][l], minus = V4{} - p.bound[h][l];
+        const V4 tx = HGCD_SPLAT4(p.t0x[h][l]), ty = HGCD_SPLAT4(p.t0y[h][l]), tz = HGCD_SPLAT4(p.t0z[h][l]);
+        const V4 nx = HGCD_SPLAT4(p.nx[h][l]), ny = HGCD_SPLAT4(p.ny[h][l]), nz = HGCD_SPLAT4(p.nz[h][l]);
+        const V4 bound = HGCD_SPLAT4(p.bound[h][l]), minus = -bound;
         const V4 d = ((x - tx) * nx + (y - ty) * ny) + (z - tz) * nz;  // -orient3d
         s.pos[F] = less(d, minus);
         s.neg[F] = less(bound, d);
@@ -868,6 +869,8 @@ struct KernelsV4 {
         return tet_face_separates(s, 3);
     }
 };
+
+#undef HGCD_SPLAT4
 
 __attribute__((target("avx2"))) Contact collide_tetra_avx2(const BodyPose &a, const BodyPose &b,
                                                            NarrowScratch &scratch) {

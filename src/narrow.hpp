@@ -55,11 +55,14 @@ struct NarrowScratch {
 };
 
 // Exact: true when the closed solids of a and b share a point (surfaces meet,
-// or one closed mesh holds a component of the other). Pairs of small meshes
-// (no tree) take the direct path: all world vertices, exact boxes, triangle
-// pairs. If either mesh has a tree, a simultaneous traversal of the two trees
-// (a mesh without one is a single leaf) reaches the same exact triangle test;
-// exact_tests then counts pairs whose conservative root boxes overlap.
+// or one closed mesh holds a component of the other). Pairs of tetrahedra
+// (Mesh::tetra) without a witness request take the tetra path (face-plane
+// signs of both point sets, narrow.cpp); other pairs of small meshes (no
+// tree) the direct path: all world vertices, exact boxes, triangle pairs;
+// both count exact_tests as pairs whose exact boxes overlap. If either mesh
+// has a tree, a simultaneous traversal of the two trees (a mesh without one
+// is a single leaf) reaches the same exact triangle test; exact_tests then
+// counts pairs whose conservative root boxes overlap.
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
                 Witness *witness = nullptr);
 

@@ -28,6 +28,7 @@ constexpr int kAxisBits = 42;
 constexpr uint64_t kAxisMask = (uint64_t(1) << kAxisBits) - 1;
 constexpr size_t kChunk = 1024;
 constexpr int kBlock = 4;  // spheres per step of a sweep's window
+constexpr size_t kPad = 16;  // readable entries past the end of a list's sphere arrays
 // Rows are 2^kRowShift cells high and deep.
 constexpr int kRowShift = 1;
 // Grid::List::reach bits: the neighbouring rows a sphere can reach.
@@ -364,14 +365,14 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 
 void Grid::gather(List &list, int exponent, const Sphere *spheres) {
     const size_t m = list.entries.size();
-    // Padded so that the sweep's blocks of kBlock may read past the end.
-    list.sx.resize(m + kBlock);
-    list.sy.resize(m + kBlock);
-    list.sz.resize(m + kBlock);
-    list.sr.resize(m + kBlock);
+    // Padded so that the sweep may read past the end.
+    list.sx.resize(m + kPad);
+    list.sy.resize(m + kPad);
+    list.sz.resize(m + kPad);
+    list.sr.resize(m + kPad);
     Entry *E = list.entries.data();
     double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
-    for (size_t k = m; k < m + kBlock; ++k) X[k] = Y[k] = Z[k] = R[k] = 0;
+    for (size_t k = m; k < m + kPad; ++k) X[k] = Y[k] = Z[k] = R[k] = 0;
     double rmax = 0;
     for (size_t k = 0; k < m; ++k) {
         // The next bodies' spheres are random reads: ask for them early.
@@ -551,38 +552,65 @@ struct Lanes {
 // 1e-150 covers squares that underflow to zero.
 inline double reach(double r, double rmax) { return (r + rmax) * (1 + 1e-9) + 1e-150; }
 
-// Every overlapping pair of an entry of row A [ib, ie) with an entry of row
-// B [jb, je), both sorted by centre x: a sweep whose window's left end only
-// moves forward (it trails by the largest reach of A), trimmed per sphere.
-// The window is tested kBlock spheres at a time with vector arithmetic
-// (elementwise, the same operations in the same order as overlap(), so the
-// same answers), the lanes outside the window or the row masked off:
-// branches on each sphere pair were mispredicted too often.
+// Every overlapping pair of an entry of row A [ib, ie) with an entry of the
+// rows B[r] = [jb[r], je[r]) (r < rows), all sorted by centre x. Each sphere
+// of A visits only the rows its reach bits allow (need[r] are the bits row r
+// needs) and that still have candidates; in each, a window whose left end
+// only moves forward (it trails by the largest reach of A) is tested kBlock
+// spheres at a time. Visiting A's spheres in the outer loop, each with its
+// rows, costs one loop exit per sphere where one test per (sphere, row) pair
+// went either way.
 template <class EntryT>
-inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const uint8_t *FA, uint8_t need,
-                       size_t ib, size_t ie, double rmax_a, const Grid::SphereArrays &B, const EntryT *EB,
-                       size_t jb, size_t je, double rmax_b, std::vector<uint64_t> &out) {
+inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const uint8_t *FA, size_t ib,
+                       size_t ie, double rmax_a, const Grid::SphereArrays &B, const EntryT *EB,
+                       const size_t *jb, const size_t *je, const uint8_t *need, int rows, double rmax_b,
+                       std::vector<uint64_t> &out) {
     const double widest = reach(rmax_a, rmax_b);
     const double *BX = B.x, *BY = B.y, *BZ = B.z, *BR = B.r;
-    size_t lo = jb;
-    for (size_t i = ib; i < ie; ++i) {
-        if ((FA[i] & need) != need) continue;  // row B is beyond this sphere's reach
-        const double ax = A.x[i];
-        while (lo < je && BX[lo] < ax - widest) ++lo;
-        if (lo == je) break;
-        const double ay = A.y[i], az = A.z[i], ar = A.r[i];
-        const double w = reach(ar, rmax_b), left = ax - w, right = ax + w;
-        const Lanes lanes(ax, ay, az, ar, left, right);
-        for (size_t j = lo; j < je; j += kBlock) {
-            unsigned hits = lanes.test(BX + j, BY + j, BZ + j, BR + j);
-            if (j + kBlock > je) hits &= (1u << (je - j)) - 1;
-            while (hits) {
-                const size_t k = j + size_t(__builtin_ctz(hits));
-                hits &= hits - 1;
-                out.push_back(pair_key(EA[i].slot, EB[k].slot));
+    unsigned allowed[16];  // rows a sphere with these reach bits may meet
+    for (unsigned f = 0; f < 16; ++f) {
+        allowed[f] = 0;
+        for (int r = 0; r < rows; ++r) allowed[f] |= unsigned((f & need[r]) == need[r]) << r;
+    }
+    size_t lo[9];
+    unsigned live = 0;  // rows with candidates left
+    for (int r = 0; r < rows; ++r) {
+        lo[r] = jb[r];
+        live |= unsigned(jb[r] < je[r]) << r;
+    }
+    for (size_t i = ib; i < ie && live; ++i) {
+        unsigned mask = allowed[FA[i]] & live;
+        if (!mask) continue;
+        const double ax = A.x[i], floor = ax - widest;
+        const double w = reach(A.r[i], rmax_b), left = ax - w, right = ax + w;
+        const Lanes lanes(ax, A.y[i], A.z[i], A.r[i], left, right);
+        do {
+            const int r = __builtin_ctz(mask);
+            mask &= mask - 1;
+            size_t j = lo[r];
+            const size_t e = je[r];
+            // Usually fewer than 4 steps: found by halving without branches
+            // to mispredict (BX is padded by kPad, so reads past e are safe
+            // and their answers masked).
+            for (size_t step = 2; step >= 1; step /= 2)
+                j += step * size_t((j + step <= e) & (BX[j + step - 1] < floor));
+            while (j < e && BX[j] < floor) ++j;
+            lo[r] = j;
+            if (j == e) {
+                live &= ~(1u << r);
+                continue;
             }
-            if (!(BX[std::min(j + kBlock, je) - 1] <= right)) break;  // the window ends in this block
-        }
+            for (; j < e; j += kBlock) {
+                unsigned hits = lanes.test(BX + j, BY + j, BZ + j, BR + j);
+                if (j + kBlock > e) hits &= (1u << (e - j)) - 1;
+                while (hits) {
+                    const size_t k = j + size_t(__builtin_ctz(hits));
+                    hits &= hits - 1;
+                    out.push_back(pair_key(EA[i].slot, EB[k].slot));
+                }
+                if (!(BX[std::min(j + kBlock, e) - 1] <= right)) break;  // the window ends in this block
+            }
+        } while (mask);
     }
 }
 
@@ -603,6 +631,8 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     const double rmax = R.max_radius;
     static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
     const uint8_t *F = R.reach.data();
+    uint8_t need[4];
+    for (int r = 0; r < 4; ++r) need[r] = reach_needed(later[r][0], later[r][1]);
     CellKey off[4];
     size_t cur[4];
     for (int r = 0; r < 4; ++r) {
@@ -617,13 +647,15 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
             for (size_t j = i + 1; j < e && S.x[j] <= right; ++j)
                 if (overlap(a, S.at(j))) out.push_back(pair_key(E[i].slot, E[j].slot));
         }
+        size_t jb[4], je[4];
         for (int r = 0; r < 4; ++r) {
             const CellKey target = rows[row] + off[r];
             const size_t k = cur[r] = advance(rows, cur[r], target);
-            if (k < rows.size() && rows[k] == target)
-                sweep_rows(S, E, F, reach_needed(later[r][0], later[r][1]), b, e, rmax, S, E, start[k],
-                           start[k + 1], rmax, out);
+            const bool found = k < rows.size() && rows[k] == target;
+            jb[r] = found ? start[k] : 0;
+            je[r] = found ? start[k + 1] : 0;
         }
+        sweep_rows(S, E, F, b, e, rmax, S, E, jb, je, need, 4, rmax, out);
     }
 }
 
@@ -640,15 +672,19 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
         off[r] = row_step(r / 3 - 1, r % 3 - 1);
         cur[r] = first_row(rows, grows[begin] + off[r]);
     }
+    uint8_t need[9];
+    for (int r = 0; r < 9; ++r) need[r] = reach_needed(r / 3 - 1, r % 3 - 1);
     for (size_t row = begin; row < end; ++row) {
+        size_t jb[9], je[9];
         for (int r = 0; r < 9; ++r) {
             const CellKey target = grows[row] + off[r];
             const size_t k = cur[r] = advance(rows, cur[r], target);
-            if (k < rows.size() && rows[k] == target)
-                sweep_rows(G.arrays(), G.entries.data(), G.reach.data(), reach_needed(r / 3 - 1, r % 3 - 1),
-                           gstart[row], gstart[row + 1], G.max_radius, R.arrays(), R.entries.data(),
-                           start[k], start[k + 1], R.max_radius, out);
+            const bool found = k < rows.size() && rows[k] == target;
+            jb[r] = found ? start[k] : 0;
+            je[r] = found ? start[k + 1] : 0;
         }
+        sweep_rows(G.arrays(), G.entries.data(), G.reach.data(), gstart[row], gstart[row + 1], G.max_radius,
+                   R.arrays(), R.entries.data(), jb, je, need, 9, R.max_radius, out);
     }
 }
 

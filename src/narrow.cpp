@@ -610,23 +610,27 @@ HGCD_TET_INLINE int tet_inner_sign(const TetWorld &w, const TetPlanes &p) {
 
 // Face f has every vertex of the other body certainly strictly on its outer
 // side (on either side when the tetrahedron is flat: it lies in the plane).
-inline bool tet_face_separates(const TetSides &s, int f) {
-    const bool pos = s.pos[f] == 0xF, neg = s.neg[f] == 0xF;
-    return s.inner > 0 ? neg : s.inner < 0 ? pos : pos || neg;
-}
+// The outer sets: all four vertices (0xF), or 0x10, which no set equals.
+struct TetOuter {
+    unsigned pos, neg;
+    explicit TetOuter(int inner) : pos(inner <= 0 ? 0xFu : 0x10u), neg(inner >= 0 ? 0xFu : 0x10u) {}
+    bool separates(const TetSides &s, int f) const { return (s.pos[f] == pos) | (s.neg[f] == neg); }
+};
+inline bool tet_face_separates(const TetSides &s, int f) { return TetOuter(s.inner).separates(s, f); }
 
 // Signs of the other body's vertices against the faces of w; true (and the
 // signs left incomplete) as soon as a face separates the bodies.
 HGCD_TET_INLINE bool tet_sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o, TetSides &s) {
     s.inner = tet_inner_sign(w, p);
+    const TetOuter outer(s.inner);
     tet_face<0>(p, o, s);
-    if (tet_face_separates(s, 0)) return true;
+    if (outer.separates(s, 0)) return true;
     tet_face<1>(p, o, s);
-    if (tet_face_separates(s, 1)) return true;
+    if (outer.separates(s, 1)) return true;
     tet_face<2>(p, o, s);
-    if (tet_face_separates(s, 2)) return true;
+    if (outer.separates(s, 2)) return true;
     tet_face<3>(p, o, s);
-    return tet_face_separates(s, 3);
+    return outer.separates(s, 3);
 }
 
 inline bool tet_separated(const TetSides &s) {
@@ -859,14 +863,15 @@ struct KernelsV4 {
         load(x, o.x);
         load(y, o.y);
         load(z, o.z);
+        const TetOuter outer(s.inner);
         face<0>(p, x, y, z, s);
-        if (tet_face_separates(s, 0)) return true;
+        if (outer.separates(s, 0)) return true;
         face<1>(p, x, y, z, s);
-        if (tet_face_separates(s, 1)) return true;
+        if (outer.separates(s, 1)) return true;
         face<2>(p, x, y, z, s);
-        if (tet_face_separates(s, 2)) return true;
+        if (outer.separates(s, 2)) return true;
         face<3>(p, x, y, z, s);
-        return tet_face_separates(s, 3);
+        return outer.separates(s, 3);
     }
 };
 

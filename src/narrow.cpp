@@ -449,9 +449,11 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
 // there is no contact (a solid holding the other's surface would hold all its
 // vertices strictly inside, which the exact decisions catch).
 
-// On x86-64 the pair test is also compiled for AVX and picked at run time:
-// the same two-lane operations with VEX encoding (no register copies for
-// SSE2's two-operand forms), no FMA, so the same bits.
+// With GCC on x86-64 the two-lane pair test is also compiled for AVX
+// (target_clones: the same operations VEX-encoded, without SSE2's register
+// copies) and a four-lane version for AVX2 (KernelsV4), picked at run time;
+// neither uses FMA, so every lane has the same bits. Clang and other targets
+// (NEON) use the two-lane kernels as written.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define HGCD_TET_CLONES __attribute__((target_clones("avx", "default")))
 #define HGCD_TET_INLINE inline __attribute__((always_inline))

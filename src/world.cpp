@@ -434,7 +434,11 @@ hgcd_status World::detect() {
             grid_.update(sphere_.data(), r_level_.data(), live_gen_.data(), slots, limits_, T);
         const double t1 = omp_get_wtime();
 
-        std::vector<std::vector<uint64_t>> found(T);
+        // Kept across detects: a tick's candidates need not grow fresh
+        // buffers (and fault in fresh pages) every time.
+        std::vector<std::vector<uint64_t>> &found = candidates_;
+        found.resize(size_t(T));
+        for (auto &f : found) f.clear();
         grid_.find_pairs(sphere_.data(), T, found);
         // Narrow phase straight over every thread's candidate list, in
         // chunks scheduled dynamically (pairs cost very different amounts).
@@ -647,6 +651,7 @@ hgcd_status World::step() {
 
 size_t World::memory_bytes() const {
     size_t bytes = grid_.memory_bytes() + pairs_.capacity() * sizeof(hgcd_pair);
+    for (const auto &c : candidates_) bytes += c.capacity() * sizeof(uint64_t);
     bytes += contacts_.capacity() * sizeof(hgcd_contact);
     bytes += place_.capacity() * sizeof(Placement);
     bytes += (velocity_.capacity() + r_level_.capacity()) * sizeof(double);

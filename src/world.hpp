@@ -102,6 +102,7 @@ class World {
     uint32_t live_bodies_ = 0;
 
     Grid grid_;
+    std::vector<std::vector<uint64_t>> candidates_;  // per thread, one detect's candidate pairs
     std::vector<hgcd_pair> pairs_;
     std::vector<hgcd_contact> contacts_;  // parallel to pairs_ when contacts_recorded_
     hgcd_stats stats_{};

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 #if defined(__SSE2__)
-#include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 #include "bvh.hpp"
@@ -781,16 +781,19 @@ HGCD_TET_CLONES Contact collide_tetra_v2(const BodyPose &a, const BodyPose &b, N
 typedef double V4 __attribute__((vector_size(32)));
 typedef int64_t M4 __attribute__((vector_size(32)));
 
+#pragma GCC push_options
+#pragma GCC target("avx2")
+static inline unsigned less_avx2(const V4 &a, const V4 &b) {
+    return unsigned(_mm256_movemask_pd(_mm256_cmp_pd((__m256d)a, (__m256d)b, _CMP_LT_OQ)));
+}
+#pragma GCC pop_options
+
 struct KernelsV4 {
     static HGCD_TET_INLINE void load(V4 &v, const void *p) { std::memcpy(&v, p, sizeof v); }
     static HGCD_TET_INLINE void store(void *p, const V4 &v) { std::memcpy(p, &v, sizeof v); }
 #define HGCD_SPLAT4(v) (V4{(v), (v), (v), (v)})
     static HGCD_TET_INLINE unsigned less(const V4 &a, const V4 &b) {  // bit i: a[i] < b[i]
-        const M4 m = a < b;
-        V2 lo, hi;
-        std::memcpy(&lo, &m, sizeof lo);
-        std::memcpy(&hi, reinterpret_cast<const char *>(&m) + sizeof lo, sizeof hi);
-        return unsigned(_mm_movemask_pd(lo) | _mm_movemask_pd(hi) << 2);
+        return less_avx2(a, b);
     }
     static HGCD_TET_INLINE void world(const BodyPose &b, TetWorld &w) {
         const Rotation r = rotation_of(b.orientation);

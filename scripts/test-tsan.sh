@@ -108,7 +108,7 @@ if grep -qx ccd <<<"$listed"; then tests+=(ccd); fi  # when libccd is found
 ninja -C "$out" $(printf 'tests/test_%s ' "${tests[@]}") >/dev/null
 for t in "${tests[@]}"; do  # really instrumented, hgcd included
     syms=$(nm -C "$out/tests/test_$t")
-    if ! grep -q ' __tsan_func_entry$' <<<"$syms" || ! grep -q 'hgcd::World::detect' <<<"$syms"; then
+    if ! grep -q ' __tsan_func_entry$' <<<"$syms" || ! grep -qE 'hgcd::(World::detect|Grid::find_pairs)' <<<"$syms"; then
         echo "ThreadSanitizer: $out/tests/test_$t is not instrumented" >&2
         exit 1
     fi

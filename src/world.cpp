@@ -488,6 +488,8 @@ hgcd_status World::detect() {
                         const uint64_t ahead = list[k + 8];
                         __builtin_prefetch(&place_[ahead >> 32]);
                         __builtin_prefetch(&place_[uint32_t(ahead)]);
+                        __builtin_prefetch(&body_mesh_[ahead >> 32]);
+                        __builtin_prefetch(&body_mesh_[uint32_t(ahead)]);
                     }
                     const uint64_t key = list[k];
                     const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);

@@ -31,7 +31,7 @@ constexpr int kBlock = 4;  // spheres per step of a sweep's window
 constexpr size_t kPad = 16;  // readable entries past the end of a list's sphere arrays
 // Rows are 2^kRowShift cells high and deep.
 constexpr int kRowShift = 1;
-// Grid::List::reach bits: the neighbouring rows a sphere can reach.
+// Reach bits: the neighbouring rows a sphere can reach (RowReach).
 constexpr uint8_t kReachYLo = 1, kReachYHi = 2, kReachZLo = 4, kReachZHi = 8, kReachAll = 15;
 
 // The bits a sphere needs to meet the row (z + dz, y + dy).
@@ -281,7 +281,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 Level &lv = levels_[k / 2];
                 List &list = (k & 1) ? lv.guests : lv.residents;
                 if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed, spheres);
-                gather(list, lv.exponent, spheres);
+                gather(list, spheres);
             });
         }
         guard.rethrow();
@@ -293,7 +293,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         for (int64_t k = 0; k < int64_t(2 * levels_.size()); ++k)
             guard.run([&] {
                 Level &lv = levels_[k / 2];
-                gather((k & 1) ? lv.guests : lv.residents, lv.exponent, spheres);
+                gather((k & 1) ? lv.guests : lv.residents, spheres);
             });
         guard.rethrow();
     }
@@ -363,7 +363,7 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
     }
 }
 
-void Grid::gather(List &list, int exponent, const Sphere *spheres) {
+void Grid::gather(List &list, const Sphere *spheres) {
     const size_t m = list.entries.size();
     // Padded so that the sweep may read past the end.
     list.sx.resize(m + kPad);
@@ -448,33 +448,6 @@ void Grid::gather(List &list, int exponent, const Sphere *spheres) {
         }
     }
     for (size_t k = 0; k < m; ++k) E[k].x = float(X[k]);
-    // Which neighbouring rows each sphere can reach (kReach* bits): a row
-    // y - 1 needs y - r_i - r_j < y0 (the row's lower face), and every
-    // sphere it can meet here has r_j <= w / 2 (a level's residents fit its
-    // cells), so a sphere farther than r_i + w/2 from a face skips the rows
-    // beyond. Inflated as the x window is (see reach()), in cell units,
-    // where v - c is within 2^-53 of exact; a centre not truly in its row
-    // (far keys saturate) reaches every row.
-    list.reach.resize(m);
-    uint8_t *F = list.reach.data();
-    if (!(exponent > -990 && exponent < 990)) {
-        std::fill(F, F + m, kReachAll);
-        return;
-    }
-    const double inv = pow2(-exponent - kRowShift), half = 0.5 * pow2(-kRowShift);
-    for (size_t r = 0; r < rows; ++r) {
-        const CellKey key = list.row_keys[r];
-        const double cy = double(int64_t(uint64_t(key) & kAxisMask) - kCoordBias);
-        const double cz = double(int64_t(uint64_t(key >> kAxisBits) & kAxisMask) - kCoordBias);
-        for (size_t k = list.row_start[r]; k < list.row_start[r + 1]; ++k) {
-            const double fy = Y[k] * inv - cy, fz = Z[k] * inv - cz;
-            const double reach = (R[k] * inv + half) * (1 + 1e-9) + 1e-12;
-            const bool inside = (fy >= 0) & (fy < 1) & (fz >= 0) & (fz < 1) & (reach < 1);
-            const unsigned bits = (fy < reach ? kReachYLo : 0) | (1 - fy <= reach ? kReachYHi : 0) |
-                                  (fz < reach ? kReachZLo : 0) | (1 - fz <= reach ? kReachZHi : 0);
-            F[k] = uint8_t(inside ? bits : kReachAll);
-        }
-    }
 }
 
 namespace {
@@ -552,6 +525,35 @@ struct Lanes {
 // 1e-150 covers squares that underflow to zero.
 inline double reach(double r, double rmax) { return (r + rmax) * (1 + 1e-9) + 1e-150; }
 
+// Which neighbouring rows a sphere of a row can reach (kReach* bits): a row
+// y - 1 needs y - r_i - r_j < y0 (the row's lower face), and every sphere it
+// can meet at this level has r_j <= w / 2 (a level's residents fit its
+// cells), so a sphere farther than r_i + w/2 from a face skips the rows
+// beyond. Inflated as the x window is (see reach()), in row units, where
+// v - c is within 2^-53 of exact; a centre not truly in its row (far keys
+// saturate) reaches every row.
+class RowReach {
+  public:
+    RowReach(int exponent, CellKey row)
+        : on_(exponent > -990 && exponent < 990),
+          inv_(on_ ? pow2(-exponent - kRowShift) : 0),
+          half_(0.5 * pow2(-kRowShift)),
+          cy_(double(int64_t(uint64_t(row) & kAxisMask) - kCoordBias)),
+          cz_(double(int64_t(uint64_t(row >> kAxisBits) & kAxisMask) - kCoordBias)) {}
+    unsigned bits(double y, double z, double r) const {
+        const double fy = y * inv_ - cy_, fz = z * inv_ - cz_;
+        const double reach = (r * inv_ + half_) * (1 + 1e-9) + 1e-12;
+        const bool inside = on_ & (fy >= 0) & (fy < 1) & (fz >= 0) & (fz < 1) & (reach < 1);
+        const unsigned b = (fy < reach ? kReachYLo : 0) | (1 - fy <= reach ? kReachYHi : 0) |
+                           (fz < reach ? kReachZLo : 0) | (1 - fz <= reach ? kReachZHi : 0);
+        return inside ? b : kReachAll;
+    }
+
+  private:
+    bool on_;
+    double inv_, half_, cy_, cz_;
+};
+
 // Every overlapping pair of an entry of row A [ib, ie) with an entry of the
 // rows B[r] = [jb[r], je[r]) (r < rows), all sorted by centre x. Each sphere
 // of A visits only the rows its reach bits allow (need[r] are the bits row r
@@ -561,7 +563,7 @@ inline double reach(double r, double rmax) { return (r + rmax) * (1 + 1e-9) + 1e
 // rows, costs one loop exit per sphere where one test per (sphere, row) pair
 // went either way.
 template <class EntryT>
-inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const uint8_t *FA, size_t ib,
+inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const RowReach &row_reach, size_t ib,
                        size_t ie, double rmax_a, const Grid::SphereArrays &B, const EntryT *EB,
                        const size_t *jb, const size_t *je, const uint8_t *need, int rows, double rmax_b,
                        std::vector<uint64_t> &out) {
@@ -579,7 +581,7 @@ inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const uint
         live |= unsigned(jb[r] < je[r]) << r;
     }
     for (size_t i = ib; i < ie && live; ++i) {
-        unsigned mask = allowed[FA[i]] & live;
+        unsigned mask = allowed[row_reach.bits(A.y[i], A.z[i], A.r[i])] & live;
         if (!mask) continue;
         const double ax = A.x[i], floor = ax - widest;
         const double w = reach(A.r[i], rmax_b), left = ax - w, right = ax + w;
@@ -630,7 +632,6 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     const Entry *E = R.entries.data();
     const double rmax = R.max_radius;
     static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
-    const uint8_t *F = R.reach.data();
     uint8_t need[4];
     for (int r = 0; r < 4; ++r) need[r] = reach_needed(later[r][0], later[r][1]);
     CellKey off[4];
@@ -655,7 +656,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
             jb[r] = found ? start[k] : 0;
             je[r] = found ? start[k + 1] : 0;
         }
-        sweep_rows(S, E, F, b, e, rmax, S, E, jb, je, need, 4, rmax, out);
+        sweep_rows(S, E, RowReach(lv.exponent, rows[row]), b, e, rmax, S, E, jb, je, need, 4, rmax, out);
     }
 }
 
@@ -683,7 +684,8 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
             jb[r] = found ? start[k] : 0;
             je[r] = found ? start[k + 1] : 0;
         }
-        sweep_rows(G.arrays(), G.entries.data(), G.reach.data(), gstart[row], gstart[row + 1], G.max_radius,
+        sweep_rows(G.arrays(), G.entries.data(), RowReach(lv.exponent, grows[row]), gstart[row], gstart[row + 1],
+                   G.max_radius,
                    R.arrays(), R.entries.data(), jb, je, need, 9, R.max_radius, out);
     }
 }

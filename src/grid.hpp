@@ -92,7 +92,6 @@ class Grid {
         // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
-        std::vector<uint8_t> reach;  // neighbouring rows each sphere can reach (grid.cpp)
         double max_radius = 0;  // of spheres
         SphereArrays arrays() const { return SphereArrays{sx.data(), sy.data(), sz.data(), sr.data()}; }
     };
@@ -108,7 +107,7 @@ class Grid {
     void rebuild(const Sphere *spheres, uint32_t slot_count, int threads);
     void update_list(List &list, int level_index, bool guests, const std::vector<uint8_t> &flag,
                      const std::vector<uint32_t> &changed, const Sphere *spheres);
-    static void gather(List &list, int exponent, const Sphere *spheres);
+    static void gather(List &list, const Sphere *spheres);
     CellKey key_of(uint32_t slot, int level_index) const;
     // Pairs of the rows [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,

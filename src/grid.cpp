@@ -281,22 +281,13 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 Level &lv = levels_[k / 2];
                 List &list = (k & 1) ? lv.guests : lv.residents;
                 if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed, spheres);
-                gather(list, spheres);
             });
         }
         guard.rethrow();
+        gather(all_lists(), spheres, threads);
         stats.moved = flagged;
     }
-    if (stats.rebuilt) {
-        RegionGuard guard;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-        for (int64_t k = 0; k < int64_t(2 * levels_.size()); ++k)
-            guard.run([&] {
-                Level &lv = levels_[k / 2];
-                gather((k & 1) ? lv.guests : lv.residents, spheres);
-            });
-        guard.rethrow();
-    }
+    if (stats.rebuilt) gather(all_lists(), spheres, threads);
     oversize_.clear();
     for (const auto &local : oversize_local) oversize_.insert(oversize_.end(), local.begin(), local.end());
     built_ = true;
@@ -363,43 +354,93 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
     }
 }
 
-void Grid::gather(List &list, const Sphere *spheres) {
-    const size_t m = list.entries.size();
-    // Padded so that the sweep may read past the end.
-    list.sx.resize(m + kPad);
-    list.sy.resize(m + kPad);
-    list.sz.resize(m + kPad);
-    list.sr.resize(m + kPad);
-    Entry *E = list.entries.data();
-    double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
-    for (size_t k = m; k < m + kPad; ++k) X[k] = Y[k] = Z[k] = R[k] = 0;
-    double rmax = 0;
-    for (size_t k = 0; k < m; ++k) {
-        // The next bodies' spheres are random reads: ask for them early.
-        if (k + 16 < m) __builtin_prefetch(&spheres[E[k + 16].slot]);
-        const Sphere &sp = spheres[E[k].slot];
-        X[k] = sp.x;
-        Y[k] = sp.y;
-        Z[k] = sp.z;
-        R[k] = sp.r;
-        rmax = std::max(rmax, sp.r);
+// Brings the sphere arrays and the row index of every list to the current
+// spheres, in parallel phases over chunks of all lists together (lists
+// differ in size tenfold, one task per list balanced badly): copy the
+// spheres (random reads by slot), index the rows, restore each row's x order
+// (insertion sort: between ticks the order barely changes; a row it would
+// take long over, many bodies entering one row, is sorted outright).
+void Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int threads) {
+    constexpr size_t kPart = 16384;
+    struct Part {
+        List *list;
+        size_t begin, end;
+    };
+    std::vector<Part> parts;
+    for (List *list : lists) {
+        const size_t m = list->entries.size();
+        // Padded so that the sweep may read past the end.
+        list->sx.resize(m + kPad);
+        list->sy.resize(m + kPad);
+        list->sz.resize(m + kPad);
+        list->sr.resize(m + kPad);
+        for (size_t k = m; k < m + kPad; ++k) list->sx[k] = list->sy[k] = list->sz[k] = list->sr[k] = 0;
+        for (size_t b = 0; b < m; b += kPart) parts.push_back({list, b, std::min(m, b + kPart)});
     }
-    list.max_radius = rmax;
-    list.row_keys.clear();
-    list.row_start.clear();
-    for (size_t k = 0; k < m; ++k) {
-        const CellKey row = E[k].key;  // by value: the member is packed
-        if (k == 0 || row != list.row_keys.back()) {
-            list.row_keys.push_back(row);
-            list.row_start.push_back(uint32_t(k));
+    std::vector<double> part_rmax(parts.size(), 0);
+    RegionGuard guard;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (int64_t p = 0; p < int64_t(parts.size()); ++p) {
+        List &list = *parts[p].list;
+        const Entry *E = list.entries.data();
+        double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
+        const size_t e = parts[p].end;
+        double rmax = 0;
+        for (size_t k = parts[p].begin; k < e; ++k) {
+            // The next bodies' spheres are random reads: ask for them early.
+            if (k + 16 < e) __builtin_prefetch(&spheres[E[k + 16].slot]);
+            const Sphere &sp = spheres[E[k].slot];
+            X[k] = sp.x;
+            Y[k] = sp.y;
+            Z[k] = sp.z;
+            R[k] = sp.r;
+            rmax = std::max(rmax, sp.r);
+        }
+        part_rmax[p] = rmax;
+    }
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (int64_t l = 0; l < int64_t(lists.size()); ++l) guard.run([&] {
+        List &list = *lists[l];
+        const Entry *E = list.entries.data();
+        const size_t m = list.entries.size();
+        list.row_keys.clear();
+        list.row_start.clear();
+        for (size_t k = 0; k < m; ++k) {
+            const CellKey row = E[k].key;  // by value: the member is packed
+            if (k == 0 || row != list.row_keys.back()) {
+                list.row_keys.push_back(row);
+                list.row_start.push_back(uint32_t(k));
+            }
+        }
+        list.row_start.push_back(uint32_t(m));
+    });
+    guard.rethrow();
+    for (List *list : lists) list->max_radius = 0;
+    for (size_t p = 0; p < parts.size(); ++p)
+        parts[p].list->max_radius = std::max(parts[p].list->max_radius, part_rmax[p]);
+    // Row ranges of about kPart entries.
+    parts.clear();
+    for (List *list : lists) {
+        const size_t rows = list->row_keys.size();
+        for (size_t b = 0; b < rows;) {
+            size_t e = b + 1;
+            while (e < rows && list->row_start[e] - list->row_start[b] < kPart) ++e;
+            parts.push_back({list, b, e});
+            b = e;
         }
     }
-    list.row_start.push_back(uint32_t(m));
-    // Each row sorted by centre x. Between ticks the order barely changes, so
-    // insertion sort is linear; a row it would take long over (many bodies
-    // entering one row) is sorted outright.
-    const size_t rows = list.row_keys.size();
-    for (size_t r = 0; r < rows; ++r) {
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
+        List &list = *parts[p].list;
+        sort_rows(list, parts[p].begin, parts[p].end);
+    });
+    guard.rethrow();
+}
+
+void Grid::sort_rows(List &list, size_t row_begin, size_t row_end) {
+    Entry *E = list.entries.data();
+    double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
+    for (size_t r = row_begin; r < row_end; ++r) {
         const size_t b = list.row_start[r], e = list.row_start[r + 1];
         size_t budget = 8 * (e - b) + 64;
         bool sorted = true;
@@ -447,7 +488,7 @@ void Grid::gather(List &list, const Sphere *spheres) {
             E[b + k] = te[k];
         }
     }
-    for (size_t k = 0; k < m; ++k) E[k].x = float(X[k]);
+    for (size_t k = list.row_start[row_begin]; k < list.row_start[row_end]; ++k) E[k].x = float(X[k]);
 }
 
 namespace {

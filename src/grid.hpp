@@ -107,7 +107,16 @@ class Grid {
     void rebuild(const Sphere *spheres, uint32_t slot_count, int threads);
     void update_list(List &list, int level_index, bool guests, const std::vector<uint8_t> &flag,
                      const std::vector<uint32_t> &changed, const Sphere *spheres);
-    static void gather(List &list, const Sphere *spheres);
+    static void gather(const std::vector<List *> &lists, const Sphere *spheres, int threads);
+    static void sort_rows(List &list, size_t row_begin, size_t row_end);
+    std::vector<List *> all_lists() {
+        std::vector<List *> lists;
+        for (Level &lv : levels_) {
+            lists.push_back(&lv.residents);
+            lists.push_back(&lv.guests);
+        }
+        return lists;
+    }
     CellKey key_of(uint32_t slot, int level_index) const;
     // Pairs of the rows [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,

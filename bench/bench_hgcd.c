@@ -1,7 +1,10 @@
 /* bench_hgcd: scene `tetra` of SCENES.md through the public C API of hgcd.
  *
  *   bench_hgcd [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
- *              [--check]
+ *              [--min-cell-size W] [--check]
+ *
+ * --min-cell-size sets the world descriptor's min_cell_size (default 0: the
+ * grid adapts to the body sizes, levels a factor 2 apart).
  *
  * Generates the scene with hgcd_scene_tetra_generate, creates the N bodies on
  * the shared unit mesh (hgcd_scene_tetra_unit_mesh, body scale = generated
@@ -71,7 +74,7 @@ static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
 
 static void usage(const char *argv0) {
     fprintf(stderr,
-            "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--check]\n"
+            "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--min-cell-size W] [--check]\n"
             "  --threads 0 = all cores; --check compares the initial detect with SCENES.md\n",
             argv0);
 }
@@ -86,6 +89,7 @@ int main(int argc, char **argv) {
     unsigned threads = 1;
     int ticks = 5, check = 0;
     const char *commit = "unknown";
+    double min_cell = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--check")) {
@@ -102,6 +106,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--threads")) threads = (unsigned)strtoul(v, NULL, 10);
         else if (!strcmp(a, "--ticks")) ticks = atoi(v);
         else if (!strcmp(a, "--commit")) commit = v;
+        else if (!strcmp(a, "--min-cell-size")) min_cell = strtod(v, NULL);
         else {
             usage(argv[0]);
             return 2;
@@ -137,6 +142,7 @@ int main(int argc, char **argv) {
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = threads;
     wd.reflect_at_bounds = 1;
+    wd.min_cell_size = min_cell;
     for (int k = 0; k < 3; ++k) {
         wd.bounds_min[k] = 0.0;
         wd.bounds_max[k] = sd.side;
@@ -214,14 +220,14 @@ int main(int argc, char **argv) {
     const double rss_after = peak_rss_bytes();
 
     printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
-           "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"sphere\","
+           "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"sphere\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
            "\"containment_pairs\":%llu,\"initial_pairs\":%llu,\"initial_containment\":%llu,"
            "\"initial_ms\":%.3f,\"setup_ms\":%.3f,\"levels\":%u,\"oversize\":%u,"
            "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,",
            (unsigned long long)n, (unsigned long long)seed, st.thread_count, ticks, commit, hgcd_version_string(),
-           median(tick_broad, ticks), median(tick_narrow, ticks), median(tick_update, ticks),
+           min_cell, median(tick_broad, ticks), median(tick_narrow, ticks), median(tick_update, ticks),
            median(tick_motion, ticks), median(tick_total, ticks), median(tick_wall, ticks),
            (unsigned long long)st.candidate_pairs, (unsigned long long)st.narrow_tests,
            (unsigned long long)st.colliding_pairs, (unsigned long long)st.containment_pairs,

@@ -16,6 +16,10 @@ step "meson build and tests (debugoptimized)"
 meson compile -C build >/dev/null
 meson test -C build --print-errorlogs --num-processes "$jobs"
 
+step "the tetrahedron-pair tests again with the two-lane kernels (AVX2 machines pick four lanes)"
+HGCD_NARROW_NO_AVX2=1 HGCD_TEST_FILTER='test_tetra*' build/tests/test_world
+HGCD_NARROW_NO_AVX2=1 build/tests/test_threads
+
 step "tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 [ -f build-asan/build.ninja ] || meson setup build-asan --buildtype=debugoptimized \
     -Db_sanitize=address,undefined -Db_lundef=false -Dcpp_args=-fno-sanitize-recover=undefined \

@@ -17,10 +17,11 @@ namespace hgcd {
 
 namespace {
 
-// Cell coordinates are kept in 42 bits per axis so a key packs into 128 bits.
-// Clamping is monotone and never increases a difference, so two bodies in
-// neighbouring cells stay in neighbouring (or equal) cells: far-away bodies
-// only crowd the border cells, they are never missed.
+// Row coordinates (y and z) are kept in 42 bits each so a row key packs into
+// 128 bits. Clamping is monotone and never increases a difference, so two
+// bodies in neighbouring rows stay in neighbouring (or equal) rows: far-away
+// bodies only crowd the border rows, they are never missed (x is swept on
+// the centres themselves).
 constexpr int64_t kCoordLimit = (int64_t(1) << 41) - 2;
 constexpr int64_t kCoordBias = int64_t(1) << 41;
 constexpr int64_t kSaturate = int64_t(1) << 62;
@@ -763,7 +764,7 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
                       std::vector<std::vector<uint64_t>> &out) const {
     // Work items: chunks of every resident and guest list, one per oversize
     // body, and one for the oversize-oversize sweep. Chunks are small and
-    // scheduled dynamically, because dense cells cost far more than sparse ones.
+    // scheduled dynamically, because dense rows cost far more than sparse ones.
     struct Item {
         int kind;  // 0 residents, 1 guests, 2 oversize body, 3 oversize sweep, 4 residents querying down
         uint32_t level;

@@ -168,6 +168,30 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             census[k].second += c.second;
         }
     std::sort(census.begin(), census.end());
+    // Coarsening: the levels within a factor 4 below the coarsest one that
+    // keeps guests join it (see GridLimits::coarsen).
+    if (limits.coarsen && census.size() > 1) {
+        std::vector<uint8_t> few(census.size(), 0);
+        uint64_t below = 0;
+        for (size_t i = 0; i < census.size(); ++i) {
+            few[i] = census[i].second * 64 < below;
+            below += census[i].second;
+        }
+        size_t top = census.size();
+        while (top > 0 && few[top - 1]) --top;
+        if (top > 0) {
+            const int te = census[top - 1].first, lo = te - 2;
+            size_t first = top - 1;
+            while (first > 0 && census[first - 1].first >= lo) --first;
+            if (first < top - 1) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+                for (int64_t s = 0; s < int64_t(slot_count); ++s)
+                    if (exponent[s] >= lo && exponent[s] < te) exponent[s] = te;
+                for (size_t i = first; i + 1 < top; ++i) census[top - 1].second += census[i].second;
+                census.erase(census.begin() + std::ptrdiff_t(first), census.begin() + std::ptrdiff_t(top - 1));
+            }
+        }
+    }
     std::vector<int> present(census.size());
     // A level whose bodies are very few beside the bodies of the finer levels
     // keeps no guest list: its residents query the finer levels by range

@@ -42,6 +42,11 @@ struct Sphere {
 struct GridLimits {
     int min_exponent;  // INT32_MIN: none
     int max_exponent;  // INT32_MAX: none
+    // Bodies whose level is at most a factor 4 finer than the coarsest level
+    // that keeps guests live on that level instead: fewer levels, guests and
+    // row visits for more sphere tests, which pays where bodies are sparse
+    // (the world decides, from the candidate pairs per body).
+    bool coarsen = false;
 };
 
 struct GridUpdateStats {

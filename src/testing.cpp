@@ -64,13 +64,14 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
 }
 
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, int threads,
-                         uint64_t *out, uint64_t cap) {
+                         int coarsen, uint64_t *out, uint64_t cap) {
     try {
         hgcd::Grid grid;
         std::vector<uint32_t> gen(n, 1);
         std::vector<double> r_level(n);
         std::vector<hgcd::Sphere> spheres(n);
-        const hgcd::GridLimits limits{INT_MIN, INT_MAX};
+        hgcd::GridLimits limits{INT_MIN, INT_MAX};
+        limits.coarsen = coarsen != 0;
         for (int pass = before ? 0 : 1; pass < 2; ++pass) {
             const double *s = pass ? after : before;
             for (uint32_t i = 0; i < n; ++i) {

@@ -33,12 +33,13 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
                           int inward_sign);
 
 /* The broad phase alone (src/grid.cpp): n spheres, 4 doubles each (x, y, z,
- * r), each on the level its r picks. If before is not NULL the grid is first
- * built from it, then brought to after incrementally, as a step does. Writes
- * every reported pair (i << 32 | j, i < j), sorted, to out (room for cap);
- * returns the count (which may exceed cap), or -1 on an error. */
+ * r), each on the level its r picks (coarsened as GridLimits::coarsen says
+ * when coarsen is not 0). If before is not NULL the grid is first built from
+ * it, then brought to after incrementally, as a step does. Writes every
+ * reported pair (i << 32 | j, i < j), sorted, to out (room for cap); returns
+ * the count (which may exceed cap), or -1 on an error. */
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
-                         int threads, uint64_t *out, uint64_t cap);
+                         int threads, int coarsen, uint64_t *out, uint64_t cap);
 
 #ifdef __cplusplus
 }

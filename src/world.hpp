@@ -62,6 +62,7 @@ class World {
     void compute_spheres(int threads);
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     int threads() const;
+    GridLimits grid_limits();
 
     // Ids: generation = world tag (8 bits) << 24 | counter (24 bits, >= 1).
     uint32_t tag_;
@@ -103,6 +104,10 @@ class World {
 
     Grid grid_;
     std::vector<std::vector<uint64_t>> candidates_;  // per thread, one detect's candidate pairs
+    // Candidate pairs per body of the last successful detect (-1: none yet),
+    // and whether the grid is coarsened (grid_limits).
+    double candidates_per_body_ = -1;
+    bool coarse_grid_ = false;
     std::vector<hgcd_pair> pairs_;
     std::vector<hgcd_contact> contacts_;  // parallel to pairs_ when contacts_recorded_
     hgcd_stats stats_{};

@@ -4,7 +4,8 @@
  * else. Scenes aim at the grid's shortcuts: the dense coarse levels where
  * the reach filter skips neighbouring slabs, spheres touching exactly across
  * cell faces, centres on cell faces, far-out coordinates, incremental
- * updates after motion, several thread counts. */
+ * updates after motion, several thread counts, with and without the
+ * coarsening of close levels (GridLimits::coarsen). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -54,13 +55,14 @@ static uint64_t check(const double *before, const double *after, uint32_t n, con
     const uint64_t m = brute(after, n, &want);
     uint64_t *got = malloc((m + 16) * sizeof *got);
     assert_non_null(got);
-    for (int threads = 1; threads <= 3; ++threads) {
-        const int64_t k = hgcdi_grid_pairs(before, after, n, threads, got, m + 16);
+    for (int variant = 0; variant < 6; ++variant) {
+        const int threads = 1 + variant % 3, coarsen = variant / 3;
+        const int64_t k = hgcdi_grid_pairs(before, after, n, threads, coarsen, got, m + 16);
         if (k != (int64_t)m || memcmp(got, want, m * sizeof *got) != 0) {
             uint64_t i = 0;
             while (i < m && k > (int64_t)i && got[i] == want[i]) ++i;
-            fail_msg("%s, %d threads: grid %lld pairs, brute force %llu; first difference at %llu: "
-                     "grid %llx, brute %llx", what, threads, (long long)k, (unsigned long long)m,
+            fail_msg("%s, %d threads, coarsen %d: grid %lld pairs, brute force %llu; first difference at "
+                     "%llu: grid %llx, brute %llx", what, threads, coarsen, (long long)k, (unsigned long long)m,
                      (unsigned long long)i, i < (uint64_t)k ? (unsigned long long)got[i] : 0ull,
                      i < m ? (unsigned long long)want[i] : 0ull);
         }

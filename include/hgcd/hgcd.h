@@ -238,7 +238,10 @@ typedef struct hgcd_world_desc {
     double bounds_max[3];
     /** Broad-phase grid override. Cell widths are powers of two; a body lives
      *  on the level whose width is the smallest power of two >= its bounding
-     *  sphere's diameter. min_cell_size > 0 raises the finest width to the
+     *  sphere's diameter, except where bodies are sparse (the previous detect
+     *  found fewer than 3 candidate pairs per body): then the levels at most
+     *  a factor 4 finer than the coarsest populated level join it (fewer
+     *  levels, same pairs). min_cell_size > 0 raises the finest width to the
      *  power of two >= min_cell_size (bodies smaller than that share it).
      *  max_cell_size > 0 caps the coarsest width at the largest power of two
      *  <= max_cell_size: bodies larger than that are kept in a separate

@@ -288,7 +288,10 @@ pub struct hgcd_world_desc {
     pub bounds_max: [f64; 3usize],
     #[doc = " Broad-phase grid override. Cell widths are powers of two; a body lives"]
     #[doc = "  on the level whose width is the smallest power of two >= its bounding"]
-    #[doc = "  sphere's diameter. min_cell_size > 0 raises the finest width to the"]
+    #[doc = "  sphere's diameter, except where bodies are sparse (the previous detect"]
+    #[doc = "  found fewer than 3 candidate pairs per body): then the levels at most"]
+    #[doc = "  a factor 4 finer than the coarsest populated level join it (fewer"]
+    #[doc = "  levels, same pairs). min_cell_size > 0 raises the finest width to the"]
     #[doc = "  power of two >= min_cell_size (bodies smaller than that share it)."]
     #[doc = "  max_cell_size > 0 caps the coarsest width at the largest power of two"]
     #[doc = "  <= max_cell_size: bodies larger than that are kept in a separate"]

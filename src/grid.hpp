@@ -11,7 +11,9 @@
 // compared with the residents of every level by range queries and with each
 // other by a sweep on x. A level whose bodies are very few beside those of
 // the finer levels keeps no guests; its residents query the finer levels by
-// range instead.
+// range instead. Where the world says bodies are sparse
+// (GridLimits::coarsen), the levels at most a factor 4 below the coarsest
+// level that keeps guests join it.
 //
 // Within a level the grid is sparse in y and z and swept along x: a body is
 // keyed by its row, the (z, y) cell of its centre for cells two widths high

@@ -2,7 +2,7 @@
 // world vertices, the tolerance per pair, and the calls (ccd_narrow.hpp).
 //
 // The plain Makefile compiles every src/*.cpp: without HGCD_HAVE_CCD this
-// file is empty (the stubs in the header stand in).
+// file is empty (the header's inline definitions for that build stand in).
 #ifdef HGCD_HAVE_CCD
 
 #include "ccd_narrow.hpp"

@@ -4,7 +4,7 @@
 // hgcd_narrow_phase in hgcd.h for the tolerance and what it means.
 //
 // Built only with libccd (HGCD_HAVE_CCD, set by meson and the Makefile when
-// they find it). Without it the declarations below are inline stubs that are
+// they find it). Without it the declarations below get inline definitions that are
 // never reached: every request for GJK or MPR is refused before a detect.
 #pragma once
 #include <cstdint>

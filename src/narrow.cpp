@@ -704,11 +704,11 @@ __attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact(const TetW
     const unsigned apart[4] = {kHolds[sba.pos[0]] | kHolds[sba.neg[0]], kHolds[sba.pos[1]] | kHolds[sba.neg[1]],
                                kHolds[sba.pos[2]] | kHolds[sba.neg[2]], kHolds[sba.pos[3]] | kHolds[sba.neg[3]]};
     for (int f = 0; f < 4; ++f) {  // apart[g]: bit f; kHolds[sab.*[f]]: bit g
-        unsigned todo = ~(kHolds[sab.pos[f]] | kHolds[sab.neg[f]]) & 0xF;
+        unsigned pending = ~(kHolds[sab.pos[f]] | kHolds[sab.neg[f]]) & 0xF;
         const double *p[3] = {wa[kFace[f][0]], wa[kFace[f][1]], wa[kFace[f][2]]};
-        while (todo) {
-            const int g = __builtin_ctz(todo);
-            todo &= todo - 1;
+        while (pending) {
+            const int g = __builtin_ctz(pending);
+            pending &= pending - 1;
             if ((apart[g] >> f) & 1) continue;
             const double *q[3] = {wb[kFace[g][0]], wb[kFace[g][1]], wb[kFace[g][2]]};
             const int sp[3] = {sign_of(sba, g, kFace[f][0]), sign_of(sba, g, kFace[f][1]),

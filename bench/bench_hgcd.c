@@ -21,7 +21,7 @@
  *   candidate_pairs, narrow_tests, colliding_pairs, containment_pairs
  *                     of the last tick;
  *   initial_pairs, initial_containment, initial_ms   of the initial detect;
- *   setup_ms          world, mesh and body creation;
+ *   setup_ms          world creation and hgcd_scene_tetra_populate (scene drawn, mesh and bodies made);
  *   peak_rss_mb       getrusage ru_maxrss at the end;
  *   bytes_per_body    growth of the peak RSS from just before world creation
  *                     to after the ticks, divided by n;
@@ -125,22 +125,14 @@ int main(int argc, char **argv) {
     sd.n = n;
     sd.seed = seed;
     if (side > 0) sd.side = side;
-    double *centers = malloc(3 * n * sizeof(double)), *scales = malloc(n * sizeof(double));
-    double *quats = malloc(4 * n * sizeof(double)), *vels = malloc(3 * n * sizeof(double));
     double *tick_total = malloc((size_t)ticks * sizeof(double)), *tick_broad = malloc((size_t)ticks * sizeof(double));
     double *tick_narrow = malloc((size_t)ticks * sizeof(double)), *tick_update = malloc((size_t)ticks * sizeof(double));
     double *tick_motion = malloc((size_t)ticks * sizeof(double)), *tick_wall = malloc((size_t)ticks * sizeof(double));
-    if (!centers || !scales || !quats || !vels || !tick_total || !tick_broad || !tick_narrow || !tick_update ||
+    if (!tick_total || !tick_broad || !tick_narrow || !tick_update ||
         !tick_motion || !tick_wall) {
         fprintf(stderr, "bench_hgcd: out of memory for n = %llu\n", (unsigned long long)n);
         return 1;
     }
-    int32_t gs = hgcd_scene_tetra_generate(&sd, centers, NULL, scales, quats, vels);
-    if (gs != HGCD_OK) {
-        fprintf(stderr, "bench_hgcd: scene generation failed: %s\n", hgcd_status_string(gs));
-        return 1;
-    }
-
     const double rss_before = peak_rss_bytes();
     double t0 = now_seconds();
     hgcd_world_desc wd = hgcd_world_desc_default();
@@ -154,28 +146,7 @@ int main(int argc, char **argv) {
     hgcd_world *w = NULL;
     if (failed(hgcd_world_create(&wd, &w), NULL, "world_create")) return 1;
 
-    double unit_vertices[12];
-    uint32_t unit_triangles[12];
-    hgcd_scene_tetra_unit_mesh(unit_vertices, unit_triangles);
-    hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    md.vertices = unit_vertices;
-    md.triangles = unit_triangles;
-    md.vertex_count = 4;
-    md.triangle_count = 4;
-    hgcd_mesh mesh;
-    if (failed(hgcd_mesh_create(w, &md, &mesh), w, "mesh_create")) return 1;
-
-    hgcd_body_desc bd = hgcd_body_desc_default();
-    bd.mesh = mesh;
-    for (uint64_t i = 0; i < n; ++i) {
-        memcpy(bd.position, centers + 3 * i, sizeof bd.position);
-        memcpy(bd.orientation, quats + 4 * i, sizeof bd.orientation);
-        memcpy(bd.velocity, vels + 3 * i, sizeof bd.velocity);
-        bd.scale = scales[i];
-        bd.user_data = i;
-        hgcd_body b;
-        if (failed(hgcd_body_create(w, &bd, &b), w, "body_create")) return 1;
-    }
+    if (failed(hgcd_scene_tetra_populate(w, &sd, NULL), w, "scene_tetra_populate")) return 1;
     const double setup_ms = 1e3 * (now_seconds() - t0);
 
     hgcd_stats st;
@@ -244,10 +215,6 @@ int main(int argc, char **argv) {
     fflush(stdout);
 
     hgcd_world_destroy(w);
-    free(centers);
-    free(scales);
-    free(quats);
-    free(vels);
     free(tick_total);
     free(tick_broad);
     free(tick_narrow);

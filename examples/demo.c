@@ -55,18 +55,6 @@ int main(int argc, char **argv) {
     hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
     sd.n = n;
     sd.seed = seed;
-    double *centers = malloc(3 * n * sizeof(double)), *scales = malloc(n * sizeof(double));
-    double *quats = malloc(4 * n * sizeof(double)), *vels = malloc(3 * n * sizeof(double));
-    if (!centers || !scales || !quats || !vels) {
-        fprintf(stderr, "out of memory for n = %llu\n", (unsigned long long)n);
-        return 1;
-    }
-    double t = now();
-    if (hgcd_scene_tetra_generate(&sd, centers, NULL, scales, quats, vels) != HGCD_OK) {
-        fprintf(stderr, "bad scene parameters\n");
-        return 1;
-    }
-
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = threads;
     wd.reflect_at_bounds = 1;
@@ -76,30 +64,8 @@ int main(int argc, char **argv) {
     }
     hgcd_world *w = NULL;
     if (check(hgcd_world_create(&wd, &w), NULL, "world_create")) return 1;
-
-    double verts[12];
-    uint32_t tris[12];
-    hgcd_scene_tetra_unit_mesh(verts, tris);
-    hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    md.vertices = verts;
-    md.triangles = tris;
-    md.vertex_count = 4;
-    md.triangle_count = 4;
-    hgcd_mesh mesh;
-    if (check(hgcd_mesh_create(w, &md, &mesh), w, "mesh_create")) return 1;
-
-    hgcd_body_desc bd = hgcd_body_desc_default();
-    bd.mesh = mesh;
-    for (uint64_t i = 0; i < n; ++i) {
-        memcpy(bd.position, centers + 3 * i, sizeof bd.position);
-        memcpy(bd.orientation, quats + 4 * i, sizeof bd.orientation);
-        memcpy(bd.velocity, vels + 3 * i, sizeof bd.velocity);
-        bd.scale = scales[i];
-        hgcd_body b;
-        if (check(hgcd_body_create(w, &bd, &b), w, "body_create")) return 1;
-        if (n >= 1000000 && i % 250000 == 0) fprintf(stderr, "\r  creating bodies: %llu / %llu", (unsigned long long)i, (unsigned long long)n);
-    }
-    if (n >= 1000000) fprintf(stderr, "\n");
+    double t = now();
+    if (check(hgcd_scene_tetra_populate(w, &sd, NULL), w, "scene_tetra_populate")) return 1;
     printf("scene generated and %llu bodies created in %.2f s\n", (unsigned long long)n, now() - t);
 
     hgcd_stats st;
@@ -133,9 +99,5 @@ int main(int argc, char **argv) {
         print_tick(label, &st);
     }
     hgcd_world_destroy(w);
-    free(centers);
-    free(scales);
-    free(quats);
-    free(vels);
     return 0;
 }

@@ -584,6 +584,95 @@ static void test_refused_call_keeps_pairs(void **state) {
     assert_int_equal(hgcd_body_destroy(f->w, b), HGCD_OK);
 }
 
+/* hgcd_scene_tetra_populate makes the same world as drawing the scene with
+ * hgcd_scene_tetra_generate and creating the bodies by hand: same poses,
+ * velocities, scales (through the mesh), user data and pairs. On a refused
+ * body it leaves nothing behind. */
+static void test_scene_tetra_populate(void **state) {
+    (void)state;
+    enum { n = 3000 };
+    hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
+    sd.n = n;
+    sd.side = 40;
+    static double centers[3 * n], scales[n], quats[4 * n], vels[3 * n];
+    assert_int_equal(hgcd_scene_tetra_generate(&sd, centers, NULL, scales, quats, vels), HGCD_OK);
+
+    hgcd_world *a, *b;
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    assert_int_equal(hgcd_world_create(&wd, &a), HGCD_OK);
+    assert_int_equal(hgcd_world_create(&wd, &b), HGCD_OK);
+    hgcd_mesh ma;
+    assert_int_equal(hgcd_scene_tetra_populate(a, &sd, &ma), HGCD_OK);
+    double uv[12];
+    uint32_t ut[12];
+    hgcd_scene_tetra_unit_mesh(uv, ut);
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = uv;
+    md.triangles = ut;
+    md.vertex_count = 4;
+    md.triangle_count = 4;
+    hgcd_mesh mb;
+    assert_int_equal(hgcd_mesh_create(b, &md, &mb), HGCD_OK);
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    bd.mesh = mb;
+    for (uint32_t i = 0; i < n; ++i) {
+        memcpy(bd.position, centers + 3 * i, sizeof bd.position);
+        memcpy(bd.orientation, quats + 4 * i, sizeof bd.orientation);
+        memcpy(bd.velocity, vels + 3 * i, sizeof bd.velocity);
+        bd.scale = scales[i];
+        bd.user_data = i;
+        hgcd_body id;
+        assert_int_equal(hgcd_body_create(b, &bd, &id), HGCD_OK);
+    }
+    assert_int_equal(hgcd_world_body_count(a), n);
+    assert_int_equal(hgcd_world_mesh_count(a), 1);
+    for (int tick = 0; tick < 3; ++tick) {
+        assert_int_equal(tick ? hgcd_world_step(a) : hgcd_world_detect(a), HGCD_OK);
+        assert_int_equal(tick ? hgcd_world_step(b) : hgcd_world_detect(b), HGCD_OK);
+        const hgcd_pair *pa, *pb;
+        size_t na, nb;
+        assert_int_equal(hgcd_world_pairs(a, &pa, &na), HGCD_OK);
+        assert_int_equal(hgcd_world_pairs(b, &pb, &nb), HGCD_OK);
+        assert_true(na > 10);
+        assert_int_equal(na, nb);
+        for (size_t k = 0; k < na; ++k) {
+            uint64_t ua[2], ub[2];
+            assert_int_equal(hgcd_body_get_user_data(a, pa[k].a, &ua[0]), HGCD_OK);
+            assert_int_equal(hgcd_body_get_user_data(a, pa[k].b, &ua[1]), HGCD_OK);
+            assert_int_equal(hgcd_body_get_user_data(b, pb[k].a, &ub[0]), HGCD_OK);
+            assert_int_equal(hgcd_body_get_user_data(b, pb[k].b, &ub[1]), HGCD_OK);
+            assert_true(ua[0] == ub[0] && ua[1] == ub[1]);
+        }
+    }
+    hgcd_world_destroy(a);
+    hgcd_world_destroy(b);
+
+    /* Refusals: nothing made. Coordinates beyond 1e15 are refused by
+     * hgcd_body_create, so in a cube of side 1.02e15 some body is refused
+     * after others were made. */
+    hgcd_world *w;
+    assert_int_equal(hgcd_world_create(&wd, &w), HGCD_OK);
+    assert_int_equal(hgcd_scene_tetra_populate(NULL, &sd, NULL), HGCD_ERROR_NULL_ARGUMENT);
+    assert_int_equal(hgcd_scene_tetra_populate(w, NULL, NULL), HGCD_ERROR_NULL_ARGUMENT);
+    hgcd_scene_tetra_desc bad = sd;
+    bad.struct_size = 0;
+    assert_int_equal(hgcd_scene_tetra_populate(w, &bad, NULL), HGCD_ERROR_BAD_DESCRIPTOR);
+    bad = sd;
+    bad.n = 50;
+    bad.side = 1.02e15;
+    assert_int_equal(hgcd_scene_tetra_generate(&bad, centers, NULL, NULL, NULL, NULL), HGCD_OK);
+    int made_before_refusal = 0;
+    while (made_before_refusal < 50 && centers[3 * made_before_refusal] <= 1e15 &&
+           centers[3 * made_before_refusal + 1] <= 1e15 && centers[3 * made_before_refusal + 2] <= 1e15)
+        ++made_before_refusal;
+    assert_true(made_before_refusal > 0 && made_before_refusal < 50);
+    assert_int_not_equal(hgcd_scene_tetra_populate(w, &bad, NULL), HGCD_OK);
+    assert_int_equal(hgcd_world_body_count(w), 0);
+    assert_int_equal(hgcd_world_mesh_count(w), 0);
+    assert_int_equal(hgcd_world_detect(w), HGCD_OK);
+    hgcd_world_destroy(w);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_version),
@@ -598,6 +687,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_pairs_and_stats, setup, teardown),
         cmocka_unit_test(test_step_motion),
         cmocka_unit_test_setup_teardown(test_refused_call_keeps_pairs, setup, teardown),
+        cmocka_unit_test(test_scene_tetra_populate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -46,6 +46,22 @@ HGCD_API int32_t hgcd_scene_tetra_generate(const hgcd_scene_tetra_desc *desc,
                                            double *orientations,
                                            double *velocities);
 
+/** Puts scene `tetra` into world: one mesh (the unit tetrahedron of
+ *  hgcd_scene_tetra_unit_mesh) and desc->n bodies, body i with the pose,
+ *  scale and velocity hgcd_scene_tetra_generate draws for object i and
+ *  user_data i, created in that order (so body i gets slot i in a fresh
+ *  world). The world's bounds and reflection are the caller's: the scene
+ *  lives in [0, side]^3 and reflects there. The mesh id goes to *mesh_out
+ *  unless it is NULL. Errors: HGCD_ERROR_NULL_ARGUMENT for a NULL world or
+ *  desc, the errors of hgcd_scene_tetra_generate for desc, and the first
+ *  error of hgcd_mesh_create or hgcd_body_create (e.g.
+ *  HGCD_ERROR_OUT_OF_MEMORY, or HGCD_ERROR_CAPACITY past the body limit);
+ *  then the bodies and the mesh made so far are destroyed again, so the
+ *  world holds nothing of the call (the ids they had are retired). Same
+ *  threading rules as hgcd_body_create: no other call on the world meanwhile. */
+HGCD_API int32_t hgcd_scene_tetra_populate(hgcd_world *world, const hgcd_scene_tetra_desc *desc,
+                                           hgcd_mesh *mesh_out);
+
 /** The unit sign-pattern tetrahedron of SCENES.md: vertices (1,1,1),
  *  (1,-1,-1), (-1,1,-1), (-1,-1,1) into vertices[12] and the faces (0,1,2)
  *  (0,3,1) (0,2,3) (1,3,2) into triangles[12]. Scaled by r / sqrt(3) it is the

@@ -2028,6 +2028,26 @@ extern "C" {
     ) -> i32;
 }
 extern "C" {
+    #[doc = " Puts scene `tetra` into world: one mesh (the unit tetrahedron of"]
+    #[doc = "  hgcd_scene_tetra_unit_mesh) and desc->n bodies, body i with the pose,"]
+    #[doc = "  scale and velocity hgcd_scene_tetra_generate draws for object i and"]
+    #[doc = "  user_data i, created in that order (so body i gets slot i in a fresh"]
+    #[doc = "  world). The world's bounds and reflection are the caller's: the scene"]
+    #[doc = "  lives in [0, side]^3 and reflects there. The mesh id goes to *mesh_out"]
+    #[doc = "  unless it is NULL. Errors: HGCD_ERROR_NULL_ARGUMENT for a NULL world or"]
+    #[doc = "  desc, the errors of hgcd_scene_tetra_generate for desc, and the first"]
+    #[doc = "  error of hgcd_mesh_create or hgcd_body_create (e.g."]
+    #[doc = "  HGCD_ERROR_OUT_OF_MEMORY, or HGCD_ERROR_CAPACITY past the body limit);"]
+    #[doc = "  then the bodies and the mesh made so far are destroyed again, so the"]
+    #[doc = "  world holds nothing of the call (the ids they had are retired). Same"]
+    #[doc = "  threading rules as hgcd_body_create: no other call on the world meanwhile."]
+    pub fn hgcd_scene_tetra_populate(
+        world: *mut hgcd_world,
+        desc: *const hgcd_scene_tetra_desc,
+        mesh_out: *mut hgcd_mesh,
+    ) -> i32;
+}
+extern "C" {
     #[doc = " The unit sign-pattern tetrahedron of SCENES.md: vertices (1,1,1),"]
     #[doc = "  (1,-1,-1), (-1,1,-1), (-1,-1,1) into vertices[12] and the faces (0,1,2)"]
     #[doc = "  (0,3,1) (0,2,3) (1,3,2) into triangles[12]. Scaled by r / sqrt(3) it is the"]

@@ -168,15 +168,27 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             census[k].second += c.second;
         }
     std::sort(census.begin(), census.end());
+    // A level whose bodies are very few beside the bodies of the finer levels
+    // keeps no guest list: its residents query the finer levels by range
+    // instead (scene tetra at 750k has 1 or 2 bodies a hair above radius 2 on
+    // a fourth level, which would otherwise carry every other body as a
+    // guest). Hysteresis on the level's previous choice keeps it from flapping.
+    auto down_flags = [&](const std::vector<std::pair<int, uint64_t>> &levels) {
+        std::vector<uint8_t> down(levels.size(), 0);
+        uint64_t finer = 0;
+        for (size_t i = 0; i < levels.size(); ++i) {
+            bool was = false;
+            for (const Level &lv : levels_) was |= built_ && lv.exponent == levels[i].first && lv.down;
+            const uint64_t own = levels[i].second;
+            down[i] = was ? own * 16 < finer : own * 64 < finer;
+            finer += own;
+        }
+        return down;
+    };
     // Coarsening: the levels within a factor 4 below the coarsest one that
     // keeps guests join it (see GridLimits::coarsen).
     if (limits.coarsen && census.size() > 1) {
-        std::vector<uint8_t> few(census.size(), 0);
-        uint64_t below = 0;
-        for (size_t i = 0; i < census.size(); ++i) {
-            few[i] = census[i].second * 64 < below;
-            below += census[i].second;
-        }
+        const std::vector<uint8_t> few = down_flags(census);
         size_t top = census.size();
         while (top > 0 && few[top - 1]) --top;
         if (top > 0) {
@@ -193,20 +205,8 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         }
     }
     std::vector<int> present(census.size());
-    // A level whose bodies are very few beside the bodies of the finer levels
-    // keeps no guest list: its residents query the finer levels by range
-    // instead (scene tetra at 750k has 1 or 2 bodies a hair above radius 2 on
-    // a fourth level, which would otherwise carry every other body as a
-    // guest). Hysteresis keeps the choice from flapping.
-    std::vector<uint8_t> down(census.size(), 0);
-    uint64_t finer = 0;
-    for (size_t i = 0; i < census.size(); ++i) {
-        present[i] = census[i].first;
-        const uint64_t own = census[i].second;
-        const bool was = built_ && i < levels_.size() && levels_[i].exponent == present[i] && levels_[i].down;
-        down[i] = was ? own * 16 < finer : own * 64 < finer;
-        finer += own;
-    }
+    for (size_t i = 0; i < census.size(); ++i) present[i] = census[i].first;
+    const std::vector<uint8_t> down = down_flags(census);
     bool same_levels = built_ && present.size() == levels_.size();
     for (size_t i = 0; same_levels && i < present.size(); ++i)
         same_levels = levels_[i].exponent == present[i] && levels_[i].down == bool(down[i]);

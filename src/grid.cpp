@@ -28,6 +28,10 @@ constexpr int64_t kSaturate = int64_t(1) << 62;
 constexpr int kAxisBits = 42;
 constexpr uint64_t kAxisMask = (uint64_t(1) << kAxisBits) - 1;
 constexpr size_t kChunk = 1024;
+// Level exponents e (cell width 2^e, from the bits of a positive double)
+// lie in [-1074, 1024]; tables over them are indexed by e + kExponentBias.
+constexpr int kExponentBias = 1080;
+constexpr int kExponents = 2110;
 constexpr int kBlock = 4;  // spheres per step of a sweep's window
 constexpr size_t kPad = 16;  // readable entries past the end of a list's sphere arrays
 // Rows are 2^kRowShift cells high and deep.
@@ -116,20 +120,19 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                              const GridLimits &limits, int threads) {
     GridUpdateStats stats;
     // Level exponent per slot; INT_MIN: empty slot, INT_MAX: oversize. With
-    // it, per thread, the exponents in use with their body counts (levels
-    // are few; a body's exponent is almost always the one before) and the
-    // oversize slots, ascending (static schedule: thread t has the t-th
+    // it, per thread, a histogram of the exponents (a count per possible
+    // exponent: no branch on which exponent a body has, which is random) and
+    // the oversize slots, ascending (static schedule: thread t has the t-th
     // range of slots).
     std::vector<int> exponent(slot_count);
-    std::vector<std::vector<std::pair<int, uint64_t>>> census_local(threads);
+    std::vector<uint64_t> histogram(size_t(threads) * kExponents, 0);
     std::vector<std::vector<uint32_t>> oversize_local(threads);
     {
         RegionGuard guard;
 #pragma omp parallel num_threads(threads)
         {
-            auto &census_mine = census_local[omp_get_thread_num()];
+            uint64_t *hist = histogram.data() + size_t(omp_get_thread_num()) * kExponents;
             auto &oversize_mine = oversize_local[omp_get_thread_num()];
-            size_t last = 0;
 #pragma omp for schedule(static)
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 if (!live_gen[s]) {
@@ -147,27 +150,17 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                     guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
                     continue;
                 }
-                if (last < census_mine.size() && census_mine[last].first == e) {
-                    ++census_mine[last].second;
-                    continue;
-                }
-                last = 0;
-                while (last < census_mine.size() && census_mine[last].first != e) ++last;
-                if (last == census_mine.size()) guard.run([&] { census_mine.push_back({e, 0}); });
-                if (last < census_mine.size()) ++census_mine[last].second;
+                ++hist[e + kExponentBias];
             }
         }
         guard.rethrow();
     }
-    std::vector<std::pair<int, uint64_t>> census;
-    for (const auto &local : census_local)
-        for (const auto &c : local) {
-            size_t k = 0;
-            while (k < census.size() && census[k].first != c.first) ++k;
-            if (k == census.size()) census.push_back({c.first, 0});
-            census[k].second += c.second;
-        }
-    std::sort(census.begin(), census.end());
+    std::vector<std::pair<int, uint64_t>> census;  // (exponent, bodies), ascending
+    for (int k = 0; k < kExponents; ++k) {
+        uint64_t count = 0;
+        for (int t = 0; t < threads; ++t) count += histogram[size_t(t) * kExponents + size_t(k)];
+        if (count) census.push_back({k - kExponentBias, count});
+    }
     // A level whose bodies are very few beside the bodies of the finer levels
     // keeps no guest list: its residents query the finer levels by range
     // instead (scene tetra at 750k has 1 or 2 bodies a hair above radius 2 on
@@ -187,6 +180,9 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     };
     // Coarsening: the levels within a factor 4 below the coarsest one that
     // keeps guests join it (see GridLimits::coarsen).
+    // Each exponent's level, by table (the levels' exponents are `present`).
+    std::vector<int16_t> level_of(kExponents, kNone);
+    for (size_t i = 0; i < census.size(); ++i) level_of[census[i].first + kExponentBias] = int16_t(i);
     if (limits.coarsen && census.size() > 1) {
         const std::vector<uint8_t> few = down_flags(census);
         size_t top = census.size();
@@ -196,11 +192,10 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             size_t first = top - 1;
             while (first > 0 && census[first - 1].first >= lo) --first;
             if (first < top - 1) {
-#pragma omp parallel for num_threads(threads) schedule(static)
-                for (int64_t s = 0; s < int64_t(slot_count); ++s)
-                    if (exponent[s] >= lo && exponent[s] < te) exponent[s] = te;
                 for (size_t i = first; i + 1 < top; ++i) census[top - 1].second += census[i].second;
                 census.erase(census.begin() + std::ptrdiff_t(first), census.begin() + std::ptrdiff_t(top - 1));
+                for (size_t i = 0; i < census.size(); ++i) level_of[census[i].first + kExponentBias] = int16_t(i);
+                for (int e = lo; e < te; ++e) level_of[e + kExponentBias] = int16_t(first);
             }
         }
     }
@@ -218,7 +213,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     auto level_index = [&](int e) -> int16_t {
         if (e == INT_MIN) return kNone;
         if (e == INT_MAX) return kOversize;
-        return int16_t(std::lower_bound(present.begin(), present.end(), e) - present.begin());
+        return level_of[e + kExponentBias];
     };
 
     if (!same_levels) {
@@ -233,7 +228,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             level_[s] = level_index(exponent[s]);
             gen_[s] = live_gen[s];
             if (level_[s] >= 0) {
-                const int e = exponent[s];
+                const int e = present[level_[s]];
                 cell_[2 * s] = cell_coord(spheres[s].y, e + kRowShift);
                 cell_[2 * s + 1] = cell_coord(spheres[s].z, e + kRowShift);
             }
@@ -262,7 +257,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 const int16_t li = level_index(exponent[s]);
                 int64_t c[2] = {0, 0};
                 if (li >= 0) {
-                    const int e = exponent[s];
+                    const int e = present[li];
                     c[0] = cell_coord(spheres[s].y, e + kRowShift);
                     c[1] = cell_coord(spheres[s].z, e + kRowShift);
                 }

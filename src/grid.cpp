@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "parallel.hpp"
+#include "permute.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -304,10 +305,10 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             });
         }
         guard.rethrow();
-        gather(all_lists(), spheres, threads);
+        disorder_ = gather(all_lists(), spheres, threads);
         stats.moved = flagged;
     }
-    if (stats.rebuilt) gather(all_lists(), spheres, threads);
+    if (stats.rebuilt) disorder_ = gather(all_lists(), spheres, threads);
     oversize_.clear();
     for (const auto &local : oversize_local) oversize_.insert(oversize_.end(), local.begin(), local.end());
     built_ = true;
@@ -377,14 +378,16 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 // spheres (random reads by slot), index the rows, restore each row's x order
 // (insertion sort: between ticks the order barely changes; a row it would
 // take long over, many bodies entering one row, is sorted outright).
-void Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int threads) {
+uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int threads) {
     constexpr size_t kPart = 16384;
     struct Part {
         List *list;
         size_t begin, end;
+        bool residents;
     };
     std::vector<Part> parts;
-    for (List *list : lists) {
+    for (size_t l = 0; l < lists.size(); ++l) {
+        List *list = lists[l];
         const size_t m = list->entries.size();
         // Padded so that the sweep may read past the end.
         list->sx.resize(m + kPad);
@@ -392,9 +395,11 @@ void Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int t
         list->sz.resize(m + kPad);
         list->sr.resize(m + kPad);
         for (size_t k = m; k < m + kPad; ++k) list->sx[k] = list->sy[k] = list->sz[k] = list->sr[k] = 0;
-        for (size_t b = 0; b < m; b += kPart) parts.push_back({list, b, std::min(m, b + kPart)});
+        // (all_lists(): residents at even positions)
+        for (size_t b = 0; b < m; b += kPart) parts.push_back({list, b, std::min(m, b + kPart), l % 2 == 0});
     }
     std::vector<double> part_rmax(parts.size(), 0);
+    std::vector<uint64_t> part_jumps(parts.size(), 0);
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) {
@@ -403,6 +408,13 @@ void Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int t
         double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
         const size_t e = parts[p].end;
         double rmax = 0;
+        uint64_t jumps = 0;
+        // A resident more than 64 slots from the one before it (its
+        // sphere is in another stretch of memory).
+        if (parts[p].residents)
+            for (size_t k = std::max<size_t>(parts[p].begin, 1); k < e; ++k)
+                jumps += uint32_t(E[k].slot - E[k - 1].slot + 64) > 128;
+        part_jumps[p] = jumps;
         for (size_t k = parts[p].begin; k < e; ++k) {
             // The next bodies' spheres are random reads: ask for them early.
             if (k + 16 < e) __builtin_prefetch(&spheres[E[k + 16].slot]);
@@ -432,6 +444,8 @@ void Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int t
         list.row_start.push_back(uint32_t(m));
     });
     guard.rethrow();
+    uint64_t disorder = 0;
+    for (uint64_t j : part_jumps) disorder += j;
     for (List *list : lists) list->max_radius = 0;
     for (size_t p = 0; p < parts.size(); ++p)
         parts[p].list->max_radius = std::max(parts[p].list->max_radius, part_rmax[p]);
@@ -442,7 +456,7 @@ void Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int t
         for (size_t b = 0; b < rows;) {
             size_t e = b + 1;
             while (e < rows && list->row_start[e] - list->row_start[b] < kPart) ++e;
-            parts.push_back({list, b, e});
+            parts.push_back({list, b, e, false});
             b = e;
         }
     }
@@ -452,6 +466,7 @@ void Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int t
         sort_rows(list, parts[p].begin, parts[p].end);
     });
     guard.rethrow();
+    return disorder;
 }
 
 void Grid::sort_rows(List &list, size_t row_begin, size_t row_end) {
@@ -845,6 +860,45 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
         }
     });
     guard.rethrow();
+}
+
+void Grid::order(std::vector<uint32_t> &out) const {
+    for (const Level &lv : levels_)
+        for (const Entry &en : lv.residents.entries) out.push_back(en.slot);
+    out.insert(out.end(), oversize_.begin(), oversize_.end());
+}
+
+void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
+                    std::vector<uint64_t> &done) {
+    const size_t n = old_of_new.size();  // (slots made since the last update are not in the grid)
+    level_.resize(n, kNone);
+    gen_.resize(n, 0);
+    cell_.resize(2 * n, 0);
+    for (List *list : all_lists())
+        for (Entry &en : list->entries) en.slot = new_of_old[en.slot];
+    struct Record {
+        int64_t cell[2];
+        uint32_t gen;
+        int16_t level;
+    } held;
+    permute_in_place(
+        old_of_new.data(), old_of_new.size(), done,
+        [&](size_t k) { held = Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], level_[k]}; },
+        [&](size_t from, size_t to) {
+            cell_[2 * to] = cell_[2 * from];
+            cell_[2 * to + 1] = cell_[2 * from + 1];
+            gen_[to] = gen_[from];
+            level_[to] = level_[from];
+        },
+        [&](size_t k) {
+            cell_[2 * k] = held.cell[0];
+            cell_[2 * k + 1] = held.cell[1];
+            gen_[k] = held.gen;
+            level_[k] = held.level;
+        });
+    for (uint32_t &s : oversize_) s = new_of_old[s];
+    std::sort(oversize_.begin(), oversize_.end());
+    disorder_ = 0;
 }
 
 size_t Grid::memory_bytes() const {

@@ -70,6 +70,19 @@ class Grid {
     void find_pairs(const Sphere *spheres, int threads,
                     std::vector<std::vector<uint64_t>> &out) const;
 
+    // The slots of every body in the grid, each once, in sweep order: the
+    // residents of each level as their lists hold them, then the oversize.
+    void order(std::vector<uint32_t> &out) const;
+    // Moves the state of slot old_of_new[k] to slot k (a permutation of at
+    // least the slot_count slots of the last update; new_of_old is its
+    // inverse; done: scratch, see permute_in_place).
+    void renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
+                  std::vector<uint64_t> &done);
+    // Residents whose slot, at the last update, was far from the slot of the
+    // resident before them in sweep order: how much memory order the sweep
+    // order has lost (order() and renumber() restore it).
+    uint64_t disorder() const { return disorder_; }
+
     uint32_t level_count() const { return uint32_t(levels_.size()); }
     uint32_t oversize_count() const { return uint32_t(oversize_.size()); }
     // Approximate heap bytes held.
@@ -114,7 +127,8 @@ class Grid {
     void rebuild(const Sphere *spheres, uint32_t slot_count, int threads);
     void update_list(List &list, int level_index, bool guests, const std::vector<uint8_t> &flag,
                      const std::vector<uint32_t> &changed, const Sphere *spheres);
-    static void gather(const std::vector<List *> &lists, const Sphere *spheres, int threads);
+    // Returns the residents' disorder (see disorder()).
+    static uint64_t gather(const std::vector<List *> &lists, const Sphere *spheres, int threads);
     static void sort_rows(List &list, size_t row_begin, size_t row_end);
     std::vector<List *> all_lists() {
         std::vector<List *> lists;
@@ -141,6 +155,7 @@ class Grid {
     std::vector<int16_t> level_;      // index into levels_, kNone or kOversize
     std::vector<uint32_t> gen_;       // live generation seen
     std::vector<int64_t> cell_;       // 2 per slot: row (y, z) at its own level
+    uint64_t disorder_ = 0;
     bool built_ = false;
 };
 

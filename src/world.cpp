@@ -11,6 +11,7 @@
 #include "contact.hpp"
 #include "narrow.hpp"
 #include "parallel.hpp"
+#include "permute.hpp"
 #include "transform.hpp"
 
 namespace hgcd {
@@ -294,8 +295,12 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             body_gen_.reserve(cap);
             r_level_.reserve(cap);
             sphere_.reserve(cap);
+            at_.reserve(cap);
+            slot_of_.reserve(cap);
+            stored_gen_.reserve(cap);
             live_gen_.reserve(cap);  // last: its capacity says all are reserved
         }
+        // A new slot comes with a new storage index; a freed slot keeps its own.
         slot = uint32_t(live_gen_.size());
         place_.resize(n);
         velocity_.resize(3 * n);
@@ -305,19 +310,24 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         live_gen_.resize(n, 0);
         r_level_.resize(n);
         sphere_.resize(n);
+        at_.push_back(slot);
+        slot_of_.push_back(slot);
+        stored_gen_.push_back(0);
     }
     if (reuse) body_free_.pop_back();
+    const size_t i = at_[slot];
     for (int k = 0; k < 3; ++k) {
-        place_[slot].position[k] = d.position[k];
-        velocity_[3 * size_t(slot) + k] = d.velocity[k];
+        place_[i].position[k] = d.position[k];
+        velocity_[3 * i + k] = d.velocity[k];
     }
-    for (int k = 0; k < 4; ++k) place_[slot].orientation[k] = d.orientation[k];
-    place_[slot].scale = d.scale;
-    body_mesh_[slot] = uint32_t(mesh);
-    user_data_[slot] = d.user_data;
-    r_level_[slot] = d.scale * m.radius * kLevelInflation;
+    for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
+    place_[i].scale = d.scale;
+    body_mesh_[i] = uint32_t(mesh);
+    user_data_[i] = d.user_data;
+    r_level_[i] = d.scale * m.radius * kLevelInflation;
     body_gen_[slot] = (tag_ << kCounterBits) | ((body_gen_[slot] + 1) & kCounterMask);
     live_gen_[slot] = body_gen_[slot];
+    stored_gen_[i] = body_gen_[slot];
     ++mesh_users_[mesh];
     ++live_bodies_;
     *out = hgcd_body{slot, body_gen_[slot]};
@@ -329,7 +339,8 @@ hgcd_status World::destroy_body(hgcd_body id) {
     if (hgcd_status s = check_body(id, "body_destroy", &slot)) return s;
     if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
     live_gen_[slot] = 0;
-    --mesh_users_[body_mesh_[slot]];
+    stored_gen_[at_[slot]] = 0;
+    --mesh_users_[body_mesh_[at_[slot]]];
     --live_bodies_;
     if ((body_gen_[slot] & kCounterMask) != kCounterMask) body_free_.push_back(uint32_t(slot));
     return HGCD_OK;
@@ -339,10 +350,11 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     int64_t slot;
     if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
+    Placement &pl = place_[at_[slot]];
     if (position)
-        for (int k = 0; k < 3; ++k) place_[slot].position[k] = position[k];
+        for (int k = 0; k < 3; ++k) pl.position[k] = position[k];
     if (orientation)
-        for (int k = 0; k < 4; ++k) place_[slot].orientation[k] = orientation[k];
+        for (int k = 0; k < 4; ++k) pl.orientation[k] = orientation[k];
     return HGCD_OK;
 }
 
@@ -352,31 +364,32 @@ hgcd_status World::set_velocity(hgcd_body id, const double *velocity) {
     for (int k = 0; k < 3; ++k)
         if (!std::isfinite(velocity[k]))
             return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_set_velocity: " + vec_text("velocity", k) + " is not finite");
-    for (int k = 0; k < 3; ++k) velocity_[3 * slot + k] = velocity[k];
+    for (int k = 0; k < 3; ++k) velocity_[3 * size_t(at_[slot]) + k] = velocity[k];
     return HGCD_OK;
 }
 
 hgcd_status World::get_pose(hgcd_body id, double *position, double *orientation) const {
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;
+    const Placement &pl = place_[at_[slot]];
     if (position)
-        for (int k = 0; k < 3; ++k) position[k] = place_[slot].position[k];
+        for (int k = 0; k < 3; ++k) position[k] = pl.position[k];
     if (orientation)
-        for (int k = 0; k < 4; ++k) orientation[k] = place_[slot].orientation[k];
+        for (int k = 0; k < 4; ++k) orientation[k] = pl.orientation[k];
     return HGCD_OK;
 }
 
 hgcd_status World::get_velocity(hgcd_body id, double *velocity) const {
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;
-    for (int k = 0; k < 3; ++k) velocity[k] = velocity_[3 * slot + k];
+    for (int k = 0; k < 3; ++k) velocity[k] = velocity_[3 * size_t(at_[slot]) + k];
     return HGCD_OK;
 }
 
 hgcd_status World::get_mesh(hgcd_body id, hgcd_mesh *out) const {
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;
-    const uint32_t m = body_mesh_[slot];
+    const uint32_t m = body_mesh_[at_[slot]];
     *out = hgcd_mesh{m, mesh_gen_[m]};
     return HGCD_OK;
 }
@@ -384,17 +397,17 @@ hgcd_status World::get_mesh(hgcd_body id, hgcd_mesh *out) const {
 hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;
-    *out = user_data_[slot];
+    *out = user_data_[at_[slot]];
     return HGCD_OK;
 }
 
 // ----------------------------------------------------------------- ticks --
 
 void World::compute_spheres(int threads) {
-    const int64_t n = int64_t(live_gen_.size());
+    const int64_t n = int64_t(stored_gen_.size());
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (int64_t s = 0; s < n; ++s) {
-        if (!live_gen_[s]) {
+        if (!stored_gen_[s]) {
             sphere_[s] = Sphere{0, 0, 0, 0};
             continue;
         }
@@ -443,10 +456,14 @@ hgcd_status World::detect() {
     const int T = threads();
     const double t0 = omp_get_wtime();
     try {
+        // Storage in the grid's sweep order again once a tenth of it is out
+        // of order (bodies that changed rows since, or the order of creation
+        // the first time); before the spheres, which follow storage.
+        if (grid_.disorder() * 10 > live_bodies_) renumber();
         compute_spheres(T);
-        const uint32_t slots = uint32_t(live_gen_.size());
+        const uint32_t stored = uint32_t(stored_gen_.size());
         const GridUpdateStats us =
-            grid_.update(sphere_.data(), r_level_.data(), live_gen_.data(), slots, grid_limits(), T);
+            grid_.update(sphere_.data(), r_level_.data(), stored_gen_.data(), stored, grid_limits(), T);
         const double t1 = omp_get_wtime();
 
         // Kept across detects: a tick's candidates need not grow fresh
@@ -506,8 +523,14 @@ hgcd_status World::detect() {
                         __builtin_prefetch(&body_mesh_[ahead >> 32]);
                         __builtin_prefetch(&body_mesh_[uint32_t(ahead)]);
                     }
-                    const uint64_t key = list[k];
-                    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                    // Storage indices, taken in the order of their slots (the
+                    // order of the pair as reported, which contacts follow);
+                    // selects, not branches: the order is random.
+                    const uint32_t i = uint32_t(list[k] >> 32), j = uint32_t(list[k]);
+                    const uint32_t si = slot_of_[i], sj = slot_of_[j];
+                    const bool flip = si > sj;
+                    const uint32_t a = flip ? j : i, b = flip ? i : j;
+                    const uint64_t key = flip ? (uint64_t(sj) << 32) | si : (uint64_t(si) << 32) | sj;
                     const Placement &la = place_[a], &lb = place_[b];
                     const BodyPose pa{&meshes_[body_mesh_[a]], la.position, la.orientation, la.scale};
                     const BodyPose pb{&meshes_[body_mesh_[b]], lb.position, lb.orientation, lb.scale};
@@ -610,22 +633,98 @@ hgcd_status World::detect() {
     return HGCD_OK;
 }
 
+bool World::renumber() {
+    const size_t n = stored_gen_.size();
+    std::vector<uint32_t> old_of_new, new_of_old;
+    std::vector<uint64_t> done;
+    try {
+        old_of_new.reserve(n);
+        new_of_old.resize(n);
+        done.reserve((n + 63) / 64);
+    } catch (const std::bad_alloc &) {
+        return false;  // renumbering only saves time
+    }
+    // The grid's order (as of the last detect), then everything else:
+    // bodies made since, and free storage. new_of_old marks what is placed.
+    grid_.order(old_of_new);
+    std::fill(new_of_old.begin(), new_of_old.end(), UINT32_MAX);
+    size_t placed = 0;
+    for (const uint32_t i : old_of_new)
+        if (new_of_old[i] == UINT32_MAX) {
+            new_of_old[i] = uint32_t(placed);
+            old_of_new[placed++] = i;
+        }
+    old_of_new.resize(placed);
+    for (size_t i = 0; i < n; ++i)
+        if (new_of_old[i] == UINT32_MAX) {
+            new_of_old[i] = uint32_t(old_of_new.size());
+            old_of_new.push_back(uint32_t(i));
+        }
+    // The grid first: it may need to grow its per-slot arrays (slots made
+    // since the last detect), and a failure there leaves both unchanged.
+    try {
+        grid_.renumber(old_of_new, new_of_old, done);
+    } catch (const std::bad_alloc &) {
+        return false;
+    }
+    // One pass over the permutation's cycles for every per-index array.
+    struct Record {
+        Placement place;
+        double velocity[3];
+        uint64_t user_data;
+        double r_level;
+        uint32_t mesh, gen, slot;
+    } held;
+    auto take = [&](size_t k, Record &r) {
+        r.place = place_[k];
+        for (int c = 0; c < 3; ++c) r.velocity[c] = velocity_[3 * k + c];
+        r.user_data = user_data_[k];
+        r.r_level = r_level_[k];
+        r.mesh = body_mesh_[k];
+        r.gen = stored_gen_[k];
+        r.slot = slot_of_[k];
+    };
+    auto put = [&](size_t k, const Record &r) {
+        place_[k] = r.place;
+        for (int c = 0; c < 3; ++c) velocity_[3 * k + c] = r.velocity[c];
+        user_data_[k] = r.user_data;
+        r_level_[k] = r.r_level;
+        body_mesh_[k] = r.mesh;
+        stored_gen_[k] = r.gen;
+        slot_of_[k] = r.slot;
+    };
+    permute_in_place(
+        old_of_new.data(), n, done, [&](size_t k) { take(k, held); },
+        [&](size_t from, size_t to) {
+            place_[to] = place_[from];
+            for (int c = 0; c < 3; ++c) velocity_[3 * to + c] = velocity_[3 * from + c];
+            user_data_[to] = user_data_[from];
+            r_level_[to] = r_level_[from];
+            body_mesh_[to] = body_mesh_[from];
+            stored_gen_[to] = stored_gen_[from];
+            slot_of_[to] = slot_of_[from];
+        },
+        [&](size_t k) { put(k, held); });
+    for (size_t k = 0; k < n; ++k) at_[slot_of_[k]] = uint32_t(k);
+    return true;
+}
+
 hgcd_status World::step() {
     const int T = threads();
     const double t0 = omp_get_wtime();
-    const int64_t n = int64_t(live_gen_.size());
+    const int64_t n = int64_t(stored_gen_.size());
     const double dt = time_step_;
     // Unless the world reflects (every move then ends inside its box), first
     // check that every move stays finite and in range, then move: a refused
     // step moves nothing.
     if (!reflect_) {
-        int64_t bad = -1;
+        int64_t bad = -1;  // the largest slot of a body that would leave
 #pragma omp parallel for num_threads(T) schedule(static) reduction(max : bad)
         for (int64_t s = 0; s < n; ++s) {
-            if (!live_gen_[s]) continue;
+            if (!stored_gen_[s]) continue;
             for (int k = 0; k < 3; ++k) {
                 const double x = place_[s].position[k] + velocity_[3 * s + k] * dt;
-                if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, s);
+                if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, int64_t(slot_of_[s]));
             }
         }
         if (bad >= 0)
@@ -638,7 +737,7 @@ hgcd_status World::step() {
     const double hi[3] = {bounds_max_[0], bounds_max_[1], bounds_max_[2]};
     Placement *place = place_.data();
     double *velocity = velocity_.data();
-    const uint32_t *live = live_gen_.data();
+    const uint32_t *live = stored_gen_.data();
 #pragma omp parallel for num_threads(T) schedule(static)
     for (int64_t s = 0; s < n; ++s) {
         if (!live[s]) continue;
@@ -673,7 +772,9 @@ size_t World::memory_bytes() const {
     bytes += contacts_.capacity() * sizeof(hgcd_contact);
     bytes += place_.capacity() * sizeof(Placement);
     bytes += (velocity_.capacity() + r_level_.capacity()) * sizeof(double);
-    bytes += (body_mesh_.capacity() + body_gen_.capacity() + live_gen_.capacity()) * sizeof(uint32_t);
+    bytes += (body_mesh_.capacity() + body_gen_.capacity() + live_gen_.capacity() + at_.capacity() +
+              slot_of_.capacity() + stored_gen_.capacity()) *
+             sizeof(uint32_t);
     bytes += user_data_.capacity() * sizeof(uint64_t) + sphere_.capacity() * sizeof(Sphere);
     for (const Mesh &m : meshes_)
         bytes += m.vertices.capacity() * sizeof(double) + m.triangles.capacity() * sizeof(uint32_t);

@@ -60,6 +60,9 @@ class World {
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
     void compute_spheres(int threads);
+    // Moves every body's storage to the grid's sweep order (see at_); false,
+    // changing nothing, when there is no memory for it.
+    bool renumber();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     int threads() const;
     GridLimits grid_limits();
@@ -84,7 +87,18 @@ class World {
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)
 
-    // Bodies, by slot (structure of arrays).
+    // Bodies. A body's slot is the index of its handle; its state lives at
+    // a storage index (at_), and the world renumbers storage now and then to
+    // follow the grid's sweep order (renumber()), so that the gather of the
+    // grid update and the narrow phase read memory nearly in sequence.
+    // Per slot:
+    std::vector<uint32_t> body_gen_;   // last generation handed out in the slot
+    std::vector<uint32_t> live_gen_;   // body_gen_ if alive, else 0
+    std::vector<uint32_t> at_;         // storage index
+    std::vector<uint32_t> body_free_;  // stack of reusable slots
+    // Per storage index (structure of arrays):
+    std::vector<uint32_t> slot_of_;
+    std::vector<uint32_t> stored_gen_;  // live_gen_ of the slot stored here
     // What the narrow phase reads per body, in one cache line.
     struct alignas(64) Placement {
         double position[3];
@@ -95,11 +109,8 @@ class World {
     std::vector<double> velocity_;     // 3
     std::vector<uint32_t> body_mesh_;  // mesh slot
     std::vector<uint64_t> user_data_;
-    std::vector<uint32_t> body_gen_;   // last generation handed out in the slot
-    std::vector<uint32_t> live_gen_;   // body_gen_ if alive, else 0
     std::vector<double> r_level_;      // radius that picks the grid level
     std::vector<Sphere> sphere_;       // this tick's test spheres
-    std::vector<uint32_t> body_free_;  // stack of reusable slots
     uint32_t live_bodies_ = 0;
 
     Grid grid_;

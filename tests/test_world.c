@@ -120,6 +120,7 @@ static void add(scene *sc, int shape, const double *p, const double *q, double s
     memcpy(bd.position, p, sizeof bd.position);
     memcpy(bd.orientation, q, sizeof bd.orientation);
     bd.scale = scale;
+    bd.user_data = 0x5EED000000000000ull ^ (uint64_t)(scale * 1e6);
     hgcd_body b;
     assert_int_equal(hgcd_body_create(sc->w, &bd, &b), HGCD_OK);
     assert_true(b.index < sc->cap);
@@ -128,6 +129,25 @@ static void add(scene *sc, int shape, const double *p, const double *q, double s
     memcpy(&sc->pos[3 * b.index], p, 3 * sizeof(double));
     memcpy(&sc->quat[4 * b.index], q, 4 * sizeof(double));
     sc->scale[b.index] = scale;
+}
+
+/* Every live body's state as the world reports it equals what the test
+ * set: the world moves bodies' storage around (renumbering), their ids and
+ * state must not move with it. */
+static void check_bodies(const scene *sc) {
+    for (size_t i = 0; i < sc->cap; ++i) {
+        if (sc->shape[i] < 0) continue;
+        double p[3], q[4];
+        assert_int_equal(hgcd_body_get_pose(sc->w, sc->id[i], p, q), HGCD_OK);
+        assert_memory_equal(p, &sc->pos[3 * i], sizeof p);
+        assert_memory_equal(q, &sc->quat[4 * i], sizeof q);
+        uint64_t u;
+        assert_int_equal(hgcd_body_get_user_data(sc->w, sc->id[i], &u), HGCD_OK);
+        assert_true(u == (0x5EED000000000000ull ^ (uint64_t)(sc->scale[i] * 1e6)));
+        hgcd_mesh m;
+        assert_int_equal(hgcd_body_get_mesh(sc->w, sc->id[i], &m), HGCD_OK);
+        assert_int_equal(m.index, sc->mesh[sc->shape[i]].index);
+    }
 }
 
 static void remove_body(scene *sc, size_t slot) {
@@ -335,6 +355,7 @@ static void test_incremental_motion(void **state) {
             add(&sc, (int)(next(&r) % SHAPE_COUNT), p, q, 0.2 + 2.3 * unif(&r));
         }
         check_against_oracle(&sc);
+        check_bodies(&sc);
     }
     /* One body marched across the whole scene in small steps. */
     size_t walker = 0;

@@ -456,14 +456,20 @@ hgcd_status World::detect() {
     const int T = threads();
     const double t0 = omp_get_wtime();
     try {
-        // Storage in the grid's sweep order again once a tenth of it is out
+        // Storage in the grid's sweep order again once a fifth of it is out
         // of order (bodies that changed rows since, or the order of creation
-        // the first time); before the spheres, which follow storage.
-        if (grid_.disorder() * 10 > live_bodies_) renumber();
+        // the first time); before the spheres, which follow storage. Not
+        // right after the grid was rebuilt: its levels may still be settling
+        // (coarsening), and each new set of levels is a new order. On tetra
+        // at 750k a renumbering costs 130 ms the first time and 65 ms every
+        // ~18 ticks after; the mean tick over 40 ticks went 290 -> 244 ms
+        // (thresholds of 5% to 40% all gave 243-246 ms).
+        if (!grid_rebuilt_ && grid_.disorder() * 5 > live_bodies_) renumber();
         compute_spheres(T);
         const uint32_t stored = uint32_t(stored_gen_.size());
         const GridUpdateStats us =
             grid_.update(sphere_.data(), r_level_.data(), stored_gen_.data(), stored, grid_limits(), T);
+        grid_rebuilt_ = us.rebuilt;
         const double t1 = omp_get_wtime();
 
         // Kept across detects: a tick's candidates need not grow fresh

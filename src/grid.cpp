@@ -95,6 +95,16 @@ inline bool overlap(const Sphere &a, const Sphere &b) {
     return dx * dx + dy * dy + dz * dz <= rs * rs;
 }
 
+// Half the extent along x of a sphere of radius r, as the sweeps use it.
+// overlap() evaluates as disjoint whatever its rounding when |xa - xb| >
+// (ra + rb)(1 + 1e-9); the extents are inflated past that, so two spheres
+// it accepts have left ends (x - x_extent(r), rounded) each at most the
+// other's right end (x + x_extent(r), rounded): the bound holds for the
+// reals, and rounding is monotone. The 1e-150 covers squares that
+// underflow to zero.
+inline double x_extent(double r) { return r * (1 + 2e-9) + 1e-150; }
+inline double left_end(const Sphere &s) { return s.x - x_extent(s.r); }
+
 inline uint64_t pair_key(uint32_t a, uint32_t b) {
     return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
@@ -319,9 +329,9 @@ void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int16_t own = level_[s];
         if (own < 0) continue;
-        levels_[own].residents.entries.push_back({key_of(s, own), s, float(spheres[s].x)});
+        levels_[own].residents.entries.push_back({key_of(s, own), s, float(left_end(spheres[s]))});
         for (size_t li = size_t(own) + 1; li < levels_.size(); ++li)
-            if (!levels_[li].down) levels_[li].guests.entries.push_back({key_of(s, int(li)), s, float(spheres[s].x)});
+            if (!levels_[li].down) levels_[li].guests.entries.push_back({key_of(s, int(li)), s, float(left_end(spheres[s]))});
     }
     const int64_t lists = int64_t(2 * levels_.size());
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
@@ -352,13 +362,13 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
         } else if (f == 1) {
             const CellKey key = key_of(en.slot, li);
             if (key == en.key) entries[w++] = en;
-            else add.push_back({key, en.slot, float(spheres[en.slot].x)});
+            else add.push_back({key, en.slot, float(left_end(spheres[en.slot]))});
         }
     }
     for (uint32_t s : changed) {
         const int16_t own = level_[s];
         if (guests ? (own >= 0 && own < li) : own == li)
-            add.push_back({key_of(s, li), s, float(spheres[s].x)});
+            add.push_back({key_of(s, li), s, float(left_end(spheres[s]))});
     }
     std::sort(add.begin(), add.end(), ByRowX<Entry>());
     // Merge from the back, in place: entries[0, w) and add into entries[0, n).
@@ -394,20 +404,22 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         list->sy.resize(m + kPad);
         list->sz.resize(m + kPad);
         list->sr.resize(m + kPad);
-        for (size_t k = m; k < m + kPad; ++k) list->sx[k] = list->sy[k] = list->sz[k] = list->sr[k] = 0;
+        list->sl.resize(m + kPad);
+        for (size_t k = m; k < m + kPad; ++k) list->sx[k] = list->sy[k] = list->sz[k] = list->sr[k] = list->sl[k] = 0;
         // (all_lists(): residents at even positions)
         for (size_t b = 0; b < m; b += kPart) parts.push_back({list, b, std::min(m, b + kPart), l % 2 == 0});
     }
-    std::vector<double> part_rmax(parts.size(), 0);
+    std::vector<double> part_rmax(parts.size(), 0), part_left(parts.size(), 0);
     std::vector<uint64_t> part_jumps(parts.size(), 0);
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) {
         List &list = *parts[p].list;
         const Entry *E = list.entries.data();
-        double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
+        double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data(),
+               *L = list.sl.data();
         const size_t e = parts[p].end;
-        double rmax = 0;
+        double rmax = 0, lmax = 0;
         uint64_t jumps = 0;
         // A resident more than 64 slots from the one before it (its
         // sphere is in another stretch of memory).
@@ -423,9 +435,12 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
             Y[k] = sp.y;
             Z[k] = sp.z;
             R[k] = sp.r;
+            L[k] = left_end(sp);
             rmax = std::max(rmax, sp.r);
+            lmax = std::max(lmax, std::fabs(L[k]));
         }
         part_rmax[p] = rmax;
+        part_left[p] = lmax;
     }
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t l = 0; l < int64_t(lists.size()); ++l) guard.run([&] {
@@ -446,9 +461,11 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
     guard.rethrow();
     uint64_t disorder = 0;
     for (uint64_t j : part_jumps) disorder += j;
-    for (List *list : lists) list->max_radius = 0;
-    for (size_t p = 0; p < parts.size(); ++p)
+    for (List *list : lists) list->max_radius = list->max_abs_left = 0;
+    for (size_t p = 0; p < parts.size(); ++p) {
         parts[p].list->max_radius = std::max(parts[p].list->max_radius, part_rmax[p]);
+        parts[p].list->max_abs_left = std::max(parts[p].list->max_abs_left, part_left[p]);
+    }
     // Row ranges of about kPart entries.
     parts.clear();
     for (List *list : lists) {
@@ -471,28 +488,24 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
 
 void Grid::sort_rows(List &list, size_t row_begin, size_t row_end) {
     Entry *E = list.entries.data();
-    double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data();
+    double *A[5] = {list.sl.data(), list.sx.data(), list.sy.data(), list.sz.data(), list.sr.data()};
+    const double *L = A[0];  // sorted by left end
     for (size_t r = row_begin; r < row_end; ++r) {
         const size_t b = list.row_start[r], e = list.row_start[r + 1];
         size_t budget = 8 * (e - b) + 64;
         bool sorted = true;
         for (size_t k = b + 1; k < e && sorted; ++k) {
-            if (!(X[k] < X[k - 1])) continue;
-            const double kx = X[k], ky = Y[k], kz = Z[k], kr = R[k];
+            if (!(L[k] < L[k - 1])) continue;
+            double held[5];
+            for (int a = 0; a < 5; ++a) held[a] = A[a][k];
             const Entry ek = E[k];
             size_t j = k;
-            for (; j > b && kx < X[j - 1]; --j) {
-                X[j] = X[j - 1];
-                Y[j] = Y[j - 1];
-                Z[j] = Z[j - 1];
-                R[j] = R[j - 1];
+            for (; j > b && held[0] < L[j - 1]; --j) {
+                for (int a = 0; a < 5; ++a) A[a][j] = A[a][j - 1];
                 E[j] = E[j - 1];
                 if (--budget == 0) break;
             }
-            X[j] = kx;
-            Y[j] = ky;
-            Z[j] = kz;
-            R[j] = kr;
+            for (int a = 0; a < 5; ++a) A[a][j] = held[a];
             E[j] = ek;
             sorted = budget != 0;
         }
@@ -500,27 +513,18 @@ void Grid::sort_rows(List &list, size_t row_begin, size_t row_end) {
         std::vector<uint32_t> order(e - b);
         for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
         std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
-            return X[b + p] < X[b + q] || (X[b + p] == X[b + q] && E[b + p].slot < E[b + q].slot);
+            return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && E[b + p].slot < E[b + q].slot);
         });
-        std::vector<double> t(4 * order.size());
+        std::vector<double> t(order.size());
+        for (int a = 0; a < 5; ++a) {
+            for (size_t k = 0; k < order.size(); ++k) t[k] = A[a][b + order[k]];
+            std::copy(t.begin(), t.end(), A[a] + b);
+        }
         std::vector<Entry> te(order.size());
-        for (size_t k = 0; k < order.size(); ++k) {
-            const size_t from = b + order[k];
-            t[4 * k] = X[from];
-            t[4 * k + 1] = Y[from];
-            t[4 * k + 2] = Z[from];
-            t[4 * k + 3] = R[from];
-            te[k] = E[from];
-        }
-        for (size_t k = 0; k < order.size(); ++k) {
-            X[b + k] = t[4 * k];
-            Y[b + k] = t[4 * k + 1];
-            Z[b + k] = t[4 * k + 2];
-            R[b + k] = t[4 * k + 3];
-            E[b + k] = te[k];
-        }
+        for (size_t k = 0; k < order.size(); ++k) te[k] = E[b + order[k]];
+        std::copy(te.begin(), te.end(), E + b);
     }
-    for (size_t k = list.row_start[row_begin]; k < list.row_start[row_end]; ++k) E[k].x = float(X[k]);
+    for (size_t k = list.row_start[row_begin]; k < list.row_start[row_end]; ++k) E[k].x = float(L[k]);
 }
 
 namespace {
@@ -543,24 +547,21 @@ inline CellKey row_step(int dz, int dy) {
 }
 
 // One sphere against kBlock = 4 consecutive spheres of a row (arrays x, y,
-// z, r): bit k of the result is set when sphere k lies in the window
-// [left, right] along x and overlaps, by the same operations in the same
-// order as overlap(). SSE2 on x86-64 (two lanes twice), vector extensions
-// elsewhere (NEON on arm64).
+// z, r): bit k of the result is set when sphere k overlaps, by the same
+// operations in the same order as overlap(). SSE2 on x86-64 (two lanes
+// twice), vector extensions elsewhere (NEON on arm64). No window test: the
+// windows only prune (every pair a sweep may test is one it owns, see
+// sweep_residents), so they bound where a scan starts and stops, no more.
 #if defined(__SSE2__)
 struct Lanes {
-    __m128d ax, ay, az, ar, left, right;
-    Lanes(double x, double y, double z, double r, double l, double h)
-        : ax(_mm_set1_pd(x)), ay(_mm_set1_pd(y)), az(_mm_set1_pd(z)), ar(_mm_set1_pd(r)),
-          left(_mm_set1_pd(l)), right(_mm_set1_pd(h)) {}
+    __m128d ax, ay, az, ar;
+    Lanes(double x, double y, double z, double r)
+        : ax(_mm_set1_pd(x)), ay(_mm_set1_pd(y)), az(_mm_set1_pd(z)), ar(_mm_set1_pd(r)) {}
     unsigned two(const double *x, const double *y, const double *z, const double *r) const {
-        const __m128d bx = _mm_loadu_pd(x);
-        const __m128d dx = _mm_sub_pd(ax, bx), dy = _mm_sub_pd(ay, _mm_loadu_pd(y)),
+        const __m128d dx = _mm_sub_pd(ax, _mm_loadu_pd(x)), dy = _mm_sub_pd(ay, _mm_loadu_pd(y)),
                       dz = _mm_sub_pd(az, _mm_loadu_pd(z)), rs = _mm_add_pd(ar, _mm_loadu_pd(r));
         const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-        const __m128d in = _mm_and_pd(_mm_and_pd(_mm_cmpge_pd(bx, left), _mm_cmple_pd(bx, right)),
-                                      _mm_cmple_pd(d2, _mm_mul_pd(rs, rs)));
-        return unsigned(_mm_movemask_pd(in));
+        return unsigned(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(rs, rs))));
     }
     unsigned test(const double *x, const double *y, const double *z, const double *r) const {
         return two(x, y, z, r) | two(x + 2, y + 2, z + 2, r + 2) << 2;
@@ -575,15 +576,14 @@ inline V2 load2(const double *p) {
     return v;
 }
 struct Lanes {
-    double ax, ay, az, ar, left, right;
-    Lanes(double x, double y, double z, double r, double l, double h)
-        : ax(x), ay(y), az(z), ar(r), left(l), right(h) {}
+    double ax, ay, az, ar;
+    Lanes(double x, double y, double z, double r) : ax(x), ay(y), az(z), ar(r) {}
     unsigned test(const double *x, const double *y, const double *z, const double *r) const {
         unsigned hits = 0;
         for (int h = 0; h < kBlock; h += 2) {
-            const V2 bx = load2(x + h), dx = ax - bx, dy = ay - load2(y + h), dz = az - load2(z + h),
+            const V2 dx = ax - load2(x + h), dy = ay - load2(y + h), dz = az - load2(z + h),
                      rs = ar + load2(r + h);
-            const M2 in = (bx >= left) & (bx <= right) & (dx * dx + dy * dy + dz * dz <= rs * rs);
+            const M2 in = dx * dx + dy * dy + dz * dz <= rs * rs;
             hits |= unsigned((in[0] & 1) | (in[1] & 2)) << h;
         }
         return hits;
@@ -591,20 +591,39 @@ struct Lanes {
 };
 #endif
 
-// How far along x a sphere of radius r can reach a sphere of radius at most
-// rmax. A pair the window leaves out has |xa - xb| > (ra + rb)(1 + 1e-9), which
-// overlap() evaluates as disjoint whatever its rounding; window ends are
-// compared after rounding, which is monotone, so nothing inside is lost. The
-// 1e-150 covers squares that underflow to zero.
-inline double reach(double r, double rmax) { return (r + rmax) * (1 + 1e-9) + 1e-150; }
+// The pairs of sphere `slot` (its lanes) with the entries [j, e) of a list
+// up to the block holding the first whose left end passes `right` (none
+// after it can overlap, see x_extent), four at a time. Needs j < e; the
+// padding past e is read and masked.
+template <class EntryT>
+inline void scan(const Lanes &lanes, const Grid::SphereArrays &B, size_t j, size_t e, double right,
+                 uint32_t slot, const EntryT *E, std::vector<uint64_t> &out) {
+    for (;; j += kBlock) {
+        unsigned hits = lanes.test(B.x + j, B.y + j, B.z + j, B.r + j);
+        if (j + kBlock > e) hits &= (1u << (e - j)) - 1;
+        while (hits) {
+            const size_t k = j + size_t(__builtin_ctz(hits));
+            hits &= hits - 1;
+            out.push_back(pair_key(slot, E[k].slot));
+        }
+        if (j + kBlock >= e || B.l[j + kBlock - 1] > right) return;
+    }
+}
+
+// How far below a sphere's left end the left end of a sphere of radius at
+// most rmax can lie and still overlap it, for left ends at most `span` in
+// magnitude: 2 x_extent(rmax), plus the rounding of the left ends. (From
+// overlap: x_b - x_extent(r_b) >= x_a - x_extent(r_a) - 2 x_extent(r_b) as
+// reals; the left end of a is within 2^-53 |left| of x_a - x_extent(r_a).)
+inline double left_slack(double rmax, double span) { return 2 * x_extent(rmax) * (1 + 1e-12) + 1e-12 * span; }
 
 // Which neighbouring rows a sphere of a row can reach (kReach* bits): a row
 // y - 1 needs y - r_i - r_j < y0 (the row's lower face), and every sphere it
 // can meet at this level has r_j <= w / 2 (a level's residents fit its
 // cells), so a sphere farther than r_i + w/2 from a face skips the rows
-// beyond. Inflated as the x window is (see reach()), in row units, where
-// v - c is within 2^-53 of exact; a centre not truly in its row (far keys
-// saturate) reaches every row.
+// beyond. Inflated as x_extent is, in row units, where v - c is within
+// 2^-53 of exact; a centre not truly in its row (far keys saturate) reaches
+// every row.
 class RowReach {
   public:
     RowReach(int exponent, CellKey row)
@@ -628,20 +647,19 @@ class RowReach {
 };
 
 // Every overlapping pair of an entry of row A [ib, ie) with an entry of the
-// rows B[r] = [jb[r], je[r]) (r < rows), all sorted by centre x. Each sphere
+// rows B[r] = [jb[r], je[r]) (r < rows), all sorted by left end. Each sphere
 // of A visits only the rows its reach bits allow (need[r] are the bits row r
-// needs) and that still have candidates; in each, a window whose left end
-// only moves forward (it trails by the largest reach of A) is tested kBlock
-// spheres at a time. Visiting A's spheres in the outer loop, each with its
-// rows, costs one loop exit per sphere where one test per (sphere, row) pair
-// went either way.
+// needs) and that still have candidates; in each, it scans from the first
+// left end at or above its own minus `slack` (see left_slack; a floor that
+// only rises as A's left ends do) up to its right end. Visiting A's spheres
+// in the outer loop, each with its rows, costs one loop exit per sphere
+// where one test per (sphere, row) pair went either way.
 template <class EntryT>
 inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const RowReach &row_reach, size_t ib,
-                       size_t ie, double rmax_a, const Grid::SphereArrays &B, const EntryT *EB,
-                       const size_t *jb, const size_t *je, const uint8_t *need, int rows, double rmax_b,
+                       size_t ie, double slack, const Grid::SphereArrays &B, const EntryT *EB,
+                       const size_t *jb, const size_t *je, const uint8_t *need, int rows,
                        std::vector<uint64_t> &out) {
-    const double widest = reach(rmax_a, rmax_b);
-    const double *BX = B.x, *BY = B.y, *BZ = B.z, *BR = B.r;
+    const double *BL = B.l;
     unsigned allowed[16];  // rows a sphere with these reach bits may meet
     for (unsigned f = 0; f < 16; ++f) {
         allowed[f] = 0;
@@ -656,46 +674,38 @@ inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const RowR
     for (size_t i = ib; i < ie && live; ++i) {
         unsigned mask = allowed[row_reach.bits(A.y[i], A.z[i], A.r[i])] & live;
         if (!mask) continue;
-        const double ax = A.x[i], floor = ax - widest;
-        const double w = reach(A.r[i], rmax_b), left = ax - w, right = ax + w;
-        const Lanes lanes(ax, A.y[i], A.z[i], A.r[i], left, right);
+        const double floor = A.l[i] - slack, right = A.x[i] + x_extent(A.r[i]);
+        const Lanes lanes(A.x[i], A.y[i], A.z[i], A.r[i]);
         do {
             const int r = __builtin_ctz(mask);
             mask &= mask - 1;
             size_t j = lo[r];
             const size_t e = je[r];
             // Usually fewer than 4 steps: found by halving without branches
-            // to mispredict (BX is padded by kPad, so reads past e are safe
+            // to mispredict (BL is padded by kPad, so reads past e are safe
             // and their answers masked).
             for (size_t step = 2; step >= 1; step /= 2)
-                j += step * size_t((j + step <= e) & (BX[j + step - 1] < floor));
-            while (j < e && BX[j] < floor) ++j;
+                j += step * size_t((j + step <= e) & (BL[j + step - 1] < floor));
+            while (j < e && BL[j] < floor) ++j;
             lo[r] = j;
             if (j == e) {
                 live &= ~(1u << r);
                 continue;
             }
-            for (; j < e; j += kBlock) {
-                unsigned hits = lanes.test(BX + j, BY + j, BZ + j, BR + j);
-                if (j + kBlock > e) hits &= (1u << (e - j)) - 1;
-                while (hits) {
-                    const size_t k = j + size_t(__builtin_ctz(hits));
-                    hits &= hits - 1;
-                    out.push_back(pair_key(EA[i].slot, EB[k].slot));
-                }
-                if (!(BX[std::min(j + kBlock, e) - 1] <= right)) break;  // the window ends in this block
-            }
+            if (BL[j] <= right) scan(lanes, B, j, e, right, EA[i].slot, EB, out);
         } while (mask);
     }
 }
 
 }  // namespace
 
-// A level's residents, rows (z, y) sorted by key and each by centre x: each
-// body is compared with the later bodies of its own row within its reach,
-// and swept against the rows (z, y+1), (z+1, y-1), (z+1, y) and (z+1, y+1)
-// (the later half of the 3x3 rows around it in key order, so each pair
-// once). Rows are found by cursors that only move forward.
+// A level's residents, rows (z, y) sorted by key and each by left end: each
+// body meets the later bodies of its own row up to its right end (sweep and
+// prune: a pair of the row is found from the member with the lower left
+// end), and is swept against the rows (z, y+1), (z+1, y-1), (z+1, y) and
+// (z+1, y+1) (the later half of the 3x3 rows around it in key order, so
+// each pair of two rows once). Rows are found by cursors that only move
+// forward.
 void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
                            std::vector<uint64_t> &out) const {
     const List &R = lv.residents;
@@ -703,7 +713,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     const uint32_t *start = R.row_start.data();
     const SphereArrays S = R.arrays();
     const Entry *E = R.entries.data();
-    const double rmax = R.max_radius;
+    const double slack = left_slack(R.max_radius, R.max_abs_left);
     static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
     uint8_t need[4];
     for (int r = 0; r < 4; ++r) need[r] = reach_needed(later[r][0], later[r][1]);
@@ -715,11 +725,10 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     }
     for (size_t row = begin; row < end; ++row) {
         const size_t b = start[row], e = start[row + 1];
-        for (size_t i = b; i < e; ++i) {
-            const Sphere a = S.at(i);
-            const double right = a.x + reach(a.r, rmax);
-            for (size_t j = i + 1; j < e && S.x[j] <= right; ++j)
-                if (overlap(a, S.at(j))) out.push_back(pair_key(E[i].slot, E[j].slot));
+        for (size_t i = b; i + 1 < e; ++i) {
+            const double right = S.x[i] + x_extent(S.r[i]);
+            if (S.l[i + 1] <= right)
+                scan(Lanes(S.x[i], S.y[i], S.z[i], S.r[i]), S, i + 1, e, right, E[i].slot, E, out);
         }
         size_t jb[4], je[4];
         for (int r = 0; r < 4; ++r) {
@@ -729,7 +738,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
             jb[r] = found ? start[k] : 0;
             je[r] = found ? start[k + 1] : 0;
         }
-        sweep_rows(S, E, RowReach(lv.exponent, rows[row]), b, e, rmax, S, E, jb, je, need, 4, rmax, out);
+        sweep_rows(S, E, RowReach(lv.exponent, rows[row]), b, e, slack, S, E, jb, je, need, 4, out);
     }
 }
 
@@ -740,6 +749,7 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
     const std::vector<CellKey> &grows = G.row_keys, &rows = R.row_keys;
     if (rows.empty()) return;
     const uint32_t *gstart = G.row_start.data(), *start = R.row_start.data();
+    const double slack = left_slack(R.max_radius, G.max_abs_left);
     CellKey off[9];
     size_t cur[9];
     for (int r = 0; r < 9; ++r) {
@@ -758,8 +768,7 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
             je[r] = found ? start[k + 1] : 0;
         }
         sweep_rows(G.arrays(), G.entries.data(), RowReach(lv.exponent, grows[row]), gstart[row], gstart[row + 1],
-                   G.max_radius,
-                   R.arrays(), R.entries.data(), jb, je, need, 9, R.max_radius, out);
+                   slack, R.arrays(), R.entries.data(), jb, je, need, 9, out);
     }
 }
 
@@ -782,13 +791,17 @@ void Grid::query_levels(const Sphere &o, uint32_t slot, size_t level_end,
                 if (overlap(o, S.at(j))) out.push_back(pair_key(slot, E[j].slot));
             continue;
         }
-        const double w = reach(o.r, R.max_radius), left = o.x - w, right = o.x + w;
+        // A sphere j overlapping o has x_j - x_extent(r_j) >= x_o -
+        // (x_extent(r_o) + 2 x_extent(rmax)) as reals, so its rounded left
+        // end is at least the rounded `left` (rounding is monotone).
+        const double left = o.x - (x_extent(o.r) + 2 * x_extent(R.max_radius)) * (1 + 1e-12);
+        const double right = o.x + x_extent(o.r);
         for (uint64_t z = lz; z <= hz; ++z) {
             for (uint64_t y = ly; y <= hy; ++y) {
                 const size_t k = first_row(R.row_keys, row_key(z, y));
                 if (k == R.row_keys.size() || R.row_keys[k] != row_key(z, y)) continue;
-                for (size_t j = R.row_start[k]; j < R.row_start[k + 1] && S.x[j] <= right; ++j)
-                    if (S.x[j] >= left && overlap(o, S.at(j))) out.push_back(pair_key(slot, E[j].slot));
+                for (size_t j = R.row_start[k]; j < R.row_start[k + 1] && S.l[j] <= right; ++j)
+                    if (S.l[j] >= left && overlap(o, S.at(j))) out.push_back(pair_key(slot, E[j].slot));
             }
         }
     }
@@ -906,7 +919,7 @@ size_t Grid::memory_bytes() const {
                    cell_.capacity() * sizeof(int64_t) + oversize_.capacity() * sizeof(uint32_t);
     for (const Level &lv : levels_)
         bytes += (lv.residents.entries.capacity() + lv.guests.entries.capacity()) * sizeof(Entry) +
-                 (lv.residents.sx.capacity() + lv.guests.sx.capacity()) * 4 * sizeof(double);
+                 (lv.residents.sx.capacity() + lv.guests.sx.capacity()) * 5 * sizeof(double);
     return bytes;
 }
 

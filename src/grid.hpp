@@ -94,26 +94,30 @@ class Grid {
     struct __attribute__((packed, aligned(8))) Entry {
         CellKey key;
         uint32_t slot;
-        float x;  // centre x as of the last gather: orders merges within a row
+        float x;  // left end as of the last gather: orders merges within a row
     };
     static_assert(sizeof(Entry) == 24, "Entry layout");
   public:
     struct SphereArrays {
-        const double *x, *y, *z, *r;
+        const double *x, *y, *z, *r, *l;  // l: left end along x (sweep order)
         Sphere at(size_t k) const { return Sphere{x[k], y[k], z[k], r[k]}; }
     };
 
   private:
     struct List {
-        std::vector<Entry> entries;   // sorted by (key, slot)
-        // Spheres of entries, same order, as four arrays (padded at the end).
-        std::vector<double> sx, sy, sz, sr;
+        std::vector<Entry> entries;   // sorted by (key, left end)
+        // Spheres of entries, same order, as arrays (padded at the end), and
+        // their left ends along x (x - x_extent(r), grid.cpp).
+        std::vector<double> sx, sy, sz, sr, sl;
         // The occupied rows: distinct keys in order, and where each row's
         // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
         double max_radius = 0;  // of spheres
-        SphereArrays arrays() const { return SphereArrays{sx.data(), sy.data(), sz.data(), sr.data()}; }
+        double max_abs_left = 0;  // of left ends
+        SphereArrays arrays() const {
+            return SphereArrays{sx.data(), sy.data(), sz.data(), sr.data(), sl.data()};
+        }
     };
     struct Level {
         int exponent;

@@ -18,16 +18,19 @@
 // Within a level the grid is sparse in y and z and swept along x: a body is
 // keyed by its row, the (z, y) cell of its centre for cells two widths high
 // and deep, and each level keeps its residents and its guests as arrays of
-// (row key, body) sorted by key and, within a row, by centre x. A body then
-// meets only the bodies of the 3x3 rows around its own that it can reach
-// (each body records which neighbouring rows its sphere reaches), within a
-// window along x of its radius plus the largest radius there; rows are found
-// by cursors that only move forward while rows are visited in order, and a
-// window is tested four spheres at a time. No hashing, no pointer chasing,
-// and the parallel pair search only reads. Motion updates the arrays
-// incrementally: bodies whose row did not change keep their entries (moves
-// along x never re-key), the rest are re-keyed and merged back in one linear
-// pass, and an insertion sort restores the x order within rows.
+// (row key, body) sorted by key and, within a row, by the left end of the
+// sphere along x. Within its row a body meets the later bodies up to its
+// right end (sweep and prune); in the 3x3 rows around it, only those it can
+// reach (by the distance of its centre to the row's faces), within a window
+// along x from its left end less twice the largest radius there. Rows are
+// found by cursors that only move forward while rows are visited in order,
+// and windows are tested four spheres at a time. No hashing, no pointer
+// chasing, and the parallel pair search only reads. Motion updates the
+// arrays incrementally: bodies whose row did not change keep their entries
+// (moves along x never re-key), the rest are re-keyed and merged back in one
+// linear pass, and an insertion sort restores the x order within rows. The
+// world keeps its bodies' storage in the residents' order (order(),
+// renumber()), so the update's reads of the spheres run nearly in sequence.
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -403,31 +403,40 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 
 // ----------------------------------------------------------------- ticks --
 
+// The test sphere of a body of mesh m placed at pl.
+inline Sphere World::test_sphere(const Mesh &m, const Placement &pl) {
+    const double *q = pl.orientation;
+    const double *c = pl.position;
+    double center[3] = {c[0], c[1], c[2]};
+    // A mesh centred on its origin (most are) needs no rotation here.
+    if (m.center[0] != 0 || m.center[1] != 0 || m.center[2] != 0)
+        transform_point(rotation_of(q), c, pl.scale, m.center, center);
+    const double stretch = rotation_stretch(q);
+    const double reach = pl.scale * stretch * m.radius;
+    // The world vertices and this centre carry rounding errors of a few
+    // ulps of the coordinates involved; the margin covers them with room.
+    const double local = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
+    const double margin =
+        1e-14 * (std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]) + pl.scale * stretch * local);
+    return Sphere{center[0], center[1], center[2], (reach + margin) * (1 + 1e-9)};
+}
+
 void World::compute_spheres(int threads) {
     const int64_t n = int64_t(stored_gen_.size());
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (int64_t s = 0; s < n; ++s) {
-        if (!stored_gen_[s]) {
-            sphere_[s] = Sphere{0, 0, 0, 0};
-            continue;
-        }
-        const Mesh &m = meshes_[body_mesh_[s]];
-        const Placement &pl = place_[s];
-        const double *q = pl.orientation;
-        const double *c = pl.position;
-        double center[3] = {c[0], c[1], c[2]};
-        // A mesh centred on its origin (most are) needs no rotation here.
-        if (m.center[0] != 0 || m.center[1] != 0 || m.center[2] != 0)
-            transform_point(rotation_of(q), c, pl.scale, m.center, center);
-        const double stretch = rotation_stretch(q);
-        const double reach = pl.scale * stretch * m.radius;
-        // The world vertices and this centre carry rounding errors of a few
-        // ulps of the coordinates involved; the margin covers them with room.
-        const double local = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
-        const double margin =
-            1e-14 * (std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]) + pl.scale * stretch * local);
-        sphere_[s] = Sphere{center[0], center[1], center[2], (reach + margin) * (1 + 1e-9)};
-    }
+    for (int64_t s = 0; s < n; ++s)
+        sphere_[s] = stored_gen_[s] ? test_sphere(meshes_[body_mesh_[s]], place_[s]) : Sphere{0, 0, 0, 0};
+}
+
+// Storage in the grid's sweep order again once a fifth of it is out of
+// order (bodies that changed rows since, or the order of creation the first
+// time); before the spheres, which follow storage. Not right after the grid
+// was rebuilt: its levels may still be settling (coarsening), and each new
+// set of levels is a new order. On tetra at 750k a renumbering costs 130 ms
+// the first time and 65 ms every ~18 ticks after; the mean tick over 40
+// ticks went 290 -> 244 ms (thresholds of 5% to 40% all gave 243-246 ms).
+void World::renumber_if_disordered() {
+    if (!grid_rebuilt_ && grid_.disorder() * 5 > live_bodies_) renumber();
 }
 
 // The grid's limits for this detect. Coarsening (GridLimits::coarsen) is
@@ -445,7 +454,9 @@ GridLimits World::grid_limits() {
     return limits;
 }
 
-hgcd_status World::detect() {
+hgcd_status World::detect() { return detect_with(false); }
+
+hgcd_status World::detect_with(bool spheres_ready) {
     pairs_.clear();
     contacts_.clear();
     contacts_recorded_ = contacts_on_;
@@ -456,16 +467,10 @@ hgcd_status World::detect() {
     const int T = threads();
     const double t0 = omp_get_wtime();
     try {
-        // Storage in the grid's sweep order again once a fifth of it is out
-        // of order (bodies that changed rows since, or the order of creation
-        // the first time); before the spheres, which follow storage. Not
-        // right after the grid was rebuilt: its levels may still be settling
-        // (coarsening), and each new set of levels is a new order. On tetra
-        // at 750k a renumbering costs 130 ms the first time and 65 ms every
-        // ~18 ticks after; the mean tick over 40 ticks went 290 -> 244 ms
-        // (thresholds of 5% to 40% all gave 243-246 ms).
-        if (!grid_rebuilt_ && grid_.disorder() * 5 > live_bodies_) renumber();
-        compute_spheres(T);
+        if (!spheres_ready) {
+            renumber_if_disordered();
+            compute_spheres(T);
+        }
         const uint32_t stored = uint32_t(stored_gen_.size());
         const GridUpdateStats us =
             grid_.update(sphere_.data(), r_level_.data(), stored_gen_.data(), stored, grid_limits(), T);
@@ -737,6 +742,7 @@ hgcd_status World::step() {
             return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_step: body " + std::to_string(bad) +
                                                          " would leave the coordinate range (|x| <= 1e15)");
     }
+    renumber_if_disordered();  // (before the spheres, which follow storage)
     // Locals, so the compiler need not reload them after each store.
     const bool reflect = reflect_;
     const double lo[3] = {bounds_min_[0], bounds_min_[1], bounds_min_[2]};
@@ -744,9 +750,14 @@ hgcd_status World::step() {
     Placement *place = place_.data();
     double *velocity = velocity_.data();
     const uint32_t *live = stored_gen_.data();
+    // Each body's test sphere in the same pass as its move (one read of
+    // its placement a tick, not two).
 #pragma omp parallel for num_threads(T) schedule(static)
     for (int64_t s = 0; s < n; ++s) {
-        if (!live[s]) continue;
+        if (!live[s]) {
+            sphere_[s] = Sphere{0, 0, 0, 0};
+            continue;
+        }
         for (int k = 0; k < 3; ++k) {
             double &c = place[s].position[k];
             double &v = velocity[3 * s + k];
@@ -764,9 +775,10 @@ hgcd_status World::step() {
             }
             c = x;
         }
+        sphere_[s] = test_sphere(meshes_[body_mesh_[s]], place[s]);
     }
     const double motion = omp_get_wtime() - t0;
-    const hgcd_status s = detect();
+    const hgcd_status s = detect_with(true);
     stats_.motion_seconds = motion;
     stats_.total_seconds += motion;
     return s;

@@ -59,7 +59,12 @@ class World {
     hgcd_status check_body(hgcd_body id, const char *what, int64_t *slot) const;
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
+    struct Placement;
+    static Sphere test_sphere(const Mesh &m, const Placement &pl);
     void compute_spheres(int threads);
+    void renumber_if_disordered();
+    // detect(); spheres_ready: step() renumbered and computed the spheres.
+    hgcd_status detect_with(bool spheres_ready);
     // Moves every body's storage to the grid's sweep order (see at_); false,
     // changing nothing, when there is no memory for it.
     bool renumber();

@@ -419,8 +419,10 @@ typedef struct hgcd_stats {
     /** Colliding pairs, and those of them found by containment alone. */
     uint64_t colliding_pairs;
     uint64_t containment_pairs;
-    /** Wall-clock seconds: moving bodies (step only), updating the grid,
-     *  broad phase, narrow phase (with sorting of the output), total. */
+    /** Wall-clock seconds: moving bodies (step only; it also computes the
+     *  bodies' bounding spheres, which detect counts in the update),
+     *  updating the grid, broad phase, narrow phase (with sorting of the
+     *  output), total. */
     double motion_seconds;
     double update_seconds;
     double broad_seconds;

@@ -839,8 +839,10 @@ pub struct hgcd_stats {
     #[doc = " Colliding pairs, and those of them found by containment alone."]
     pub colliding_pairs: u64,
     pub containment_pairs: u64,
-    #[doc = " Wall-clock seconds: moving bodies (step only), updating the grid,"]
-    #[doc = "  broad phase, narrow phase (with sorting of the output), total."]
+    #[doc = " Wall-clock seconds: moving bodies (step only; it also computes the"]
+    #[doc = "  bodies' bounding spheres, which detect counts in the update),"]
+    #[doc = "  updating the grid, broad phase, narrow phase (with sorting of the"]
+    #[doc = "  output), total."]
     pub motion_seconds: f64,
     pub update_seconds: f64,
     pub broad_seconds: f64,

@@ -411,6 +411,9 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
     }
     std::vector<double> part_rmax(parts.size(), 0), part_left(parts.size(), 0);
     std::vector<uint64_t> part_jumps(parts.size(), 0);
+    // The rows that start in each part (key and first entry), to be joined
+    // in order into each list's row index.
+    std::vector<std::vector<std::pair<CellKey, uint32_t>>> part_rows(parts.size());
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) {
@@ -427,8 +430,12 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
             for (size_t k = std::max<size_t>(parts[p].begin, 1); k < e; ++k)
                 jumps += uint32_t(E[k].slot - E[k - 1].slot + 64) > 128;
         part_jumps[p] = jumps;
+        auto &rows = part_rows[p];
         for (size_t k = parts[p].begin; k < e; ++k) {
-            // The next bodies' spheres are random reads: ask for them early.
+            const CellKey row = E[k].key;  // by value: the member is packed
+            if (k == 0 || row != CellKey(E[k - 1].key)) guard.run([&] { rows.push_back({row, uint32_t(k)}); });
+            // The next bodies' spheres (storage drifts from this order between
+            // renumberings): ask for them early.
             if (k + 16 < e) __builtin_prefetch(&spheres[E[k + 16].slot]);
             const Sphere &sp = spheres[E[k].slot];
             X[k] = sp.x;
@@ -442,23 +449,17 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         part_rmax[p] = rmax;
         part_left[p] = lmax;
     }
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t l = 0; l < int64_t(lists.size()); ++l) guard.run([&] {
-        List &list = *lists[l];
-        const Entry *E = list.entries.data();
-        const size_t m = list.entries.size();
-        list.row_keys.clear();
-        list.row_start.clear();
-        for (size_t k = 0; k < m; ++k) {
-            const CellKey row = E[k].key;  // by value: the member is packed
-            if (k == 0 || row != list.row_keys.back()) {
-                list.row_keys.push_back(row);
-                list.row_start.push_back(uint32_t(k));
-            }
-        }
-        list.row_start.push_back(uint32_t(m));
-    });
     guard.rethrow();
+    for (List *list : lists) {
+        list->row_keys.clear();
+        list->row_start.clear();
+    }
+    for (size_t p = 0; p < parts.size(); ++p)  // parts of a list are consecutive, in order
+        for (const auto &row : part_rows[p]) {
+            parts[p].list->row_keys.push_back(row.first);
+            parts[p].list->row_start.push_back(row.second);
+        }
+    for (List *list : lists) list->row_start.push_back(uint32_t(list->entries.size()));
     uint64_t disorder = 0;
     for (uint64_t j : part_jumps) disorder += j;
     for (List *list : lists) list->max_radius = list->max_abs_left = 0;

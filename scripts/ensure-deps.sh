@@ -4,13 +4,13 @@
 set -euo pipefail
 target=${1:-test}
 
-# command-or-file to check : Debian package
+# command-or-file (or file pattern) to check : Debian package
 need=("g++:g++" "make:make")
 case "$target" in
   demo) ;;
   test)
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
-           "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/gmp.h:libgmp-dev"
+           "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/*/gmp.h:libgmp-dev"
            "/usr/include/ccd/ccd.h:libccd-dev" "bindgen:bindgen" "clang:clang"
            "valgrind:valgrind" "cargo:cargo" "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev"
            "/usr/include/assimp/Importer.hpp:libassimp-dev"
@@ -29,7 +29,8 @@ esac
 missing=()
 for item in "${need[@]}"; do
   what=${item%%:*}; pkg=${item##*:}
-  if [[ $what == /* ]]; then [[ -e $what ]] || missing+=("$pkg")
+  # A path may be a pattern (gmp.h sits under the multiarch directory).
+  if [[ $what == /* ]]; then compgen -G "$what" >/dev/null || missing+=("$pkg")
   else command -v "$what" >/dev/null 2>&1 || missing+=("$pkg"); fi
 done
 [[ ${#missing[@]} -eq 0 ]] && exit 0

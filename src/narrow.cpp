@@ -515,19 +515,51 @@ inline double hmax(V2 a, V2 b) {
     return std::max(m[0], m[1]);
 }
 
-HGCD_TET_INLINE void tet_world(const BodyPose &b, TetWorld &w) {
-    const Rotation r = rotation_of(b.orientation);
-    const double s = b.scale, *c = b.position, *l = b.mesh->tetra_local;
+// Both bodies' rotations at once: body a in lane 0, b in lane 1.
+struct TetRotations {
+    V2 m[9];
+};
+
+HGCD_TET_INLINE void tet_rotations(const BodyPose &a, const BodyPose &b, TetRotations &r) {
+    V2 a01, a23, b01, b23;
+    std::memcpy(&a01, a.orientation, sizeof a01);
+    std::memcpy(&a23, a.orientation + 2, sizeof a23);
+    std::memcpy(&b01, b.orientation, sizeof b01);
+    std::memcpy(&b23, b.orientation + 2, sizeof b23);
+    rotation_entries(__builtin_shufflevector(a01, b01, 0, 2), __builtin_shufflevector(a01, b01, 1, 3),
+                     __builtin_shufflevector(a23, b23, 0, 2), __builtin_shufflevector(a23, b23, 1, 3), r.m);
+}
+
+// The scaled local vertices l = fl(s m), one per lane.
+struct TetLocal {
+    V2 x[2], y[2], z[2];
+};
+
+HGCD_TET_INLINE void tet_local(const BodyPose &b, TetLocal &l) {
+    const double s = b.scale, *m = b.mesh->tetra_local;
     for (int h = 0; h < 2; ++h) {
         V2 mx, my, mz;
-        std::memcpy(&mx, l + 2 * h, sizeof mx);
-        std::memcpy(&my, l + 4 + 2 * h, sizeof my);
-        std::memcpy(&mz, l + 8 + 2 * h, sizeof mz);
+        std::memcpy(&mx, m + 2 * h, sizeof mx);
+        std::memcpy(&my, m + 4 + 2 * h, sizeof my);
+        std::memcpy(&mz, m + 8 + 2 * h, sizeof mz);
+        l.x[h] = s * mx;
+        l.y[h] = s * my;
+        l.z[h] = s * mz;
+    }
+}
+
+// World vertices of the body in lane L of r (tet_rotations), l = tet_local(b).
+template <int L>
+HGCD_TET_INLINE void tet_world(const BodyPose &b, const TetRotations &r, const TetLocal &l, TetWorld &w) {
+    const double *c = b.position;
+    V2 m[9];
+    for (int k = 0; k < 9; ++k) m[k] = lane<L>(r.m[k]);
+    for (int h = 0; h < 2; ++h) {
         // transform_point's operations in its order, one vertex per lane.
-        const V2 lx = s * mx, ly = s * my, lz = s * mz;
-        w.x[h] = c[0] + ((r.m[0] * lx + r.m[1] * ly) + r.m[2] * lz);
-        w.y[h] = c[1] + ((r.m[3] * lx + r.m[4] * ly) + r.m[5] * lz);
-        w.z[h] = c[2] + ((r.m[6] * lx + r.m[7] * ly) + r.m[8] * lz);
+        const V2 lx = l.x[h], ly = l.y[h], lz = l.z[h];
+        w.x[h] = c[0] + ((m[0] * lx + m[1] * ly) + m[2] * lz);
+        w.y[h] = c[1] + ((m[3] * lx + m[4] * ly) + m[5] * lz);
+        w.z[h] = c[2] + ((m[6] * lx + m[7] * ly) + m[8] * lz);
     }
     w.lo[0] = hmin(w.x[0], w.x[1]);
     w.lo[1] = hmin(w.y[0], w.y[1]);
@@ -725,12 +757,19 @@ __attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact(const TetW
     return Contact::None;
 }
 
-// The pair test over a set of kernels K (world, planes, sides_separate).
+// The pair test over a set of kernels K (local, world, planes, sides_separate).
 template <class K>
 HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
+    // Both rotations at once; the scaled local vertices apart from the world
+    // transform.
+    TetRotations r;
+    tet_rotations(a, b, r);
+    typename K::Local la, lb;
+    K::local(a, la);
+    K::local(b, lb);
     TetWorld ta, tb;
-    K::world(a, ta);
-    K::world(b, tb);
+    K::template world<0>(a, r, la, ta);
+    K::template world<1>(b, r, lb, tb);
     // Exact prefilter: the solids lie inside these boxes.
     if (ta.hi[0] < tb.lo[0] || tb.hi[0] < ta.lo[0] || ta.hi[1] < tb.lo[1] || tb.hi[1] < ta.lo[1] ||
         ta.hi[2] < tb.lo[2] || tb.hi[2] < ta.lo[2])
@@ -759,7 +798,12 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
 }
 
 struct KernelsV2 {
-    static HGCD_TET_INLINE void world(const BodyPose &b, TetWorld &w) { tet_world(b, w); }
+    typedef TetLocal Local;
+    static HGCD_TET_INLINE void local(const BodyPose &b, Local &l) { tet_local(b, l); }
+    template <int L>
+    static HGCD_TET_INLINE void world(const BodyPose &b, const TetRotations &r, const Local &l, TetWorld &w) {
+        tet_world<L>(b, r, l, w);
+    }
     static HGCD_TET_INLINE void planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
         tet_planes(w, ex, ey, ez, p);
     }
@@ -796,17 +840,31 @@ struct KernelsV4 {
     static HGCD_TET_INLINE unsigned less(const V4 &a, const V4 &b) {  // bit i: a[i] < b[i]
         return less_avx2(a, b);
     }
-    static HGCD_TET_INLINE void world(const BodyPose &b, TetWorld &w) {
-        const Rotation r = rotation_of(b.orientation);
-        const double s = b.scale, *c = b.position, *l = b.mesh->tetra_local;
+    struct Local {
+        V4 x, y, z;
+    };
+    static HGCD_TET_INLINE void local(const BodyPose &b, Local &l) {
+        const double s = b.scale, *m = b.mesh->tetra_local;
         V4 mx, my, mz;
-        load(mx, l);
-        load(my, l + 4);
-        load(mz, l + 8);
-        const V4 lx = s * mx, ly = s * my, lz = s * mz;
-        store(w.x, c[0] + ((r.m[0] * lx + r.m[1] * ly) + r.m[2] * lz));
-        store(w.y, c[1] + ((r.m[3] * lx + r.m[4] * ly) + r.m[5] * lz));
-        store(w.z, c[2] + ((r.m[6] * lx + r.m[7] * ly) + r.m[8] * lz));
+        load(mx, m);
+        load(my, m + 4);
+        load(mz, m + 8);
+        l.x = s * mx;
+        l.y = s * my;
+        l.z = s * mz;
+    }
+    template <int L>
+    static HGCD_TET_INLINE void world(const BodyPose &b, const TetRotations &rot, const Local &l, TetWorld &w) {
+        const double *c = b.position;
+        // Splats of lane L in registers: read back from memory as scalars,
+        // GCC merged them into 32-byte loads of 16-byte stores (a store
+        // forwarding stall: narrow phase 12% slower on tetra 750k).
+        V4 r[9];
+        for (int k = 0; k < 9; ++k) r[k] = __builtin_shufflevector(rot.m[k], rot.m[k], L, L, L, L);
+        const V4 lx = l.x, ly = l.y, lz = l.z;
+        store(w.x, c[0] + ((r[0] * lx + r[1] * ly) + r[2] * lz));
+        store(w.y, c[1] + ((r[3] * lx + r[4] * ly) + r[5] * lz));
+        store(w.z, c[2] + ((r[6] * lx + r[7] * ly) + r[8] * lz));
         w.lo[0] = hmin(w.x[0], w.x[1]);
         w.lo[1] = hmin(w.y[0], w.y[1]);
         w.lo[2] = hmin(w.z[0], w.z[1]);

@@ -161,8 +161,11 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
             if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) seen |= 1u << (6 - (f[0] + f[1] + f[2]));
         }
         m.tetra = seen == 0xF;
-        for (int v = 0; v < 4; ++v)
+        for (int v = 0; v < 4; ++v) {
             for (int k = 0; k < 3; ++k) m.tetra_local[4 * k + v] = vertices[3 * v + k];
+            const double *p = &vertices[3 * v];
+            m.tetra_reach = std::max(m.tetra_reach, std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2]));
+        }
     }
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);

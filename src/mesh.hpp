@@ -29,6 +29,7 @@ struct Mesh {
     // narrow phase takes a dedicated exact path (narrow.cpp, tetra pairs).
     bool tetra = false;
     double tetra_local[12] = {};  // x0..x3, y0..y3, z0..z3 (mesh frame)
+    double tetra_reach = 0;       // max over the 4 vertices of |x| + |y| + |z|
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;

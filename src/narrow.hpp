@@ -58,8 +58,10 @@ struct NarrowScratch {
 // or one closed mesh holds a component of the other). Pairs of tetrahedra
 // (Mesh::tetra) without a witness request take the tetra path (face-plane
 // signs of both point sets, narrow.cpp); other pairs of small meshes (no
-// tree) the direct path: all world vertices, exact boxes, triangle pairs;
-// both count exact_tests as pairs whose exact boxes overlap. If either mesh
+// tree) the direct path: all world vertices, exact boxes, triangle pairs.
+// The direct path counts exact_tests as pairs whose exact boxes overlap, the
+// tetra path as those that also pass its separating axis along the line of
+// centres (tested first, before any world vertex). If either mesh
 // has a tree, a simultaneous traversal of the two trees (a mesh without one
 // is a single leaf) reaches the same exact triangle test; exact_tests then
 // counts pairs whose conservative root boxes overlap.

@@ -12,18 +12,24 @@ struct Rotation {
 
 // Rotation matrix of quaternion (x, y, z, w), each entry evaluated as written
 // in SCENES.md. The build uses -ffp-contract=off so no FMA changes the bits.
+// T is double, or a vector of doubles with one quaternion per lane (the same
+// operations lane by lane, so the same bits).
+template <class T>
+inline void rotation_entries(const T &x, const T &y, const T &z, const T &w, T *m) {
+    m[0] = 1.0 - 2.0 * (y * y + z * z);
+    m[1] = 2.0 * (x * y - z * w);
+    m[2] = 2.0 * (x * z + y * w);
+    m[3] = 2.0 * (x * y + z * w);
+    m[4] = 1.0 - 2.0 * (x * x + z * z);
+    m[5] = 2.0 * (y * z - x * w);
+    m[6] = 2.0 * (x * z - y * w);
+    m[7] = 2.0 * (y * z + x * w);
+    m[8] = 1.0 - 2.0 * (x * x + y * y);
+}
+
 inline Rotation rotation_of(const double *q) {
-    const double x = q[0], y = q[1], z = q[2], w = q[3];
     Rotation r;
-    r.m[0] = 1.0 - 2.0 * (y * y + z * z);
-    r.m[1] = 2.0 * (x * y - z * w);
-    r.m[2] = 2.0 * (x * z + y * w);
-    r.m[3] = 2.0 * (x * y + z * w);
-    r.m[4] = 1.0 - 2.0 * (x * x + z * z);
-    r.m[5] = 2.0 * (y * z - x * w);
-    r.m[6] = 2.0 * (x * z - y * w);
-    r.m[7] = 2.0 * (y * z + x * w);
-    r.m[8] = 1.0 - 2.0 * (x * x + y * y);
+    rotation_entries(q[0], q[1], q[2], q[3], r.m);
     return r;
 }
 

@@ -604,15 +604,16 @@ typedef struct {
     double *p, *q, *s;
 } tv_scene;
 
-static void tv_init(tv_scene *sc, size_t cap) {
+/* Meshes 0..count-1 from vertex sets v (at most TV_COUNT). */
+static void tv_init_with(tv_scene *sc, size_t cap, const double (*v)[12], int count) {
     memset(sc, 0, sizeof *sc);
     hgcd_world_desc wd = hgcd_world_desc_default();
     assert_int_equal(hgcd_world_create(&wd, &sc->w), HGCD_OK);
-    for (int k = 0; k < TV_COUNT; ++k) {
-        const oracle_mesh om = {tv_v[k], tv_t[k % 3], 4, 4, 1};
+    for (int k = 0; k < count; ++k) {
+        const oracle_mesh om = {v[k], tv_t[k % 3], 4, 4, 1};
         sc->om[k] = om;
         hgcd_mesh_desc md = hgcd_mesh_desc_default();
-        md.vertices = tv_v[k];
+        md.vertices = v[k];
         md.triangles = tv_t[k % 3];
         md.vertex_count = 4;
         md.triangle_count = 4;
@@ -624,6 +625,8 @@ static void tv_init(tv_scene *sc, size_t cap) {
     sc->q = malloc(4 * cap * sizeof(double));
     sc->s = malloc(cap * sizeof(double));
 }
+
+static void tv_init(tv_scene *sc, size_t cap) { tv_init_with(sc, cap, tv_v, TV_COUNT); }
 
 static void tv_add(tv_scene *sc, int shape, double x, double y, double z, const double *q, double scale) {
     assert_true(sc->n < sc->cap);
@@ -738,6 +741,70 @@ static void test_tetra_path_degenerate(void **state) {
     assert_true(total > 1000);
 }
 
+/* The tetra path's separating-axis prefilter along the line of centres
+ * (narrow.cpp, collide_tetra_with) on pairs whose contact normal is that
+ * line, so that the test is tight: the regular tetrahedron T (scale 3) and
+ * -T with one rotation, B placed at A's position plus the rotated offset
+ * (computed as a world vertex) where they touch vertex on vertex, edge across
+ * edge, face on face and vertex on face, then moved by -3..3 ulps of each
+ * coordinate along the offset. Exact rotations at small coordinates touch
+ * exactly (and must be reported); random rotations and positions near 1e6
+ * and 1e12 touch within rounding, so the step where the pair parts is a
+ * 1-ulp gap. Pairs and containment must equal the oracle's. */
+static void test_tetra_axis_prefilter(void **state) {
+    (void)state;
+    static const double shapes2[2][12] = {{1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1},
+                                          {-1, -1, -1, -1, 1, 1, 1, -1, 1, 1, 1, -1}};
+    static const struct { int b_shape; double offset[3]; } config[4] = {
+        {1, {6, 6, 6}},    /* vertex (3, 3, 3) on the vertex of -T */
+        {0, {6, 0, 0}},    /* edge x = 3 of A across that of B, at (3, 0, 0) */
+        {1, {-2, -2, -2}}, /* faces in the plane x + y + z = -3 */
+        {0, {4, 4, 4}},    /* vertex (3, 3, 3) on the centre of B's face */
+    };
+    const double magnitude[5] = {10, 1e6, 1e9, 1e12, 5e14};
+    enum { ROTATIONS = 16, STEPS = 7 };
+    const size_t cap = 2 * 4 * 5 * ROTATIONS * STEPS;
+    tv_scene sc;
+    tv_init_with(&sc, cap, shapes2, 2);
+    int(*has)[2] = malloc(cap * sizeof *has);
+    size_t must = 0;
+    rng g = {77};
+    double x = 0; /* each pair 50 units along x from the last */
+    for (int m = 0; m < 5; ++m)
+        for (int rot = 0; rot < ROTATIONS; ++rot)
+            for (int c = 0; c < 4; ++c) {
+                double q[4] = {0, 0, 0, 1}, p[3];
+                if (rot > 0) random_pose(&g, 1, 0, p, q);
+                for (int k = 0; k < 3; ++k) {
+                    p[k] = magnitude[m] + x;
+                    if (m > 0) p[k] += unif(&g); /* inexact world vertices */
+                }
+                for (int step = -3; step <= 3; ++step) {
+                    double pb[3], b[3];
+                    oracle_world_vertex(p, q, 1.0, config[c].offset, pb);
+                    for (int k = 0; k < 3; ++k) {
+                        b[k] = pb[k];
+                        const double away = pb[k] > p[k] ? INFINITY : -INFINITY;
+                        for (int i = 0; i < abs(step); ++i) b[k] = nextafter(b[k], step > 0 ? away : -away);
+                    }
+                    if (m == 0 && rot == 0 && step == 0) {
+                        has[must][0] = (int)sc.n;
+                        has[must][1] = (int)sc.n + 1;
+                        ++must;
+                    }
+                    tv_add(&sc, 0, p[0], p[1], p[2], q, 3);
+                    tv_add(&sc, config[c].b_shape, b[0], b[1], b[2], q, 3);
+                    x += 50;
+                    for (int k = 0; k < 3; ++k) p[k] += 50;
+                }
+            }
+    const size_t pairs = tv_check(&sc, has, must);
+    printf("axis prefilter: %zu of %zu touching or apart by ulps collide, as the oracle says\n", pairs, sc.n / 2);
+    assert_true(pairs > sc.n / 8 && pairs < 3 * sc.n / 8); /* both sides of contact are tested */
+    free(has);
+    tv_free(&sc);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hand_built_pairs),
@@ -750,6 +817,7 @@ int main(void) {
         cmocka_unit_test(test_tetra_scene),
         cmocka_unit_test(test_tetra_reference_counts),
         cmocka_unit_test(test_tetra_path_degenerate),
+        cmocka_unit_test(test_tetra_axis_prefilter),
     };
     /* Sanitizer and valgrind runs pick tests by name (cmocka patterns). */
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));

@@ -412,7 +412,8 @@ typedef struct hgcd_stats {
     /** Pairs whose bounding spheres overlap (broad-phase output). */
     uint64_t candidate_pairs;
     /** Candidate pairs that reached the exact test (not rejected by the
-     *  exact box prefilter). */
+     *  exact prefilters: vertex boxes, and for two tetrahedra also a
+     *  separating axis along the line between their positions). */
     uint64_t narrow_tests;
     /** Triangle-triangle tests performed. */
     uint64_t triangle_tests;

@@ -832,7 +832,8 @@ pub struct hgcd_stats {
     #[doc = " Pairs whose bounding spheres overlap (broad-phase output)."]
     pub candidate_pairs: u64,
     #[doc = " Candidate pairs that reached the exact test (not rejected by the"]
-    #[doc = "  exact box prefilter)."]
+    #[doc = "  exact prefilters: vertex boxes, and for two tetrahedra also a"]
+    #[doc = "  separating axis along the line between their positions)."]
     pub narrow_tests: u64,
     #[doc = " Triangle-triangle tests performed."]
     pub triangle_tests: u64,

@@ -592,26 +592,52 @@ hgcd_status World::detect_with(bool spheres_ready) {
         }
         guard.rethrow();
         // Merge the sorted shares: the output is in (a, b) order whatever the
-        // thread count, so identical bit for bit.
-        size_t count = 0;
-        for (auto &h : hits) count += h.size();
+        // thread count, so identical bit for bit. In T parts of the key
+        // range at once (splitters from the longest share), each merging
+        // its range of every share into its place.
+        size_t count = 0, longest = 0;
+        for (int t = 0; t < T; ++t) {
+            count += hits[t].size();
+            if (hits[t].size() > hits[longest].size()) longest = size_t(t);
+        }
         pairs_.resize(count);
         if (want_contacts) contacts_.resize(count);
-        std::vector<size_t> head(T, 0);
-        for (size_t k = 0; k < count; ++k) {
-            int best = -1;
-            for (int t = 0; t < T; ++t)
-                if (head[t] < hits[t].size() && (best < 0 || hits[t][head[t]] < hits[best][head[best]]))
-                    best = t;
-            const size_t at = head[best]++;
-            const uint64_t key = hits[best][at];
-            const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
-            pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
-            if (want_contacts) {
-                contacts_[k] = hit_contacts[best][at];
-                contacts_[k].pair = pairs_[k];
+        const int parts = count >= 4096 ? T : 1;
+        // first[p * T + t]: where part p starts in share t (p = parts: the end).
+        std::vector<size_t> first(size_t(parts + 1) * T), out_at(parts + 1, 0);
+        for (int p = 0; p <= parts; ++p) {
+            const std::vector<uint64_t> &l = hits[longest];
+            const bool all = p == parts;
+            const uint64_t splitter = p == 0 || all ? 0 : l[l.size() * size_t(p) / size_t(parts)];
+            for (int t = 0; t < T; ++t) {
+                const std::vector<uint64_t> &h = hits[t];
+                first[size_t(p) * T + t] =
+                    p == 0 ? 0 : all ? h.size() : size_t(std::lower_bound(h.begin(), h.end(), splitter) - h.begin());
+                out_at[p] += first[size_t(p) * T + t];
             }
         }
+#pragma omp parallel for num_threads(parts) schedule(static, 1)
+        for (int p = 0; p < parts; ++p) guard.run([&] {
+            std::vector<size_t> head(T), end(T);
+            for (int t = 0; t < T; ++t) {
+                head[t] = first[size_t(p) * T + t];
+                end[t] = first[size_t(p + 1) * T + t];
+            }
+            for (size_t k = out_at[p]; k < out_at[p + 1]; ++k) {
+                int best = -1;
+                for (int t = 0; t < T; ++t)
+                    if (head[t] < end[t] && (best < 0 || hits[t][head[t]] < hits[best][head[best]])) best = t;
+                const size_t at = head[best]++;
+                const uint64_t key = hits[best][at];
+                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
+                if (want_contacts) {
+                    contacts_[k] = hit_contacts[best][at];
+                    contacts_[k].pair = pairs_[k];
+                }
+            }
+        });
+        guard.rethrow();
         const double t3 = omp_get_wtime();
 
         stats_.level_count = grid_.level_count();

@@ -4,7 +4,7 @@
 #
 # Environment (defaults in brackets):
 #   BENCH_N        object counts                  [100000 200000 500000 750000]
-#   BENCH_TICKS    ticks per measurement          [5]
+#   BENCH_TICKS    ticks per measurement          [9]
 #   BENCH_THREADS  hgcd thread counts             [1 2]
 #   BENCH_PEERS    peers to run; empty: none      [all compiled in: bench_peers --list]
 #   BENCH_SEED     scene seed                     [1]
@@ -20,7 +20,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 ns=${BENCH_N:-100000 200000 500000 750000}
-ticks=${BENCH_TICKS:-5}
+ticks=${BENCH_TICKS:-9}
 threads=${BENCH_THREADS:-1 2}
 seed=${BENCH_SEED:-1}
 max_tick=${BENCH_MAX_TICK_SECONDS:-60}

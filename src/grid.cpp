@@ -337,7 +337,7 @@ void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t k = 0; k < lists; ++k) {
         List &list = (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents;
-        // Rows sorted by centre x (the entries' float copy: no random reads
+        // Rows sorted by left end (the entries' float copy: no random reads
         // in the comparisons; gather's insertion sort settles the few pairs
         // that rounding to float leaves out of order).
         std::sort(list.entries.begin(), list.entries.end(), ByRowX<Entry>());
@@ -385,7 +385,8 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 // Brings the sphere arrays and the row index of every list to the current
 // spheres, in parallel phases over chunks of all lists together (lists
 // differ in size tenfold, one task per list balanced badly): copy the
-// spheres (random reads by slot), index the rows, restore each row's x order
+// spheres (reads by slot, nearly in sequence while storage follows the sweep
+// order) and index the rows, then restore each row's order by left end
 // (insertion sort: between ticks the order barely changes; a row it would
 // take long over, many bodies entering one row, is sorted outright).
 uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int threads) {

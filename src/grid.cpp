@@ -419,20 +419,18 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) {
         List &list = *parts[p].list;
-        const Entry *E = list.entries.data();
+        Entry *E = list.entries.data();
         double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data(),
                *L = list.sl.data();
         const size_t e = parts[p].end;
         double rmax = 0, lmax = 0;
         uint64_t jumps = 0;
-        // A resident more than 64 slots from the one before it (its
-        // sphere is in another stretch of memory).
-        if (parts[p].residents)
-            for (size_t k = std::max<size_t>(parts[p].begin, 1); k < e; ++k)
-                jumps += uint32_t(E[k].slot - E[k - 1].slot + 64) > 128;
-        part_jumps[p] = jumps;
+        const uint32_t counts = parts[p].residents;
         auto &rows = part_rows[p];
         for (size_t k = parts[p].begin; k < e; ++k) {
+            // A resident more than 64 slots from the one before it (its
+            // sphere is in another stretch of memory).
+            if (k > 0) jumps += counts & (uint32_t(E[k].slot - E[k - 1].slot + 64) > 128);
             const CellKey row = E[k].key;  // by value: the member is packed
             if (k == 0 || row != CellKey(E[k - 1].key)) guard.run([&] { rows.push_back({row, uint32_t(k)}); });
             // The next bodies' spheres (storage drifts from this order between
@@ -444,9 +442,11 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
             Z[k] = sp.z;
             R[k] = sp.r;
             L[k] = left_end(sp);
+            E[k].x = float(L[k]);  // (moves with its entry in the sort below)
             rmax = std::max(rmax, sp.r);
             lmax = std::max(lmax, std::fabs(L[k]));
         }
+        part_jumps[p] = jumps;
         part_rmax[p] = rmax;
         part_left[p] = lmax;
     }
@@ -526,7 +526,6 @@ void Grid::sort_rows(List &list, size_t row_begin, size_t row_end) {
         for (size_t k = 0; k < order.size(); ++k) te[k] = E[b + order[k]];
         std::copy(te.begin(), te.end(), E + b);
     }
-    for (size_t k = list.row_start[row_begin]; k < list.row_start[row_end]; ++k) E[k].x = float(L[k]);
 }
 
 namespace {

@@ -24,12 +24,7 @@
 // target has a hardware FMA and Dekker's splitting otherwise (targets without
 // FMA cannot contract).
 #include "geometry.hpp"
-
-// -ffast-math (and -Ofast) would let the compiler reorder, contract and drop
-// the roundings every filter and exact fallback is built on: refuse it.
-#if defined(__FAST_MATH__) || defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
-#error "hgcd's exact predicates need IEEE arithmetic: build without -ffast-math / -Ofast"
-#endif
+#include "ieee.hpp"
 
 #include <cmath>
 #include <cstdint>

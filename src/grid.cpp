@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "ieee.hpp"
 #include "parallel.hpp"
 #include "permute.hpp"
 

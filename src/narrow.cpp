@@ -10,6 +10,7 @@
 
 #include "bvh.hpp"
 #include "geometry.hpp"
+#include "ieee.hpp"
 #include "transform.hpp"
 
 namespace hgcd {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "hgcd/hgcd.h"
+#include "ieee.hpp"
 #include "tags.hpp"
 
 namespace {

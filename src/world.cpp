@@ -9,6 +9,7 @@
 
 #include "ccd_narrow.hpp"
 #include "contact.hpp"
+#include "ieee.hpp"
 #include "narrow.hpp"
 #include "parallel.hpp"
 #include "permute.hpp"

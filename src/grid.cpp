@@ -895,21 +895,15 @@ void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<u
         int64_t cell[2];
         uint32_t gen;
         int16_t level;
-    } held;
+    };
     permute_in_place(
-        old_of_new.data(), old_of_new.size(), done,
-        [&](size_t k) { held = Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], level_[k]}; },
-        [&](size_t from, size_t to) {
-            cell_[2 * to] = cell_[2 * from];
-            cell_[2 * to + 1] = cell_[2 * from + 1];
-            gen_[to] = gen_[from];
-            level_[to] = level_[from];
-        },
-        [&](size_t k) {
-            cell_[2 * k] = held.cell[0];
-            cell_[2 * k + 1] = held.cell[1];
-            gen_[k] = held.gen;
-            level_[k] = held.level;
+        old_of_new.data(), n, done,
+        [&](size_t k) { return Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], level_[k]}; },
+        [&](size_t k, const Record &r) {
+            cell_[2 * k] = r.cell[0];
+            cell_[2 * k + 1] = r.cell[1];
+            gen_[k] = r.gen;
+            level_[k] = r.level;
         });
     for (uint32_t &s : oversize_) s = new_of_old[s];
     std::sort(oversize_.begin(), oversize_.end());

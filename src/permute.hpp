@@ -8,27 +8,27 @@
 namespace hgcd {
 
 // Moves element old_of_new[k] to position k for every k < n, following the
-// permutation's cycles: take(k) saves element k aside, move(from, to) copies
-// one element over another, put(k) stores the saved element at k. `done` is
-// scratch for n bits. Reads are sequential when the permutation only moves
-// elements a little (the usual renumbering), random the first time.
-template <class Take, class Move, class Put>
-void permute_in_place(const uint32_t *old_of_new, size_t n, std::vector<uint64_t> &done, Take take,
-                      Move move, Put put) {
+// permutation's cycles: load(k) returns element k (all of its arrays' values
+// as one record), store(k, record) writes it. `done` is scratch for n bits.
+// Reads are sequential when the permutation only moves elements a little
+// (the usual renumbering), random the first time.
+template <class Load, class Store>
+void permute_in_place(const uint32_t *old_of_new, size_t n, std::vector<uint64_t> &done, Load load,
+                      Store store) {
     done.assign((n + 63) / 64, 0);
     for (size_t start = 0; start < n; ++start) {
         if ((done[start / 64] >> (start % 64)) & 1) continue;
         if (old_of_new[start] == start) continue;
-        take(start);
+        const auto held = load(start);
         size_t k = start;
         for (;;) {
             done[k / 64] |= uint64_t(1) << (k % 64);
             const size_t from = old_of_new[k];
             if (from == start) break;
-            move(from, k);
+            store(k, load(from));
             k = from;
         }
-        put(k);
+        store(k, held);
     }
 }
 

@@ -712,37 +712,23 @@ bool World::renumber() {
         uint64_t user_data;
         double r_level;
         uint32_t mesh, gen, slot;
-    } held;
-    auto take = [&](size_t k, Record &r) {
-        r.place = place_[k];
-        for (int c = 0; c < 3; ++c) r.velocity[c] = velocity_[3 * k + c];
-        r.user_data = user_data_[k];
-        r.r_level = r_level_[k];
-        r.mesh = body_mesh_[k];
-        r.gen = stored_gen_[k];
-        r.slot = slot_of_[k];
-    };
-    auto put = [&](size_t k, const Record &r) {
-        place_[k] = r.place;
-        for (int c = 0; c < 3; ++c) velocity_[3 * k + c] = r.velocity[c];
-        user_data_[k] = r.user_data;
-        r_level_[k] = r.r_level;
-        body_mesh_[k] = r.mesh;
-        stored_gen_[k] = r.gen;
-        slot_of_[k] = r.slot;
     };
     permute_in_place(
-        old_of_new.data(), n, done, [&](size_t k) { take(k, held); },
-        [&](size_t from, size_t to) {
-            place_[to] = place_[from];
-            for (int c = 0; c < 3; ++c) velocity_[3 * to + c] = velocity_[3 * from + c];
-            user_data_[to] = user_data_[from];
-            r_level_[to] = r_level_[from];
-            body_mesh_[to] = body_mesh_[from];
-            stored_gen_[to] = stored_gen_[from];
-            slot_of_[to] = slot_of_[from];
+        old_of_new.data(), n, done,
+        [&](size_t k) {
+            const double *v = &velocity_[3 * k];
+            return Record{place_[k], {v[0], v[1], v[2]}, user_data_[k], r_level_[k],
+                          body_mesh_[k], stored_gen_[k], slot_of_[k]};
         },
-        [&](size_t k) { put(k, held); });
+        [&](size_t k, const Record &r) {
+            place_[k] = r.place;
+            for (int c = 0; c < 3; ++c) velocity_[3 * k + c] = r.velocity[c];
+            user_data_[k] = r.user_data;
+            r_level_[k] = r.r_level;
+            body_mesh_[k] = r.mesh;
+            stored_gen_[k] = r.gen;
+            slot_of_[k] = r.slot;
+        });
     for (size_t k = 0; k < n; ++k) at_[slot_of_[k]] = uint32_t(k);
     return true;
 }

@@ -191,10 +191,9 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         return down;
     };
     // Coarsening: the levels within a factor 4 below the coarsest one that
-    // keeps guests join it (see GridLimits::coarsen).
-    // Each exponent's level, by table (the levels' exponents are `present`).
-    std::vector<int16_t> level_of(kExponents, kNone);
-    for (size_t i = 0; i < census.size(); ++i) level_of[census[i].first + kExponentBias] = int16_t(i);
+    // keeps guests join it (see GridLimits::coarsen): the exponents
+    // [join_lo, join_to) go to the level of exponent join_to.
+    int join_lo = 0, join_to = 0;
     if (limits.coarsen && census.size() > 1) {
         const std::vector<uint8_t> few = down_flags(census);
         size_t top = census.size();
@@ -206,11 +205,15 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             if (first < top - 1) {
                 for (size_t i = first; i + 1 < top; ++i) census[top - 1].second += census[i].second;
                 census.erase(census.begin() + std::ptrdiff_t(first), census.begin() + std::ptrdiff_t(top - 1));
-                for (size_t i = 0; i < census.size(); ++i) level_of[census[i].first + kExponentBias] = int16_t(i);
-                for (int e = lo; e < te; ++e) level_of[e + kExponentBias] = int16_t(first);
+                join_lo = lo;
+                join_to = te;
             }
         }
     }
+    // Each exponent's level, by table (the levels' exponents are `present`).
+    std::vector<int16_t> level_of(kExponents, kNone);
+    for (size_t i = 0; i < census.size(); ++i) level_of[census[i].first + kExponentBias] = int16_t(i);
+    for (int e = join_lo; e < join_to; ++e) level_of[e + kExponentBias] = level_of[join_to + kExponentBias];
     std::vector<int> present(census.size());
     for (size_t i = 0; i < census.size(); ++i) present[i] = census[i].first;
     const std::vector<uint8_t> down = down_flags(census);

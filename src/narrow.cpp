@@ -519,6 +519,16 @@ inline double hmax(V2 a, V2 b) {
     return std::max(m[0], m[1]);
 }
 
+// The box of w's four vertices (after they are set).
+HGCD_TET_INLINE void tet_box(TetWorld &w) {
+    w.lo[0] = hmin(w.x[0], w.x[1]);
+    w.lo[1] = hmin(w.y[0], w.y[1]);
+    w.lo[2] = hmin(w.z[0], w.z[1]);
+    w.hi[0] = hmax(w.x[0], w.x[1]);
+    w.hi[1] = hmax(w.y[0], w.y[1]);
+    w.hi[2] = hmax(w.z[0], w.z[1]);
+}
+
 // Both bodies' rotations at once: body a in lane 0, b in lane 1.
 struct TetRotations {
     V2 m[9];
@@ -577,12 +587,7 @@ HGCD_TET_INLINE void tet_world(const BodyPose &b, const TetRotations &r, const T
         w.y[h] = c[1] + ((m[3] * lx + m[4] * ly) + m[5] * lz);
         w.z[h] = c[2] + ((m[6] * lx + m[7] * ly) + m[8] * lz);
     }
-    w.lo[0] = hmin(w.x[0], w.x[1]);
-    w.lo[1] = hmin(w.y[0], w.y[1]);
-    w.lo[2] = hmin(w.z[0], w.z[1]);
-    w.hi[0] = hmax(w.x[0], w.x[1]);
-    w.hi[1] = hmax(w.y[0], w.y[1]);
-    w.hi[2] = hmax(w.z[0], w.z[1]);
+    tet_box(w);
 }
 
 struct TetPlanes {  // faces (0, 1) in [0], (2, 3) in [1]
@@ -937,12 +942,7 @@ struct KernelsV4 {
         store(w.x, c[0] + ((r[0] * lx + r[1] * ly) + r[2] * lz));
         store(w.y, c[1] + ((r[3] * lx + r[4] * ly) + r[5] * lz));
         store(w.z, c[2] + ((r[6] * lx + r[7] * ly) + r[8] * lz));
-        w.lo[0] = hmin(w.x[0], w.x[1]);
-        w.lo[1] = hmin(w.y[0], w.y[1]);
-        w.lo[2] = hmin(w.z[0], w.z[1]);
-        w.hi[0] = hmax(w.x[0], w.x[1]);
-        w.hi[1] = hmax(w.y[0], w.y[1]);
-        w.hi[2] = hmax(w.z[0], w.z[1]);
+        tet_box(w);
     }
     static HGCD_TET_INLINE void planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
         V4 x, y, z;

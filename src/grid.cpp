@@ -414,11 +414,15 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         // (all_lists(): residents at even positions)
         for (size_t b = 0; b < m; b += kPart) parts.push_back({list, b, std::min(m, b + kPart), l % 2 == 0});
     }
-    std::vector<double> part_rmax(parts.size(), 0), part_left(parts.size(), 0);
-    std::vector<uint64_t> part_jumps(parts.size(), 0);
-    // The rows that start in each part (key and first entry), to be joined
-    // in order into each list's row index.
-    std::vector<std::vector<std::pair<CellKey, uint32_t>>> part_rows(parts.size());
+    // What each part finds: its largest radius and |left end|, its
+    // residents' jumps (disorder()), and the rows that start in it (key and
+    // first entry), joined in order into each list's row index.
+    struct Found {
+        double rmax = 0, lmax = 0;
+        uint64_t jumps = 0;
+        std::vector<std::pair<CellKey, uint32_t>> rows;
+    };
+    std::vector<Found> found(parts.size());
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) {
@@ -430,7 +434,7 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         double rmax = 0, lmax = 0;
         uint64_t jumps = 0;
         const uint32_t counts = parts[p].residents;
-        auto &rows = part_rows[p];
+        auto &rows = found[p].rows;
         for (size_t k = parts[p].begin; k < e; ++k) {
             // A resident more than 64 slots from the one before it (its
             // sphere is in another stretch of memory).
@@ -450,28 +454,28 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
             rmax = std::max(rmax, sp.r);
             lmax = std::max(lmax, std::fabs(L[k]));
         }
-        part_jumps[p] = jumps;
-        part_rmax[p] = rmax;
-        part_left[p] = lmax;
+        found[p].rmax = rmax;
+        found[p].lmax = lmax;
+        found[p].jumps = jumps;
     }
     guard.rethrow();
     for (List *list : lists) {
         list->row_keys.clear();
         list->row_start.clear();
     }
-    for (size_t p = 0; p < parts.size(); ++p)  // parts of a list are consecutive, in order
-        for (const auto &row : part_rows[p]) {
-            parts[p].list->row_keys.push_back(row.first);
-            parts[p].list->row_start.push_back(row.second);
-        }
-    for (List *list : lists) list->row_start.push_back(uint32_t(list->entries.size()));
-    uint64_t disorder = 0;
-    for (uint64_t j : part_jumps) disorder += j;
     for (List *list : lists) list->max_radius = list->max_abs_left = 0;
-    for (size_t p = 0; p < parts.size(); ++p) {
-        parts[p].list->max_radius = std::max(parts[p].list->max_radius, part_rmax[p]);
-        parts[p].list->max_abs_left = std::max(parts[p].list->max_abs_left, part_left[p]);
+    uint64_t disorder = 0;
+    for (size_t p = 0; p < parts.size(); ++p) {  // parts of a list are consecutive, in order
+        List &list = *parts[p].list;
+        for (const auto &row : found[p].rows) {
+            list.row_keys.push_back(row.first);
+            list.row_start.push_back(row.second);
+        }
+        list.max_radius = std::max(list.max_radius, found[p].rmax);
+        list.max_abs_left = std::max(list.max_abs_left, found[p].lmax);
+        disorder += found[p].jumps;
     }
+    for (List *list : lists) list->row_start.push_back(uint32_t(list->entries.size()));
     // Row ranges of about kPart entries.
     parts.clear();
     for (List *list : lists) {

@@ -608,12 +608,11 @@ hgcd_status World::detect_with(bool spheres_ready) {
         std::vector<size_t> first(size_t(parts + 1) * T), out_at(parts + 1, 0);
         for (int p = 0; p <= parts; ++p) {
             const std::vector<uint64_t> &l = hits[longest];
-            const bool all = p == parts;
-            const uint64_t splitter = p == 0 || all ? 0 : l[l.size() * size_t(p) / size_t(parts)];
+            // (no pair key is 0 or UINT64_MAX: slots are below 2^31 and a < b)
+            const uint64_t splitter = p == 0 ? 0 : p == parts ? UINT64_MAX : l[l.size() * size_t(p) / size_t(parts)];
             for (int t = 0; t < T; ++t) {
                 const std::vector<uint64_t> &h = hits[t];
-                first[size_t(p) * T + t] =
-                    p == 0 ? 0 : all ? h.size() : size_t(std::lower_bound(h.begin(), h.end(), splitter) - h.begin());
+                first[size_t(p) * T + t] = size_t(std::lower_bound(h.begin(), h.end(), splitter) - h.begin());
                 out_at[p] += first[size_t(p) * T + t];
             }
         }

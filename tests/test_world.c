@@ -406,33 +406,27 @@ static void test_step_matches_oracle(void **state) {
     scene_free(&sc);
 }
 
-/* Builds the tetra scene of SCENES.md in a world with the given threads. */
-static hgcd_world *tetra_world(uint64_t n, uint32_t threads, double *centers, double *scales, double *quats) {
+/* The tetra scene of SCENES.md in a world with the given threads (scene
+ * object i in slot i, with user data i). */
+static hgcd_world *tetra_world(const hgcd_scene_tetra_desc *sd, uint32_t threads) {
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = threads;
     hgcd_world *w;
     assert_int_equal(hgcd_world_create(&wd, &w), HGCD_OK);
-    hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    double v[12];
-    uint32_t t[12];
-    hgcd_scene_tetra_unit_mesh(v, t);
-    md.vertices = v;
-    md.triangles = t;
-    md.vertex_count = 4;
-    md.triangle_count = 4;
-    hgcd_mesh m;
-    assert_int_equal(hgcd_mesh_create(w, &md, &m), HGCD_OK);
-    hgcd_body_desc bd = hgcd_body_desc_default();
-    bd.mesh = m;
-    for (uint64_t i = 0; i < n; ++i) {
-        memcpy(bd.position, &centers[3 * i], sizeof bd.position);
-        memcpy(bd.orientation, &quats[4 * i], sizeof bd.orientation);
-        bd.scale = scales[i];
-        hgcd_body b;
-        assert_int_equal(hgcd_body_create(w, &bd, &b), HGCD_OK);
-        assert_int_equal(b.index, (uint32_t)i);
-    }
+    assert_int_equal(hgcd_scene_tetra_populate(w, sd, NULL), HGCD_OK);
+    assert_int_equal(hgcd_world_body_count(w), sd->n);
     return w;
+}
+
+/* Each pair's bodies carry their scene index as user data: slot i is object i. */
+static void assert_slots_are_objects(hgcd_world *w, const hgcd_pair *p, size_t count) {
+    for (size_t k = 0; k < count; ++k) {
+        uint64_t ua, ub;
+        assert_int_equal(hgcd_body_get_user_data(w, p[k].a, &ua), HGCD_OK);
+        assert_int_equal(hgcd_body_get_user_data(w, p[k].b, &ub), HGCD_OK);
+        assert_int_equal(ua, p[k].a.index);
+        assert_int_equal(ub, p[k].b.index);
+    }
 }
 
 static void test_tetra_scene(void **state) {
@@ -444,11 +438,12 @@ static void test_tetra_scene(void **state) {
     double *c = malloc(3 * n * sizeof(double)), *s = malloc(n * sizeof(double));
     double *q = malloc(4 * n * sizeof(double));
     assert_int_equal(hgcd_scene_tetra_generate(&sd, c, NULL, s, q, NULL), HGCD_OK);
-    hgcd_world *w = tetra_world(n, 2, c, s, q);
+    hgcd_world *w = tetra_world(&sd, 2);
     assert_int_equal(hgcd_world_detect(w), HGCD_OK);
     const hgcd_pair *p;
     size_t count;
     assert_int_equal(hgcd_world_pairs(w, &p, &count), HGCD_OK);
+    assert_slots_are_objects(w, p, count);
 
     oracle_mesh tm = {tetra_v, tetra_t, 4, 4, 1};
     const oracle_mesh **meshes = malloc(n * sizeof(*meshes));
@@ -489,18 +484,16 @@ static void test_thread_counts_identical(void **state) {
     hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
     sd.n = n;
     sd.side = 100; /* denser than the default at this n */
-    double *c = malloc(3 * n * sizeof(double)), *s = malloc(n * sizeof(double));
-    double *q = malloc(4 * n * sizeof(double));
-    assert_int_equal(hgcd_scene_tetra_generate(&sd, c, NULL, s, q, NULL), HGCD_OK);
     uint32_t *first = NULL;
     size_t first_n = 0;
     const uint32_t threads[4] = {1, 2, 3, 8};
     for (int k = 0; k < 4; ++k) {
-        hgcd_world *w = tetra_world(n, threads[k], c, s, q);
+        hgcd_world *w = tetra_world(&sd, threads[k]);
         assert_int_equal(hgcd_world_detect(w), HGCD_OK);
         const hgcd_pair *p;
         size_t count;
         assert_int_equal(hgcd_world_pairs(w, &p, &count), HGCD_OK);
+        assert_slots_are_objects(w, p, count);
         assert_true(count > 1000);
         uint32_t *idx = pair_indices(p, count);
         if (k == 0) {
@@ -541,9 +534,6 @@ static void test_thread_counts_identical(void **state) {
         scene_free(&sc);
     }
     free(hash);
-    free(c);
-    free(s);
-    free(q);
 }
 
 static void test_tetra_reference_counts(void **state) {
@@ -554,10 +544,7 @@ static void test_tetra_reference_counts(void **state) {
         const uint64_t n = ref[k].n;
         hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
         sd.n = n;
-        double *c = malloc(3 * n * sizeof(double)), *s = malloc(n * sizeof(double));
-        double *q = malloc(4 * n * sizeof(double));
-        assert_int_equal(hgcd_scene_tetra_generate(&sd, c, NULL, s, q, NULL), HGCD_OK);
-        hgcd_world *w = tetra_world(n, 0, c, s, q);
+        hgcd_world *w = tetra_world(&sd, 0);
         assert_int_equal(hgcd_world_detect(w), HGCD_OK);
         hgcd_stats st;
         st.struct_size = sizeof st;
@@ -565,9 +552,6 @@ static void test_tetra_reference_counts(void **state) {
         assert_int_equal(st.colliding_pairs, ref[k].pairs);
         assert_int_equal(st.containment_pairs, ref[k].containment);
         hgcd_world_destroy(w);
-        free(c);
-        free(s);
-        free(q);
     }
 }
 

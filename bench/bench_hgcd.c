@@ -18,6 +18,9 @@
  *   broad_ms, narrow_ms, update_ms, motion_ms, tick_ms  medians over the ticks
  *       of the library's own per-phase timers (hgcd_world_stats);
  *   wall_ms           median wall-clock time of hgcd_world_step seen here;
+ *   tick_mean_ms, tick_max_ms, update_mean_ms, broad_mean_ms, narrow_mean_ms
+ *                     means (and the largest tick) over the ticks: ticks that
+ *                     rebuild the skin list cost more than the others;
  *   candidate_pairs, narrow_tests, colliding_pairs, containment_pairs
  *                     of the last tick;
  *   initial_pairs, initial_containment, initial_ms   of the initial detect;
@@ -61,6 +64,18 @@ static int cmp_double(const void *a, const void *b) {
 }
 
 /* Median of v[0..count) (sorts v); 0 for an empty array. */
+static double mean(const double *v, int count) {
+    double sum = 0;
+    for (int k = 0; k < count; ++k) sum += v[k];
+    return sum / count;
+}
+
+static double maximum(const double *v, int count) {
+    double m = v[0];
+    for (int k = 1; k < count; ++k) m = v[k] > m ? v[k] : m;
+    return m;
+}
+
 static double median(double *v, int count) {
     if (count <= 0) return 0.0;
     qsort(v, (size_t)count, sizeof *v, cmp_double);
@@ -200,7 +215,9 @@ int main(int argc, char **argv) {
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
            "\"containment_pairs\":%llu,\"initial_pairs\":%llu,\"initial_containment\":%llu,"
            "\"initial_ms\":%.3f,\"setup_ms\":%.3f,\"levels\":%u,\"oversize\":%u,"
-           "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,",
+           "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,"
+           "\"tick_mean_ms\":%.3f,\"tick_max_ms\":%.3f,\"update_mean_ms\":%.3f,\"broad_mean_ms\":%.3f,"
+           "\"narrow_mean_ms\":%.3f,",
            (unsigned long long)n, (unsigned long long)seed, st.thread_count, ticks, commit, hgcd_version_string(),
            min_cell, median(tick_broad, ticks), median(tick_narrow, ticks), median(tick_update, ticks),
            median(tick_motion, ticks), median(tick_total, ticks), median(tick_wall, ticks),
@@ -208,7 +225,8 @@ int main(int argc, char **argv) {
            (unsigned long long)st.colliding_pairs, (unsigned long long)st.containment_pairs,
            (unsigned long long)initial_pairs, (unsigned long long)initial_containment, initial_ms, setup_ms,
            st.level_count, st.oversize_count, rss_after / (1024.0 * 1024.0),
-           (rss_after - rss_before) / (double)n);
+           (rss_after - rss_before) / (double)n, mean(tick_total, ticks), maximum(tick_total, ticks),
+           mean(tick_update, ticks), mean(tick_broad, ticks), mean(tick_narrow, ticks));
     if (has_reference)
         printf("\"reference_pairs\":%llu,", (unsigned long long)reference_pairs);
     printf("\"reference_ok\":%s}\n", reference_ok);

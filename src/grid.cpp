@@ -387,12 +387,13 @@ void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_
 }
 
 // Brings the sphere arrays and the row index of every list to the current
-// spheres, in parallel phases over chunks of all lists together (lists
-// differ in size tenfold, one task per list balanced badly): copy the
-// spheres (reads by slot, nearly in sequence while storage follows the sweep
-// order) and index the rows, then restore each row's order by left end
-// (insertion sort: between ticks the order barely changes; a row it would
-// take long over, many bodies entering one row, is sorted outright).
+// spheres, in parallel over parts of whole rows of all lists together
+// (lists differ in size tenfold, one task per list balanced badly). One
+// pass copies the spheres (reads by slot, nearly in sequence while storage
+// follows the sweep order), indexes the rows and restores each row's order
+// by left end as it goes (insertion sort: between ticks the order barely
+// changes, and what moves is still in cache; a row it would take long over,
+// many bodies entering one row, is sorted outright at its end).
 uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int threads) {
     constexpr size_t kPart = 16384;
     struct Part {
@@ -411,8 +412,15 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         list->sr.resize(m + kPad);
         list->sl.resize(m + kPad);
         for (size_t k = m; k < m + kPad; ++k) list->sx[k] = list->sy[k] = list->sz[k] = list->sr[k] = list->sl[k] = 0;
-        // (all_lists(): residents at even positions)
-        for (size_t b = 0; b < m; b += kPart) parts.push_back({list, b, std::min(m, b + kPart), l % 2 == 0});
+        // Parts of about kPart entries, ending where a row ends. (all_lists():
+        // residents at even positions.)
+        const Entry *E = list->entries.data();
+        for (size_t b = 0; b < m;) {
+            size_t e = std::min(m, b + kPart);
+            while (e < m && CellKey(E[e].key) == CellKey(E[e - 1].key)) ++e;
+            parts.push_back({list, b, e, l % 2 == 0});
+            b = e;
+        }
     }
     // What each part finds: its largest radius and |left end|, its
     // residents' jumps (disorder()), and the rows that start in it (key and
@@ -425,39 +433,69 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
     std::vector<Found> found(parts.size());
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t p = 0; p < int64_t(parts.size()); ++p) {
+    for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
         List &list = *parts[p].list;
         Entry *E = list.entries.data();
         double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data(),
                *L = list.sl.data();
-        const size_t e = parts[p].end;
+        const size_t b = parts[p].begin, e = parts[p].end;
         double rmax = 0, lmax = 0;
         uint64_t jumps = 0;
         const uint32_t counts = parts[p].residents;
         auto &rows = found[p].rows;
-        for (size_t k = parts[p].begin; k < e; ++k) {
+        size_t row_b = b;  // where the current row starts
+        size_t budget = 0;  // insertion steps left to the current row
+        bool whole = false;  // the current row needs sorting outright
+        uint32_t prev = E[b].slot;
+        for (size_t k = b; k < e; ++k) {
+            const Entry en = E[k];
             // A resident more than 64 slots from the one before it (its
             // sphere is in another stretch of memory).
-            if (k > 0) jumps += counts & (uint32_t(E[k].slot - E[k - 1].slot + 64) > 128);
-            const CellKey row = E[k].key;  // by value: the member is packed
-            if (k == 0 || row != CellKey(E[k - 1].key)) guard.run([&] { rows.push_back({row, uint32_t(k)}); });
+            jumps += counts & (uint32_t(en.slot - prev + 64) > 128);
+            prev = en.slot;
+            const CellKey row = en.key;  // by value: the member is packed
+            if (k == b || row != CellKey(E[row_b].key)) {
+                if (whole) sort_row(list, row_b, k);
+                row_b = k;
+                budget = 64;
+                whole = false;
+                rows.push_back({row, uint32_t(k)});
+            }
+            budget += 8;
             // The next bodies' spheres (storage drifts from this order between
             // renumberings): ask for them early.
             if (k + 16 < e) __builtin_prefetch(&spheres[E[k + 16].slot]);
-            const Sphere &sp = spheres[E[k].slot];
-            X[k] = sp.x;
-            Y[k] = sp.y;
-            Z[k] = sp.z;
-            R[k] = sp.r;
-            L[k] = left_end(sp);
-            E[k].x = float(L[k]);  // (moves with its entry in the sort below)
+            const Sphere sp = spheres[en.slot];
+            const double l = left_end(sp);
             rmax = std::max(rmax, sp.r);
-            lmax = std::max(lmax, std::fabs(L[k]));
+            lmax = std::max(lmax, std::fabs(l));
+            size_t j = k;
+            if (!whole)
+                for (; j > row_b && l < L[j - 1]; --j) {
+                    X[j] = X[j - 1];
+                    Y[j] = Y[j - 1];
+                    Z[j] = Z[j - 1];
+                    R[j] = R[j - 1];
+                    L[j] = L[j - 1];
+                    E[j] = E[j - 1];
+                    if (--budget == 0) {
+                        whole = true;
+                        break;
+                    }
+                }
+            X[j] = sp.x;
+            Y[j] = sp.y;
+            Z[j] = sp.z;
+            R[j] = sp.r;
+            L[j] = l;
+            E[j] = en;
+            E[j].x = float(l);  // (orders the next update's merges)
         }
+        if (whole) sort_row(list, row_b, e);
         found[p].rmax = rmax;
         found[p].lmax = lmax;
         found[p].jumps = jumps;
-    }
+    });
     guard.rethrow();
     for (List *list : lists) {
         list->row_keys.clear();
@@ -476,64 +514,27 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         disorder += found[p].jumps;
     }
     for (List *list : lists) list->row_start.push_back(uint32_t(list->entries.size()));
-    // Row ranges of about kPart entries.
-    parts.clear();
-    for (List *list : lists) {
-        const size_t rows = list->row_keys.size();
-        for (size_t b = 0; b < rows;) {
-            size_t e = b + 1;
-            while (e < rows && list->row_start[e] - list->row_start[b] < kPart) ++e;
-            parts.push_back({list, b, e, false});
-            b = e;
-        }
-    }
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
-        List &list = *parts[p].list;
-        sort_rows(list, parts[p].begin, parts[p].end);
-    });
-    guard.rethrow();
     return disorder;
 }
 
-void Grid::sort_rows(List &list, size_t row_begin, size_t row_end) {
+// Sorts the entries [b, e) of a row outright by left end (then slot).
+void Grid::sort_row(List &list, size_t b, size_t e) {
     Entry *E = list.entries.data();
     double *A[5] = {list.sl.data(), list.sx.data(), list.sy.data(), list.sz.data(), list.sr.data()};
-    const double *L = A[0];  // sorted by left end
-    for (size_t r = row_begin; r < row_end; ++r) {
-        const size_t b = list.row_start[r], e = list.row_start[r + 1];
-        size_t budget = 8 * (e - b) + 64;
-        bool sorted = true;
-        for (size_t k = b + 1; k < e && sorted; ++k) {
-            if (!(L[k] < L[k - 1])) continue;
-            double held[5];
-            for (int a = 0; a < 5; ++a) held[a] = A[a][k];
-            const Entry ek = E[k];
-            size_t j = k;
-            for (; j > b && held[0] < L[j - 1]; --j) {
-                for (int a = 0; a < 5; ++a) A[a][j] = A[a][j - 1];
-                E[j] = E[j - 1];
-                if (--budget == 0) break;
-            }
-            for (int a = 0; a < 5; ++a) A[a][j] = held[a];
-            E[j] = ek;
-            sorted = budget != 0;
-        }
-        if (sorted) continue;
-        std::vector<uint32_t> order(e - b);
-        for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
-        std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
-            return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && E[b + p].slot < E[b + q].slot);
-        });
-        std::vector<double> t(order.size());
-        for (int a = 0; a < 5; ++a) {
-            for (size_t k = 0; k < order.size(); ++k) t[k] = A[a][b + order[k]];
-            std::copy(t.begin(), t.end(), A[a] + b);
-        }
-        std::vector<Entry> te(order.size());
-        for (size_t k = 0; k < order.size(); ++k) te[k] = E[b + order[k]];
-        std::copy(te.begin(), te.end(), E + b);
+    const double *L = A[0];
+    std::vector<uint32_t> order(e - b);
+    for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
+    std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
+        return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && E[b + p].slot < E[b + q].slot);
+    });
+    std::vector<double> t(order.size());
+    for (int a = 0; a < 5; ++a) {
+        for (size_t k = 0; k < order.size(); ++k) t[k] = A[a][b + order[k]];
+        std::copy(t.begin(), t.end(), A[a] + b);
     }
+    std::vector<Entry> te(order.size());
+    for (size_t k = 0; k < order.size(); ++k) te[k] = E[b + order[k]];
+    std::copy(te.begin(), te.end(), E + b);
 }
 
 namespace {

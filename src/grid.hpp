@@ -136,7 +136,7 @@ class Grid {
                      const std::vector<uint32_t> &changed, const Sphere *spheres);
     // Returns the residents' disorder (see disorder()).
     static uint64_t gather(const std::vector<List *> &lists, const Sphere *spheres, int threads);
-    static void sort_rows(List &list, size_t row_begin, size_t row_end);
+    static void sort_row(List &list, size_t begin, size_t end);
     std::vector<List *> all_lists() {
         std::vector<List *> lists;
         for (Level &lv : levels_) {

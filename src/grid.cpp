@@ -131,38 +131,78 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                              const uint32_t *live_gen, uint32_t slot_count,
                              const GridLimits &limits, int threads) {
     GridUpdateStats stats;
-    // Level exponent per slot; INT_MIN: empty slot, INT_MAX: oversize. With
-    // it, per thread, a histogram of the exponents (a count per possible
-    // exponent: no branch on which exponent a body has, which is random) and
-    // the oversize slots, ascending (static schedule: thread t has the t-th
-    // range of slots).
+    level_.resize(slot_count, kNone);
+    gen_.resize(slot_count, 0);
+    cell_.resize(2 * size_t(slot_count), 0);
+    // One pass over the bodies. Per slot, the level exponent (INT_MIN: empty
+    // slot, INT_MAX: oversize), and per thread a histogram of the exponents
+    // (a count per possible exponent: no branch on which exponent a body
+    // has, which is random) and the oversize slots, ascending (static
+    // schedule: thread t has the t-th range of slots). In the same pass,
+    // taking the levels to be those of the last update (they nearly always
+    // are), each body's row there and a flag: 0 same row, 1 moved to another
+    // row of the same level, 2 membership changed (new, destroyed, slot
+    // reused, or other level). A body whose own row is unchanged keeps every
+    // coarser row too, so only flagged bodies touch the lists (moves along x
+    // never do). Should the census give other levels, the grid is rebuilt.
+    const bool incremental = built_;
+    const size_t L = levels_.size();
     std::vector<int> exponent(slot_count);
     std::vector<uint64_t> histogram(size_t(threads) * kExponents, 0);
     std::vector<std::vector<uint32_t>> oversize_local(threads);
+    std::vector<uint8_t> flag(incremental ? slot_count : 0, 0);
+    std::vector<std::vector<uint32_t>> changed_local(threads);
+    std::vector<uint64_t> touched_local(size_t(threads) * L, 0);
+    uint64_t flagged = 0;
     {
         RegionGuard guard;
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) reduction(+ : flagged)
         {
-            uint64_t *hist = histogram.data() + size_t(omp_get_thread_num()) * kExponents;
-            auto &oversize_mine = oversize_local[omp_get_thread_num()];
+            const int me = omp_get_thread_num();
+            uint64_t *hist = histogram.data() + size_t(me) * kExponents;
+            auto &oversize_mine = oversize_local[me];
+            auto &changed_mine = changed_local[me];
+            uint64_t *my_touched = touched_local.data() + size_t(me) * L;
 #pragma omp for schedule(static)
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-                if (!live_gen[s]) {
-                    exponent[s] = INT_MIN;
-                    continue;
+                int e = INT_MIN;
+                if (live_gen[s]) {
+                    e = std::max(ceil_log2(2 * r_level[s]), limits.min_exponent);
+                    // The sphere test radius carries a position-dependent rounding margin;
+                    // a body whose test sphere no longer fits its cell width is oversize.
+                    if (e > limits.max_exponent ||
+                        2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)))
+                        e = INT_MAX;
+                    if (e == INT_MAX) guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
+                    else ++hist[e + kExponentBias];
                 }
-                int e = std::max(ceil_log2(2 * r_level[s]), limits.min_exponent);
-                // The sphere test radius carries a position-dependent rounding margin;
-                // a body whose test sphere no longer fits its cell width is oversize.
-                if (e > limits.max_exponent ||
-                    2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)))
-                    e = INT_MAX;
                 exponent[s] = e;
-                if (e == INT_MAX) {
-                    guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
-                    continue;
+                if (!incremental) continue;
+                const int16_t li = e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
+                int64_t c[2] = {0, 0};
+                if (li >= 0) {
+                    const int ce = levels_[li].exponent + kRowShift;
+                    c[0] = cell_coord(spheres[s].y, ce);
+                    c[1] = cell_coord(spheres[s].z, ce);
                 }
-                ++hist[e + kExponentBias];
+                int64_t *old = &cell_[2 * s];
+                uint8_t f = 0;
+                if (li != level_[s] || gen_[s] != live_gen[s]) {
+                    f = 2;
+                    guard.run([&] { changed_mine.push_back(uint32_t(s)); });
+                } else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) {
+                    f = 1;
+                }
+                if (f) {
+                    ++flagged;
+                    if (level_[s] >= 0) ++my_touched[level_[s]];
+                    if (li >= 0) ++my_touched[li];
+                }
+                flag[s] = f;
+                level_[s] = li;
+                gen_[s] = live_gen[s];
+                old[0] = c[0];
+                old[1] = c[1];
             }
         }
         guard.rethrow();
@@ -210,97 +250,43 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             }
         }
     }
-    // Each exponent's level, by table (the levels' exponents are `present`).
+    // Each exponent's level, by table.
     std::vector<int16_t> level_of(kExponents, kNone);
     for (size_t i = 0; i < census.size(); ++i) level_of[census[i].first + kExponentBias] = int16_t(i);
     for (int e = join_lo; e < join_to; ++e) level_of[e + kExponentBias] = level_of[join_to + kExponentBias];
-    std::vector<int> present(census.size());
-    for (size_t i = 0; i < census.size(); ++i) present[i] = census[i].first;
     const std::vector<uint8_t> down = down_flags(census);
-    bool same_levels = built_ && present.size() == levels_.size();
-    for (size_t i = 0; same_levels && i < present.size(); ++i)
-        same_levels = levels_[i].exponent == present[i] && levels_[i].down == bool(down[i]);
-
-    level_.resize(slot_count, kNone);
-    gen_.resize(slot_count, 0);
-    cell_.resize(2 * size_t(slot_count), 0);
-
-    auto level_index = [&](int e) -> int16_t {
-        if (e == INT_MIN) return kNone;
-        if (e == INT_MAX) return kOversize;
-        return level_of[e + kExponentBias];
-    };
+    bool same_levels = incremental && census.size() == levels_.size() && level_of == level_of_;
+    for (size_t i = 0; same_levels && i < census.size(); ++i)
+        same_levels = levels_[i].exponent == census[i].first && levels_[i].down == bool(down[i]);
+    level_of_.swap(level_of);
 
     if (!same_levels) {
         levels_.clear();
-        levels_.resize(present.size());
-        for (size_t i = 0; i < present.size(); ++i) {
-            levels_[i].exponent = present[i];
+        levels_.resize(census.size());
+        for (size_t i = 0; i < census.size(); ++i) {
+            levels_[i].exponent = census[i].first;
             levels_[i].down = down[i] != 0;
         }
 #pragma omp parallel for num_threads(threads) schedule(static)
         for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-            level_[s] = level_index(exponent[s]);
+            const int e = exponent[s];
+            level_[s] = e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
             gen_[s] = live_gen[s];
             if (level_[s] >= 0) {
-                const int e = present[level_[s]];
-                cell_[2 * s] = cell_coord(spheres[s].y, e + kRowShift);
-                cell_[2 * s + 1] = cell_coord(spheres[s].z, e + kRowShift);
+                const int ce = levels_[level_[s]].exponent + kRowShift;
+                cell_[2 * s] = cell_coord(spheres[s].y, ce);
+                cell_[2 * s + 1] = cell_coord(spheres[s].z, ce);
             }
         }
         rebuild(spheres, slot_count, threads);
         stats.rebuilt = true;
         stats.moved = slot_count;  // every body (re-)entered
     } else {
-        // Per body: 0 same row, 1 moved to another row of the same level,
-        // 2 membership changed (new, destroyed, slot reused, or other level).
-        // A body whose own row is unchanged keeps every coarser row too, so
-        // only flagged bodies touch the lists (moves along x never do).
-        std::vector<uint8_t> flag(slot_count, 0);
-        std::vector<uint32_t> changed;
-        std::vector<std::vector<uint32_t>> changed_local(threads);
-        const size_t L = levels_.size();
-        std::vector<uint64_t> touched(L, 0), touched_local(size_t(threads) * L, 0);
-        uint64_t flagged = 0;
-        RegionGuard guard;
-#pragma omp parallel num_threads(threads) reduction(+ : flagged)
-        {
-            auto &mine = changed_local[omp_get_thread_num()];
-            uint64_t *my_touched = touched_local.data() + size_t(omp_get_thread_num()) * L;
-#pragma omp for schedule(static)
-            for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-                const int16_t li = level_index(exponent[s]);
-                int64_t c[2] = {0, 0};
-                if (li >= 0) {
-                    const int e = present[li];
-                    c[0] = cell_coord(spheres[s].y, e + kRowShift);
-                    c[1] = cell_coord(spheres[s].z, e + kRowShift);
-                }
-                int64_t *old = &cell_[2 * s];
-                uint8_t f = 0;
-                if (li != level_[s] || gen_[s] != live_gen[s]) {
-                    f = 2;
-                    guard.run([&] { mine.push_back(uint32_t(s)); });
-                } else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) {
-                    f = 1;
-                }
-                if (f) {
-                    ++flagged;
-                    if (level_[s] >= 0) ++my_touched[level_[s]];
-                    if (li >= 0) ++my_touched[li];
-                }
-                flag[s] = f;
-                level_[s] = li;
-                gen_[s] = live_gen[s];
-                old[0] = c[0];
-                old[1] = c[1];
-            }
-        }
-        guard.rethrow();
+        std::vector<uint64_t> touched(L, 0);
         for (int t = 0; t < threads; ++t)
             for (size_t l = 0; l < L; ++l) touched[l] += touched_local[size_t(t) * L + l];
+        std::vector<uint32_t> changed;
         for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
-        std::sort(changed.begin(), changed.end());
         uint64_t moved_finer = 0;  // flagged bodies on levels below li
         std::vector<uint8_t> dirty(2 * L, 0);
         for (size_t li = 0; li < L; ++li) {
@@ -310,6 +296,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         }
         // One parallel region over all lists: each list is updated, gathered
         // and indexed by one thread (lists are independent).
+        RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
         for (int64_t k = 0; k < int64_t(2 * L); ++k) {
             guard.run([&] {
@@ -319,10 +306,9 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             });
         }
         guard.rethrow();
-        disorder_ = gather(all_lists(), spheres, threads);
         stats.moved = flagged;
     }
-    if (stats.rebuilt) disorder_ = gather(all_lists(), spheres, threads);
+    disorder_ = gather(all_lists(), spheres, threads);
     oversize_.clear();
     for (const auto &local : oversize_local) oversize_.insert(oversize_.end(), local.begin(), local.end());
     built_ = true;

@@ -846,9 +846,12 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
     // The larger body's faces first: they separate more often (on scene
     // tetra, 19% fewer pairs need the second body's faces).
     const TetWorld *u = &ta, *v = &tb;
+    const double *cu = a.position, *cv = b.position;
     if ((tb.hi[0] - tb.lo[0]) + (tb.hi[1] - tb.lo[1]) + (tb.hi[2] - tb.lo[2]) >
-        (ta.hi[0] - ta.lo[0]) + (ta.hi[1] - ta.lo[1]) + (ta.hi[2] - ta.lo[2]))
+        (ta.hi[0] - ta.lo[0]) + (ta.hi[1] - ta.lo[1]) + (ta.hi[2] - ta.lo[2])) {
         std::swap(u, v);
+        std::swap(cu, cv);
+    }
     TetPlanes pu, pv;
     TetSides suv, svu;  // v's vertices against u's faces, and u's against v's
     K::planes(*u, ex, ey, ez, pu);
@@ -858,6 +861,7 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
     const int vu = tet_verdict(suv), vv = tet_verdict(svu);
     if (vu == 2 || vv == 2) return Contact::Surface;
     if (vu == 1 || vv == 1) return Contact::Containment;
+    if (K::edges_separate(*u, *v, cu, cv, ex, ey, ez)) return Contact::None;
     return collide_tetra_exact(*u, *v, suv, svu, scratch);
 }
 
@@ -877,6 +881,12 @@ struct KernelsV2 {
     static HGCD_TET_INLINE bool sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o,
                                                TetSides &s) {
         return tet_sides_separate(w, p, o, s);
+    }
+    // (The exact path decides these pairs: tet_edges_separate_avx2 is a
+    // shortcut measured on AVX2 only.)
+    static HGCD_TET_INLINE bool edges_separate(const TetWorld &, const TetWorld &, const double *, const double *,
+                                               double, double, double) {
+        return false;
     }
 };
 
@@ -900,6 +910,72 @@ static inline unsigned less_avx2(const V4 &a, const V4 &b) {
 }
 static inline void max_avx2(V4 &out, const V4 &a, const V4 &b) { out = (V4)_mm256_max_pd((__m256d)a, (__m256d)b); }
 #pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+static inline double hmax_avx2(const V4 &a) {
+    const __m256d m = _mm256_max_pd((__m256d)a, _mm256_permute2f128_pd((__m256d)a, (__m256d)a, 1));
+    return _mm_cvtsd_f64(_mm256_castpd256_pd128(_mm256_max_pd(m, _mm256_permute_pd(m, 5))));
+}
+static inline double hmin_avx2(const V4 &a) {
+    const __m256d m = _mm256_min_pd((__m256d)a, _mm256_permute2f128_pd((__m256d)a, (__m256d)a, 1));
+    return _mm_cvtsd_f64(_mm256_castpd256_pd128(_mm256_min_pd(m, _mm256_permute_pd(m, 5))));
+}
+#pragma GCC pop_options
+
+// A separating axis across an edge of each tetrahedron, tried on the pairs
+// that no face plane keeps apart and no certified sign decides, before the
+// exact path. Two disjoint convex hulls with no separating face plane have
+// a separating plane parallel to an edge of each; on scene tetra 42 k pairs
+// a tick at n = 750000 are such, and their exact path tests up to 16
+// triangle pairs each. Of the 36 edge pairs one is tried: the edge joining
+// the two vertices of each tetrahedron nearest the other's position (its
+// centre); it finds an axis for 83% of those pairs (some pair of the 36 for
+// all of them). The choice is a guess and any axis proves disjointness, so
+// nothing needs to be exact but the final test.
+//
+// Why that test is certain. On an axis n (any double vector) the
+// projections (x - c) . n of the world vertices, c a vertex of u, are
+// evaluated within 5 eps S, S = e . |n| and e the extent of the box holding
+// both bodies (which bounds |x - c| per coordinate): eps for x - c, gamma_3
+// for the dot product. When the computed gap between the two sets of
+// projections passes 2^-46 S + 2^-960 (128 eps S, and underflowed
+// products), the real projections of the two hulls are strictly apart.
+__attribute__((target("avx2"), noinline)) bool tet_edges_separate_avx2(const TetWorld &u, const TetWorld &v,
+                                                                      const double *cu, const double *cv,
+                                                                      double ex, double ey, double ez) {
+    V4 ux, uy, uz, vx, vy, vz;
+    std::memcpy(&ux, u.x, sizeof ux);
+    std::memcpy(&uy, u.y, sizeof uy);
+    std::memcpy(&uz, u.z, sizeof uz);
+    std::memcpy(&vx, v.x, sizeof vx);
+    std::memcpy(&vy, v.y, sizeof vy);
+    std::memcpy(&vz, v.z, sizeof vz);
+    // The two vertices nearest the other body's centre (selects, not branches).
+    auto nearest = [](const V4 &x, const V4 &y, const V4 &z, const double *c, int &k0, int &k1) {
+        const V4 dx = x - c[0], dy = y - c[1], dz = z - c[2];
+        const V4 d = (dx * dx + dy * dy) + dz * dz;
+        int a = d[1] < d[0] ? 1 : 0, b = 1 - a;
+        for (int i = 2; i < 4; ++i) {
+            const bool below_a = d[i] < d[a], below_b = d[i] < d[b];
+            b = below_a ? a : below_b ? i : b;
+            a = below_a ? i : a;
+        }
+        k0 = a;
+        k1 = b;
+    };
+    int a0, a1, b0, b1;
+    nearest(ux, uy, uz, cv, a0, a1);
+    nearest(vx, vy, vz, cu, b0, b1);
+    const double ax = ux[a1] - ux[a0], ay = uy[a1] - uy[a0], az = uz[a1] - uz[a0];
+    const double bx = vx[b1] - vx[b0], by = vy[b1] - vy[b0], bz = vz[b1] - vz[b0];
+    const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    const double cx = ux[a0], cy = uy[a0], cz = uz[a0];
+    const V4 pu = ((ux - cx) * nx + (uy - cy) * ny) + (uz - cz) * nz;
+    const V4 pv = ((vx - cx) * nx + (vy - cy) * ny) + (vz - cz) * nz;
+    const double margin = 0x1p-46 * ((ex * std::fabs(nx) + ey * std::fabs(ny)) + ez * std::fabs(nz)) + 0x1p-960;
+    return (hmin_avx2(pv) - hmax_avx2(pu) > margin) | (hmin_avx2(pu) - hmax_avx2(pv) > margin);
+}
 
 struct KernelsV4 {
     static HGCD_TET_INLINE void load(V4 &v, const void *p) { std::memcpy(&v, p, sizeof v); }
@@ -1008,6 +1084,10 @@ struct KernelsV4 {
         if (outer.separates(s, 2)) return true;
         face<3>(p, x, y, z, s);
         return outer.separates(s, 3);
+    }
+    static HGCD_TET_INLINE bool edges_separate(const TetWorld &u, const TetWorld &v, const double *cu,
+                                               const double *cv, double ex, double ey, double ez) {
+        return tet_edges_separate_avx2(u, v, cu, cv, ex, ey, ez);
     }
 };
 

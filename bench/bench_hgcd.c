@@ -32,7 +32,7 @@
  *                     reference counts of SCENES.md (pairs and containment;
  *                     null when SCENES.md has no row for this n and seed).
  *
- * Diagnostics go to stderr. Exit status: 0 when the JSON line was printed
+ * --per-tick prints each tick's times to stderr. Diagnostics go to stderr. Exit status: 0 when the JSON line was printed
  * (even with reference_ok false: the caller reads the JSON), 1 on an API
  * failure, 2 on a usage error.
  */
@@ -91,7 +91,7 @@ static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
 
 static void usage(const char *argv0) {
     fprintf(stderr,
-            "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--min-cell-size W] [--side L] [--check]\n"
+            "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
             "  --threads 0 = all cores; --check compares the initial detect with SCENES.md\n",
             argv0);
 }
@@ -104,11 +104,15 @@ static const struct {
 int main(int argc, char **argv) {
     uint64_t n = 100000, seed = 1;
     unsigned threads = 1;
-    int ticks = 5, check = 0;
+    int ticks = 5, check = 0, per_tick = 0;
     const char *commit = "unknown";
     double min_cell = 0, side = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
+        if (!strcmp(a, "--per-tick")) {
+            per_tick = 1;
+            continue;
+        }
         if (!strcmp(a, "--check")) {
             check = 1;
             continue;
@@ -206,6 +210,9 @@ int main(int argc, char **argv) {
         tick_narrow[k] = 1e3 * st.narrow_seconds;
         tick_update[k] = 1e3 * st.update_seconds;
         tick_motion[k] = 1e3 * st.motion_seconds;
+        if (per_tick)
+            fprintf(stderr, "tick %d: %.1f ms (motion %.1f, update %.1f, broad %.1f, narrow %.1f)\n", k + 1,
+                    tick_total[k], tick_motion[k], tick_update[k], tick_broad[k], tick_narrow[k]);
     }
     const double rss_after = peak_rss_bytes();
 

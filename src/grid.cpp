@@ -134,6 +134,19 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     level_.resize(slot_count, kNone);
     gen_.resize(slot_count, 0);
     cell_.resize(2 * size_t(slot_count), 0);
+    exponent_.resize(slot_count, 0);
+    const bool stale_exponents = limits.min_exponent != exponent_floor_;
+    exponent_floor_ = limits.min_exponent;
+    // The level exponent of a live body: that of its r_level (kept per slot
+    // while the body is the same), or oversize (INT_MAX) when its test
+    // sphere, whose rounding margin grows with its distance from the origin,
+    // no longer fits that cell width.
+    auto exponent_of = [&](int64_t s) {
+        const int e = exponent_[s];
+        return e > limits.max_exponent || 2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e))
+                   ? INT_MAX
+                   : e;
+    };
     // One pass over the bodies. Per slot, the level exponent (INT_MIN: empty
     // slot, INT_MAX: oversize), and per thread a histogram of the exponents
     // (a count per possible exponent: no branch on which exponent a body
@@ -147,7 +160,6 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     // never do). Should the census give other levels, the grid is rebuilt.
     const bool incremental = built_;
     const size_t L = levels_.size();
-    std::vector<int> exponent(slot_count);
     std::vector<uint64_t> histogram(size_t(threads) * kExponents, 0);
     std::vector<std::vector<uint32_t>> oversize_local(threads);
     std::vector<uint8_t> flag(incremental ? slot_count : 0, 0);
@@ -167,17 +179,16 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 int e = INT_MIN;
                 if (live_gen[s]) {
-                    e = std::max(ceil_log2(2 * r_level[s]), limits.min_exponent);
-                    // The sphere test radius carries a position-dependent rounding margin;
-                    // a body whose test sphere no longer fits its cell width is oversize.
-                    if (e > limits.max_exponent ||
-                        2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)))
-                        e = INT_MAX;
+                    if (gen_[s] != live_gen[s] || stale_exponents)
+                        exponent_[s] = int16_t(std::max(ceil_log2(2 * r_level[s]), limits.min_exponent));
+                    e = exponent_of(s);
                     if (e == INT_MAX) guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
                     else ++hist[e + kExponentBias];
                 }
-                exponent[s] = e;
-                if (!incremental) continue;
+                if (!incremental) {
+                    gen_[s] = live_gen[s];
+                    continue;
+                }
                 const int16_t li = e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
                 int64_t c[2] = {0, 0};
                 if (li >= 0) {
@@ -269,7 +280,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         }
 #pragma omp parallel for num_threads(threads) schedule(static)
         for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-            const int e = exponent[s];
+            const int e = live_gen[s] ? exponent_of(s) : INT_MIN;
             level_[s] = e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
             gen_[s] = live_gen[s];
             if (level_[s] >= 0) {
@@ -883,21 +894,23 @@ void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<u
     level_.resize(n, kNone);
     gen_.resize(n, 0);
     cell_.resize(2 * n, 0);
+    exponent_.resize(n, 0);
     for (List *list : all_lists())
         for (Entry &en : list->entries) en.slot = new_of_old[en.slot];
     struct Record {
         int64_t cell[2];
         uint32_t gen;
-        int16_t level;
+        int16_t level, exponent;
     };
     permute_in_place(
         old_of_new.data(), n, done,
-        [&](size_t k) { return Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], level_[k]}; },
+        [&](size_t k) { return Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], level_[k], exponent_[k]}; },
         [&](size_t k, const Record &r) {
             cell_[2 * k] = r.cell[0];
             cell_[2 * k + 1] = r.cell[1];
             gen_[k] = r.gen;
             level_[k] = r.level;
+            exponent_[k] = r.exponent;
         });
     for (uint32_t &s : oversize_) s = new_of_old[s];
     std::sort(oversize_.begin(), oversize_.end());

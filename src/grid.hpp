@@ -162,6 +162,8 @@ class Grid {
     std::vector<int16_t> level_;      // index into levels_, kNone or kOversize
     std::vector<uint32_t> gen_;       // live generation seen
     std::vector<int64_t> cell_;       // 2 per slot: row (y, z) at its own level
+    std::vector<int16_t> exponent_;   // level exponent of r_level (at least min_exponent), for gen_
+    int exponent_floor_ = 0;          // the min_exponent exponent_ was computed with
     std::vector<int16_t> level_of_;   // level index of each exponent (+ kExponentBias), as of the last update
     uint64_t disorder_ = 0;
     bool built_ = false;

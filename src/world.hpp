@@ -120,6 +120,7 @@ class World {
 
     Grid grid_;
     std::vector<std::vector<uint64_t>> candidates_;  // per thread, one detect's candidate pairs
+    std::vector<std::vector<uint64_t>> hits_, sort_scratch_;  // per thread, its colliding pairs (keys)
     // Candidate pairs per body of the last successful detect (-1: none yet),
     // and whether the grid is coarsened (grid_limits).
     double candidates_per_body_ = -1;

@@ -888,13 +888,22 @@ void Grid::order(std::vector<uint32_t> &out) const {
     out.insert(out.end(), oversize_.begin(), oversize_.end());
 }
 
-void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
-                    std::vector<uint64_t> &done) {
-    const size_t n = old_of_new.size();  // (slots made since the last update are not in the grid)
-    level_.resize(n, kNone);
+void Grid::reserve_slots(size_t n) {
+    if (level_.size() >= n) return;
+    level_.reserve(n);
+    gen_.reserve(n);
+    cell_.reserve(2 * n);
+    exponent_.reserve(n);
+    level_.resize(n, kNone);  // (no allocation past here)
     gen_.resize(n, 0);
     cell_.resize(2 * n, 0);
     exponent_.resize(n, 0);
+}
+
+void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
+                    std::vector<uint64_t> &done) {
+    const size_t n = old_of_new.size();  // (slots made since the last update are not in the grid)
+    reserve_slots(n);
     for (List *list : all_lists())
         for (Entry &en : list->entries) en.slot = new_of_old[en.slot];
     struct Record {

@@ -76,6 +76,10 @@ class Grid {
     // The slots of every body in the grid, each once, in sweep order: the
     // residents of each level as their lists hold them, then the oversize.
     void order(std::vector<uint32_t> &out) const;
+    // Grows the per-slot state to n slots (what renumber() needs for a
+    // permutation of n; it may throw bad_alloc, renumber() then does not
+    // allocate if done has room for n bits).
+    void reserve_slots(size_t n);
     // Moves the state of slot old_of_new[k] to slot k (a permutation of at
     // least the slot_count slots of the last update; new_of_old is its
     // inverse; done: scratch, see permute_in_place).

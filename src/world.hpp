@@ -70,7 +70,10 @@ class World {
     bool renumber();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     int threads() const;
-    GridLimits grid_limits();
+    GridLimits grid_limits(int threads);
+    // Candidate pairs per body expected of spheres spread evenly over their
+    // centres' box; -1 when there is no such box.
+    double estimated_candidates_per_body(int threads) const;
 
     // Ids: generation = world tag (8 bits) << 24 | counter (24 bits, >= 1).
     uint32_t tag_;

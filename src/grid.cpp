@@ -6,6 +6,7 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "ieee.hpp"
 #include "parallel.hpp"
@@ -106,6 +107,10 @@ inline bool overlap(const Sphere &a, const Sphere &b) {
 inline double x_extent(double r) { return r * (1 + 2e-9) + 1e-150; }
 inline double left_end(const Sphere &s) { return s.x - x_extent(s.r); }
 
+inline size_t first_row(const std::vector<CellKey> &keys, CellKey target) {
+    return size_t(std::lower_bound(keys.begin(), keys.end(), target) - keys.begin());
+}
+
 inline uint64_t pair_key(uint32_t a, uint32_t b) {
     return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
@@ -163,7 +168,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     std::vector<uint64_t> histogram(size_t(threads) * kExponents, 0);
     std::vector<std::vector<uint32_t>> oversize_local(threads);
     std::vector<uint8_t> flag(incremental ? slot_count : 0, 0);
-    std::vector<std::vector<uint32_t>> changed_local(threads);
+    std::vector<std::vector<Moved>> changed_local(threads);
     std::vector<uint64_t> touched_local(size_t(threads) * L, 0);
     uint64_t flagged = 0;
     {
@@ -198,13 +203,10 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 }
                 int64_t *old = &cell_[2 * s];
                 uint8_t f = 0;
-                if (li != level_[s] || gen_[s] != live_gen[s]) {
-                    f = 2;
-                    guard.run([&] { changed_mine.push_back(uint32_t(s)); });
-                } else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) {
-                    f = 1;
-                }
+                if (li != level_[s] || gen_[s] != live_gen[s]) f = 2;
+                else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) f = 1;
                 if (f) {
+                    guard.run([&] { changed_mine.push_back(Moved{uint32_t(s), level_[s], {old[0], old[1]}}); });
                     ++flagged;
                     if (level_[s] >= 0) ++my_touched[level_[s]];
                     if (li >= 0) ++my_touched[li];
@@ -296,7 +298,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         std::vector<uint64_t> touched(L, 0);
         for (int t = 0; t < threads; ++t)
             for (size_t l = 0; l < L; ++l) touched[l] += touched_local[size_t(t) * L + l];
-        std::vector<uint32_t> changed;
+        std::vector<Moved> changed;
         for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
         uint64_t moved_finer = 0;  // flagged bodies on levels below li
         std::vector<uint8_t> dirty(2 * L, 0);
@@ -305,18 +307,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             dirty[2 * li + 1] = moved_finer != 0 && !levels_[li].down;
             moved_finer += touched[li];
         }
-        // One parallel region over all lists: each list is updated, gathered
-        // and indexed by one thread (lists are independent).
-        RegionGuard guard;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-        for (int64_t k = 0; k < int64_t(2 * L); ++k) {
-            guard.run([&] {
-                Level &lv = levels_[k / 2];
-                List &list = (k & 1) ? lv.guests : lv.residents;
-                if (dirty[k]) update_list(list, int(k / 2), (k & 1) != 0, flag, changed, spheres);
-            });
-        }
-        guard.rethrow();
+        update_lists(dirty, flag, changed, spheres, threads);
         stats.moved = flagged;
     }
     disorder_ = gather(all_lists(), spheres, threads);
@@ -345,41 +336,105 @@ void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
     }
 }
 
-// Drops the entries of bodies whose membership changed (flag 2), re-keys
-// those of bodies that moved (flag 1) if their row at this level changed,
-// and enters the changed bodies that now belong here, each at its place by
-// (row, x) (x as of the last gather for the others), so that gather's
-// insertion sort has little left to do.
-void Grid::update_list(List &list, int li, bool guests, const std::vector<uint8_t> &flag,
-                       const std::vector<uint32_t> &changed, const Sphere *spheres) {
-    std::vector<Entry> &entries = list.entries;
-    std::vector<Entry> add;
-    size_t w = 0;  // kept entries are compacted in place
-    for (size_t k = 0; k < entries.size(); ++k) {
-        const Entry en = entries[k];
-        const uint8_t f = flag[en.slot];
-        if (f == 0) {
-            entries[w++] = en;
-        } else if (f == 1) {
-            const CellKey key = key_of(en.slot, li);
-            if (key == en.key) entries[w++] = en;
-            else add.push_back({key, en.slot, float(left_end(spheres[en.slot]))});
-        }
-    }
-    for (uint32_t s : changed) {
-        const int16_t own = level_[s];
-        if (guests ? (own >= 0 && own < li) : own == li)
-            add.push_back({key_of(s, li), s, float(left_end(spheres[s]))});
-    }
-    std::sort(add.begin(), add.end(), ByRowX<Entry>());
-    // Merge from the back, in place: entries[0, w) and add into entries[0, n).
-    const size_t n = w + add.size();
-    entries.resize(n);
-    size_t i = w, j = add.size(), k = n;
+// Brings the lists marked dirty (residents of level k / 2 at even k, guests
+// at odd k) to the flagged bodies (changed: their slots, levels and rows
+// before this update): their entries leave, and those that belong to a list
+// now enter it at their place by (row, x) (x as of the last gather for the
+// others), so that gather's insertion sort has little left to do. Each list
+// is rewritten into its spare array in parts of whole rows, in parallel:
+// where each part's output starts follows from the entries it loses, known
+// without reading it (a flagged body's old row names the part its entry is
+// in, by the row index of the last gather), and from the entries that enter
+// in its range of rows. One pass reads and writes each entry once.
+void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uint8_t> &flag,
+                        const std::vector<Moved> &changed, const Sphere *spheres, int threads) {
+    constexpr size_t kPart = 32768;  // entries
+    struct Work {
+        List *list;
+        const std::vector<Entry> *add;
+        size_t in_b, in_e, add_b, add_e, out_b, out_e;
+    };
+    std::vector<Work> work;
+    std::vector<std::vector<Entry>> adds(dirty.size());
     const ByRowX<Entry> less;
-    while (j > 0) {
-        if (i > 0 && less(add[j - 1], entries[i - 1])) entries[--k] = entries[--i];
-        else entries[--k] = add[--j];
+    for (size_t k = 0; k < dirty.size(); ++k) {
+        if (!dirty[k]) continue;
+        const int li = int(k / 2);
+        const bool guests = (k & 1) != 0;
+        List &list = guests ? levels_[li].guests : levels_[li].residents;
+        auto belongs = [&](int own) { return guests ? own >= 0 && own < li : own == li; };
+        std::vector<Entry> &add = adds[k];
+        for (const Moved &m : changed)
+            if (belongs(level_[m.slot])) add.push_back({key_of(m.slot, li), m.slot, float(left_end(spheres[m.slot]))});
+        std::sort(add.begin(), add.end(), less);
+        // Parts: rows [cut[p], cut[p + 1]) of the list as it is.
+        const std::vector<CellKey> &keys = list.row_keys;
+        const size_t rows = keys.size();
+        std::vector<size_t> cut{0};
+        for (size_t r = 0; r < rows;) {
+            size_t e = r + 1;
+            while (e < rows && list.row_start[e] - list.row_start[r] < kPart) ++e;
+            cut.push_back(e);
+            r = e;
+        }
+        if (cut.size() == 1) cut.push_back(0);  // an empty list: one part, nothing in it
+        const size_t parts = cut.size() - 1;
+        std::vector<size_t> lost(parts, 0);
+        for (const Moved &m : changed) {
+            if (!belongs(m.old_level)) continue;
+            const int shift = std::min(levels_[li].exponent - levels_[m.old_level].exponent, 63);
+            const CellKey key = row_key(clamp_bias(m.old_cell[1] >> shift), clamp_bias(m.old_cell[0] >> shift));
+            const size_t r = first_row(keys, key);
+            if (r == rows || keys[r] != key) throw std::logic_error("grid: an entry is not in its row");
+            ++lost[size_t(std::upper_bound(cut.begin() + 1, cut.end() - 1, r) - (cut.begin() + 1))];
+        }
+        // (With room to grow: a reallocation would hold three copies at once.)
+        const size_t most = list.entries.size() + add.size();
+        if (list.spare.capacity() < most) {
+            list.spare.clear();
+            list.spare.shrink_to_fit();
+            list.spare.reserve(most + most / 16);
+        }
+        list.spare.resize(most);
+        size_t out = 0, a = 0;
+        for (size_t p = 0; p < parts; ++p) {
+            const size_t in_b = rows ? list.row_start[cut[p]] : 0, in_e = rows ? list.row_start[cut[p + 1]] : 0;
+            // The entries that enter in this part: keys below the next part's first row.
+            size_t a_e = add.size();
+            if (p + 1 < parts) {
+                const CellKey next = keys[cut[p + 1]];
+                a_e = size_t(std::partition_point(add.begin() + std::ptrdiff_t(a), add.end(),
+                                                  [&](const Entry &en) { return CellKey(en.key) < next; }) -
+                             add.begin());
+            }
+            if (lost[p] > in_e - in_b) throw std::logic_error("grid: a part loses more entries than it has");
+            const size_t size = in_e - in_b - lost[p] + (a_e - a);
+            work.push_back({&list, &add, in_b, in_e, a, a_e, out, out + size});
+            out += size;
+            a = a_e;
+        }
+        list.spare.resize(out);
+    }
+    bool out_of_step = false;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1) reduction(|| : out_of_step)
+    for (int64_t k = 0; k < int64_t(work.size()); ++k) {
+        const Work &wk = work[k];
+        const Entry *E = wk.list->entries.data(), *A = wk.add->data();
+        Entry *O = wk.list->spare.data();
+        size_t i = wk.in_b, a = wk.add_b, w = wk.out_b;
+        for (;; ++i) {
+            while (i < wk.in_e && flag[E[i].slot]) ++i;  // (entries of flagged bodies leave)
+            while (a < wk.add_e && (i == wk.in_e || less(A[a], E[i])) && w < wk.out_e) O[w++] = A[a++];
+            if (i == wk.in_e || w == wk.out_e) break;
+            O[w++] = E[i];
+        }
+        out_of_step |= i != wk.in_e || a != wk.add_e || w != wk.out_e;
+    }
+    if (out_of_step) throw std::logic_error("grid: a list update is out of step with its rows");
+    for (size_t k = 0; k < dirty.size(); ++k) {
+        if (!dirty[k]) continue;
+        List &list = (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents;
+        list.entries.swap(list.spare);
     }
 }
 
@@ -542,9 +597,6 @@ inline size_t advance(const std::vector<CellKey> &keys, size_t from, CellKey tar
     return from;
 }
 
-inline size_t first_row(const std::vector<CellKey> &keys, CellKey target) {
-    return size_t(std::lower_bound(keys.begin(), keys.end(), target) - keys.begin());
-}
 
 // Key offset of the row (z + dz, y + dy) from row (z, y). Components stay
 // within [1, 2^42 - 2], so +-1 never carries: modular arithmetic on the

@@ -113,6 +113,7 @@ class Grid {
   private:
     struct List {
         std::vector<Entry> entries;   // sorted by (key, left end)
+        std::vector<Entry> spare;     // what update_lists writes the next entries into
         // Spheres of entries, same order, as arrays (padded at the end), and
         // their left ends along x (x - x_extent(r), grid.cpp).
         std::vector<double> sx, sy, sz, sr, sl;
@@ -136,8 +137,14 @@ class Grid {
     static constexpr int16_t kOversize = -2;
 
     void rebuild(const Sphere *spheres, uint32_t slot_count, int threads);
-    void update_list(List &list, int level_index, bool guests, const std::vector<uint8_t> &flag,
-                     const std::vector<uint32_t> &changed, const Sphere *spheres);
+    // A body flagged by an update: its slot, and its level and row before.
+    struct Moved {
+        uint32_t slot;
+        int16_t old_level;
+        int64_t old_cell[2];
+    };
+    void update_lists(const std::vector<uint8_t> &dirty, const std::vector<uint8_t> &flag,
+                      const std::vector<Moved> &changed, const Sphere *spheres, int threads);
     // Returns the residents' disorder (see disorder()).
     static uint64_t gather(const std::vector<List *> &lists, const Sphere *spheres, int threads);
     static void sort_row(List &list, size_t begin, size_t end);

@@ -212,10 +212,12 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                     if (li >= 0) ++my_touched[li];
                 }
                 flag[s] = f;
-                level_[s] = li;
-                gen_[s] = live_gen[s];
-                old[0] = c[0];
-                old[1] = c[1];
+                if (f) {  // (most bodies keep their row: their state is not written)
+                    level_[s] = li;
+                    gen_[s] = live_gen[s];
+                    old[0] = c[0];
+                    old[1] = c[1];
+                }
             }
         }
         guard.rethrow();

@@ -320,22 +320,29 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
 }
 
 void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
+    std::vector<std::vector<Keyed>> keyed(2 * levels_.size());  // by list, as all_lists()
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int16_t own = level_[s];
         if (own < 0) continue;
-        levels_[own].residents.entries.push_back({key_of(s, own), s, float(left_end(spheres[s]))});
+        keyed[2 * size_t(own)].push_back({key_of(s, own), s, float(left_end(spheres[s]))});
         for (size_t li = size_t(own) + 1; li < levels_.size(); ++li)
-            if (!levels_[li].down) levels_[li].guests.entries.push_back({key_of(s, int(li)), s, float(left_end(spheres[s]))});
+            if (!levels_[li].down) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, float(left_end(spheres[s]))});
     }
     const int64_t lists = int64_t(2 * levels_.size());
+    RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t k = 0; k < lists; ++k) {
+    for (int64_t k = 0; k < lists; ++k) guard.run([&] {
         List &list = (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents;
-        // Rows sorted by left end (the entries' float copy: no random reads
-        // in the comparisons; gather's insertion sort settles the few pairs
-        // that rounding to float leaves out of order).
-        std::sort(list.entries.begin(), list.entries.end(), ByRowX<Entry>());
-    }
+        // Rows sorted by left end (a float copy: no random reads in the
+        // comparisons; gather's insertion sort settles the few pairs that
+        // rounding to float leaves out of order).
+        std::vector<Keyed> &in = keyed[size_t(k)];
+        std::sort(in.begin(), in.end(), ByRowX<Keyed>());
+        list.entries.resize(in.size());
+        for (size_t i = 0; i < in.size(); ++i) list.entries[i] = Entry{in[i].key, in[i].slot};
+        std::vector<Keyed>().swap(in);
+    });
+    guard.rethrow();
 }
 
 // Brings the lists marked dirty (residents of level k / 2 at even k, guests
@@ -353,22 +360,21 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     constexpr size_t kPart = 32768;  // entries
     struct Work {
         List *list;
-        const std::vector<Entry> *add;
+        const std::vector<Keyed> *add;
         size_t in_b, in_e, add_b, add_e, out_b, out_e;
     };
     std::vector<Work> work;
-    std::vector<std::vector<Entry>> adds(dirty.size());
-    const ByRowX<Entry> less;
+    std::vector<std::vector<Keyed>> adds(dirty.size());
     for (size_t k = 0; k < dirty.size(); ++k) {
         if (!dirty[k]) continue;
         const int li = int(k / 2);
         const bool guests = (k & 1) != 0;
         List &list = guests ? levels_[li].guests : levels_[li].residents;
         auto belongs = [&](int own) { return guests ? own >= 0 && own < li : own == li; };
-        std::vector<Entry> &add = adds[k];
+        std::vector<Keyed> &add = adds[k];
         for (const Moved &m : changed)
             if (belongs(level_[m.slot])) add.push_back({key_of(m.slot, li), m.slot, float(left_end(spheres[m.slot]))});
-        std::sort(add.begin(), add.end(), less);
+        std::sort(add.begin(), add.end(), ByRowX<Keyed>());
         // Parts: rows [cut[p], cut[p + 1]) of the list as it is.
         const std::vector<CellKey> &keys = list.row_keys;
         const size_t rows = keys.size();
@@ -406,7 +412,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
             if (p + 1 < parts) {
                 const CellKey next = keys[cut[p + 1]];
                 a_e = size_t(std::partition_point(add.begin() + std::ptrdiff_t(a), add.end(),
-                                                  [&](const Entry &en) { return CellKey(en.key) < next; }) -
+                                                  [&](const Keyed &en) { return CellKey(en.key) < next; }) -
                              add.begin());
             }
             if (lost[p] > in_e - in_b) throw std::logic_error("grid: a part loses more entries than it has");
@@ -421,12 +427,23 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) reduction(|| : out_of_step)
     for (int64_t k = 0; k < int64_t(work.size()); ++k) {
         const Work &wk = work[k];
-        const Entry *E = wk.list->entries.data(), *A = wk.add->data();
+        const Entry *E = wk.list->entries.data();
+        const double *X = wk.list->sl.data();  // the entries' left ends, as of the last gather
+        const Keyed *A = wk.add->data();
         Entry *O = wk.list->spare.data();
+        // Does add a go before entry i?
+        auto before = [&](size_t a, size_t i) {
+            const CellKey ka = A[a].key, ki = E[i].key;
+            const double xa = A[a].x;
+            return ka < ki || (ka == ki && (xa < X[i] || (xa == X[i] && A[a].slot < E[i].slot)));
+        };
         size_t i = wk.in_b, a = wk.add_b, w = wk.out_b;
         for (;; ++i) {
             while (i < wk.in_e && flag[E[i].slot]) ++i;  // (entries of flagged bodies leave)
-            while (a < wk.add_e && (i == wk.in_e || less(A[a], E[i])) && w < wk.out_e) O[w++] = A[a++];
+            while (a < wk.add_e && (i == wk.in_e || before(a, i)) && w < wk.out_e) {
+                O[w++] = Entry{A[a].key, A[a].slot};
+                ++a;
+            }
             if (i == wk.in_e || w == wk.out_e) break;
             O[w++] = E[i];
         }
@@ -542,8 +559,7 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
             Z[j] = sp.z;
             R[j] = sp.r;
             L[j] = l;
-            E[j] = en;
-            E[j].x = float(l);  // (orders the next update's merges)
+            if (j != k) E[j] = en;  // (an entry that stays is not rewritten)
         }
         if (whole) sort_row(list, row_b, e);
         found[p].rmax = rmax;

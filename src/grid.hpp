@@ -96,14 +96,21 @@ class Grid {
     size_t memory_bytes() const;
 
   private:
-    // 24 bytes rather than the 32 that __int128's alignment would give: the
-    // key is only ever read and written by value.
-    struct __attribute__((packed, aligned(8))) Entry {
+    // 20 bytes rather than the 32 that __int128's alignment would give: the
+    // key is only ever read and written by value. (Its left end is in the
+    // list's sphere arrays, at the same index.)
+    struct __attribute__((packed, aligned(4))) Entry {
         CellKey key;
         uint32_t slot;
-        float x;  // left end as of the last gather: orders merges within a row
     };
-    static_assert(sizeof(Entry) == 24, "Entry layout");
+    static_assert(sizeof(Entry) == 20, "Entry layout");
+    // An entry with its left end rounded to float, where entries are sorted
+    // before they have sphere arrays (a list built, entries entering one).
+    struct __attribute__((packed, aligned(8))) Keyed {
+        CellKey key;
+        uint32_t slot;
+        float x;
+    };
   public:
     struct SphereArrays {
         const double *x, *y, *z, *r, *l;  // l: left end along x (sweep order)

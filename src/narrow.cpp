@@ -1,6 +1,7 @@
 #include "narrow.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -778,6 +779,98 @@ __attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact(const TetW
     return Contact::None;
 }
 
+// A separating axis across an edge of each tetrahedron, tried on the pairs
+// that no face plane keeps apart and no certified sign decides, before the
+// exact path. Two disjoint convex hulls with no separating face plane have
+// a separating plane parallel to an edge of each; on scene tetra 42 k pairs
+// a tick at n = 750000 are such, and their exact path tests up to 16
+// triangle pairs each. Of the 36 edge pairs one is tried: the edge joining
+// the two vertices of each tetrahedron nearest the other's position (its
+// centre); it finds an axis for 83% of those pairs (some pair of the 36 for
+// all of them). The choice is a guess and any axis proves disjointness, so
+// nothing needs to be exact but the final test.
+//
+// Why that test is certain. On an axis n (any double vector) the
+// projections (x - c) . n of the world vertices, c a vertex of u, are
+// evaluated within 5 eps S, S = e . |n| and e the extent of the box holding
+// both bodies (which bounds |x - c| per coordinate): eps for x - c, gamma_3
+// for the dot product. When the computed gap between the two sets of
+// projections passes 2^-46 S + 2^-960 (128 eps S, and underflowed
+// products), the real projections of the two hulls are strictly apart.
+struct EdgeAxis {
+    double n[3], c[3];  // the axis, and the vertex of u the projections are taken from
+    // du, dv: the squared distances of u's and v's vertices to the other's
+    // centre (any 4-lane type indexed by []).
+    template <class D>
+    EdgeAxis(const TetWorld &u, const TetWorld &v, const D &du, const D &dv) {
+        double ux[4], uy[4], uz[4], vx[4], vy[4], vz[4];
+        std::memcpy(ux, u.x, sizeof ux);
+        std::memcpy(uy, u.y, sizeof uy);
+        std::memcpy(uz, u.z, sizeof uz);
+        std::memcpy(vx, v.x, sizeof vx);
+        std::memcpy(vy, v.y, sizeof vy);
+        std::memcpy(vz, v.z, sizeof vz);
+        int a0, a1, b0, b1;
+        nearest(du, a0, a1);
+        nearest(dv, b0, b1);
+        const double ax = ux[a1] - ux[a0], ay = uy[a1] - uy[a0], az = uz[a1] - uz[a0];
+        const double bx = vx[b1] - vx[b0], by = vy[b1] - vy[b0], bz = vz[b1] - vz[b0];
+        n[0] = ay * bz - az * by;
+        n[1] = az * bx - ax * bz;
+        n[2] = ax * by - ay * bx;
+        c[0] = ux[a0];
+        c[1] = uy[a0];
+        c[2] = uz[a0];
+    }
+    // The two smallest of d[0..3] (selects, not branches).
+    template <class D>
+    static void nearest(const D &d, int &k0, int &k1) {
+        int a = d[1] < d[0] ? 1 : 0, b = 1 - a;
+        for (int i = 2; i < 4; ++i) {
+            const bool below_a = d[i] < d[a], below_b = d[i] < d[b];
+            b = below_a ? a : below_b ? i : b;
+            a = below_a ? i : a;
+        }
+        k0 = a;
+        k1 = b;
+    }
+    // u's projections in [amin, amax], v's in [bmin, bmax]: certainly apart?
+    bool apart(double amin, double amax, double bmin, double bmax, double ex, double ey, double ez) const {
+        const double margin =
+            0x1p-46 * ((ex * std::fabs(n[0]) + ey * std::fabs(n[1])) + ez * std::fabs(n[2])) + 0x1p-960;
+        return (bmin - amax > margin) | (amin - bmax > margin);
+    }
+};
+
+// The two-lane version (SSE2, NEON), out of line as the AVX2 one (inlined,
+// it slowed the whole pair test).
+__attribute__((noinline)) HGCD_TET_CLONES bool tet_edges_separate_v2(const TetWorld &u, const TetWorld &v,
+                                                                    const double *cu, const double *cv,
+                                                                    double ex, double ey, double ez) {
+    auto dist2 = [](const TetWorld &w, const double *c) {
+        double d[4];
+        for (int h = 0; h < 2; ++h) {
+            const V2 dx = w.x[h] - c[0], dy = w.y[h] - c[1], dz = w.z[h] - c[2];
+            const V2 dd = (dx * dx + dy * dy) + dz * dz;
+            d[2 * h] = dd[0];
+            d[2 * h + 1] = dd[1];
+        }
+        return std::array<double, 4>{d[0], d[1], d[2], d[3]};
+    };
+    const EdgeAxis ax(u, v, dist2(u, cv), dist2(v, cu));
+    auto project = [&](const TetWorld &w, double &lo, double &hi) {
+        V2 p[2];
+        for (int h = 0; h < 2; ++h)
+            p[h] = ((w.x[h] - ax.c[0]) * ax.n[0] + (w.y[h] - ax.c[1]) * ax.n[1]) + (w.z[h] - ax.c[2]) * ax.n[2];
+        lo = hmin(p[0], p[1]);
+        hi = hmax(p[0], p[1]);
+    };
+    double amin, amax, bmin, bmax;
+    project(u, amin, amax);
+    project(v, bmin, bmax);
+    return ax.apart(amin, amax, bmin, bmax, ex, ey, ez);
+}
+
 // Separating axis along the line of centres (the bodies' positions), tested
 // before any world vertex is computed: on scene tetra it rejects 56% of the
 // candidate pairs (the vertex boxes 31%, both 59%). Any axis u proves the hulls
@@ -882,11 +975,9 @@ struct KernelsV2 {
                                                TetSides &s) {
         return tet_sides_separate(w, p, o, s);
     }
-    // (The exact path decides these pairs: tet_edges_separate_avx2 is a
-    // shortcut measured on AVX2 only.)
-    static HGCD_TET_INLINE bool edges_separate(const TetWorld &, const TetWorld &, const double *, const double *,
-                                               double, double, double) {
-        return false;
+    static HGCD_TET_INLINE bool edges_separate(const TetWorld &u, const TetWorld &v, const double *cu,
+                                               const double *cv, double ex, double ey, double ez) {
+        return tet_edges_separate_v2(u, v, cu, cv, ex, ey, ez);
     }
 };
 
@@ -923,24 +1014,6 @@ static inline double hmin_avx2(const V4 &a) {
 }
 #pragma GCC pop_options
 
-// A separating axis across an edge of each tetrahedron, tried on the pairs
-// that no face plane keeps apart and no certified sign decides, before the
-// exact path. Two disjoint convex hulls with no separating face plane have
-// a separating plane parallel to an edge of each; on scene tetra 42 k pairs
-// a tick at n = 750000 are such, and their exact path tests up to 16
-// triangle pairs each. Of the 36 edge pairs one is tried: the edge joining
-// the two vertices of each tetrahedron nearest the other's position (its
-// centre); it finds an axis for 83% of those pairs (some pair of the 36 for
-// all of them). The choice is a guess and any axis proves disjointness, so
-// nothing needs to be exact but the final test.
-//
-// Why that test is certain. On an axis n (any double vector) the
-// projections (x - c) . n of the world vertices, c a vertex of u, are
-// evaluated within 5 eps S, S = e . |n| and e the extent of the box holding
-// both bodies (which bounds |x - c| per coordinate): eps for x - c, gamma_3
-// for the dot product. When the computed gap between the two sets of
-// projections passes 2^-46 S + 2^-960 (128 eps S, and underflowed
-// products), the real projections of the two hulls are strictly apart.
 __attribute__((target("avx2"), noinline)) bool tet_edges_separate_avx2(const TetWorld &u, const TetWorld &v,
                                                                       const double *cu, const double *cv,
                                                                       double ex, double ey, double ez) {
@@ -951,30 +1024,14 @@ __attribute__((target("avx2"), noinline)) bool tet_edges_separate_avx2(const Tet
     std::memcpy(&vx, v.x, sizeof vx);
     std::memcpy(&vy, v.y, sizeof vy);
     std::memcpy(&vz, v.z, sizeof vz);
-    // The two vertices nearest the other body's centre (selects, not branches).
-    auto nearest = [](const V4 &x, const V4 &y, const V4 &z, const double *c, int &k0, int &k1) {
-        const V4 dx = x - c[0], dy = y - c[1], dz = z - c[2];
-        const V4 d = (dx * dx + dy * dy) + dz * dz;
-        int a = d[1] < d[0] ? 1 : 0, b = 1 - a;
-        for (int i = 2; i < 4; ++i) {
-            const bool below_a = d[i] < d[a], below_b = d[i] < d[b];
-            b = below_a ? a : below_b ? i : b;
-            a = below_a ? i : a;
-        }
-        k0 = a;
-        k1 = b;
-    };
-    int a0, a1, b0, b1;
-    nearest(ux, uy, uz, cv, a0, a1);
-    nearest(vx, vy, vz, cu, b0, b1);
-    const double ax = ux[a1] - ux[a0], ay = uy[a1] - uy[a0], az = uz[a1] - uz[a0];
-    const double bx = vx[b1] - vx[b0], by = vy[b1] - vy[b0], bz = vz[b1] - vz[b0];
-    const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-    const double cx = ux[a0], cy = uy[a0], cz = uz[a0];
-    const V4 pu = ((ux - cx) * nx + (uy - cy) * ny) + (uz - cz) * nz;
-    const V4 pv = ((vx - cx) * nx + (vy - cy) * ny) + (vz - cz) * nz;
-    const double margin = 0x1p-46 * ((ex * std::fabs(nx) + ey * std::fabs(ny)) + ez * std::fabs(nz)) + 0x1p-960;
-    return (hmin_avx2(pv) - hmax_avx2(pu) > margin) | (hmin_avx2(pu) - hmax_avx2(pv) > margin);
+    // (Written out: a lambda would not inherit the AVX2 target.)
+    const V4 dux = ux - cv[0], duy = uy - cv[1], duz = uz - cv[2];
+    const V4 dvx = vx - cu[0], dvy = vy - cu[1], dvz = vz - cu[2];
+    const V4 du = (dux * dux + duy * duy) + duz * duz, dv = (dvx * dvx + dvy * dvy) + dvz * dvz;
+    const EdgeAxis ax(u, v, du, dv);
+    const V4 pu = ((ux - ax.c[0]) * ax.n[0] + (uy - ax.c[1]) * ax.n[1]) + (uz - ax.c[2]) * ax.n[2];
+    const V4 pv = ((vx - ax.c[0]) * ax.n[0] + (vy - ax.c[1]) * ax.n[1]) + (vz - ax.c[2]) * ax.n[2];
+    return ax.apart(hmin_avx2(pu), hmax_avx2(pu), hmin_avx2(pv), hmax_avx2(pv), ex, ey, ez);
 }
 
 struct KernelsV4 {

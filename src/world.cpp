@@ -460,11 +460,17 @@ void World::compute_spheres(int threads) {
 // order (bodies that changed rows since, or the order of creation the first
 // time); before the spheres, which follow storage. Not right after the grid
 // was rebuilt: its levels may still be settling (coarsening), and each new
-// set of levels is a new order. On tetra at 750k a renumbering costs 130 ms
+// set of levels is a new order; but right after the first detect, whose
+// levels come from an estimate that is usually right (grid_limits): the
+// first ticks then read in sequence too (on tetra at n = 750000, 1 thread,
+// the first two ticks took 525 ms where they took 550: the first tick
+// renumbers, 120 ms, and no tick runs on storage out of order), and a world
+// detected only once never pays for it. On tetra at 750k a renumbering costs 130 ms
 // the first time and 65 ms every ~18 ticks after; the mean tick over 40
 // ticks went 290 -> 244 ms (thresholds of 5% to 40% all gave 243-246 ms).
 void World::renumber_if_disordered() {
-    if (!grid_rebuilt_ && grid_.disorder() * 5 > live_bodies_) renumber();
+    if ((!grid_rebuilt_ || first_levels_) && grid_.disorder() * 5 > live_bodies_) renumber();
+    first_levels_ = false;
 }
 
 // The grid's limits for this detect. Coarsening (GridLimits::coarsen) is
@@ -528,6 +534,7 @@ hgcd_status World::detect_with(bool spheres_ready) {
     stats_.struct_size = struct_size;
     const int T = threads();
     const double t0 = omp_get_wtime();
+    const bool first_detect = candidates_per_body_ < 0;
     try {
         if (!spheres_ready) {
             renumber_if_disordered();
@@ -727,6 +734,7 @@ hgcd_status World::detect_with(bool spheres_ready) {
         stats_.broad_seconds = t2 - t1;
         stats_.narrow_seconds = t3 - t2;
         stats_.total_seconds = t3 - t0;
+        first_levels_ = first_detect;
     } catch (...) {
         // The grid may be half updated: drop it, the next detect rebuilds it.
         grid_ = Grid();

@@ -421,9 +421,10 @@ typedef struct hgcd_stats {
     uint64_t colliding_pairs;
     uint64_t containment_pairs;
     /** Wall-clock seconds: moving bodies (step only; it also computes the
-     *  bodies' bounding spheres, which detect counts in the update),
-     *  updating the grid, broad phase, narrow phase (with sorting of the
-     *  output), total. */
+     *  bodies' bounding spheres, which detect counts in the update, and
+     *  now and then reorders the bodies' storage to follow the grid, which
+     *  a detect called alone also counts in the update), updating the grid,
+     *  broad phase, narrow phase (with sorting of the output), total. */
     double motion_seconds;
     double update_seconds;
     double broad_seconds;

@@ -841,9 +841,10 @@ pub struct hgcd_stats {
     pub colliding_pairs: u64,
     pub containment_pairs: u64,
     #[doc = " Wall-clock seconds: moving bodies (step only; it also computes the"]
-    #[doc = "  bodies' bounding spheres, which detect counts in the update),"]
-    #[doc = "  updating the grid, broad phase, narrow phase (with sorting of the"]
-    #[doc = "  output), total."]
+    #[doc = "  bodies' bounding spheres, which detect counts in the update, and"]
+    #[doc = "  now and then reorders the bodies' storage to follow the grid, which"]
+    #[doc = "  a detect called alone also counts in the update), updating the grid,"]
+    #[doc = "  broad phase, narrow phase (with sorting of the output), total."]
     pub motion_seconds: f64,
     pub update_seconds: f64,
     pub broad_seconds: f64,

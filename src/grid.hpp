@@ -27,8 +27,9 @@
 // and windows are tested four spheres at a time. No hashing, no pointer
 // chasing, and the parallel pair search only reads. Motion updates the
 // arrays incrementally: bodies whose row did not change keep their entries
-// (moves along x never re-key), the rest are re-keyed and merged back in one
-// linear pass, and an insertion sort restores the x order within rows. The
+// (moves along x never re-key), the rest leave and re-enter in one pass that
+// rewrites each list in parallel parts of rows, and an insertion sort during
+// the copy of the spheres restores the x order within rows. The
 // world keeps its bodies' storage in the residents' order (order(),
 // renumber()), so the update's reads of the spheres run nearly in sequence.
 #pragma once

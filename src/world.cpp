@@ -32,8 +32,9 @@ constexpr double kLevelInflation = 1 + 4e-6;
 // on the keys packed as a << w | b (w the bits of the largest b: 40 bits in
 // all for slots below 2^20), kDigit bits a pass, with every pass's counts
 // taken in the one pass that packs. (A comparison sort of a tick's pairs
-// cost more than the rest of the merge; this is half the time of 11-bit
-// digits on the unpacked keys, a count and a scatter per pass.)
+// cost more than the rest of the merge; at tetra 750k this takes 3.6 ms
+// where 11-bit digits on the unpacked keys, a count and a scatter per pass,
+// took about 4.1.)
 void sort_keys(std::vector<uint64_t> &keys, std::vector<uint64_t> &tmp) {
     constexpr int kDigit = 8, kBuckets = 1 << kDigit;
     const size_t n = keys.size();
@@ -465,8 +466,8 @@ void World::compute_spheres(int threads) {
 // first ticks then read in sequence too (on tetra at n = 750000, 1 thread,
 // the first two ticks took 525 ms where they took 550: the first tick
 // renumbers, 120 ms, and no tick runs on storage out of order), and a world
-// detected only once never pays for it. On tetra at 750k a renumbering costs 130 ms
-// the first time and 65 ms every ~18 ticks after; the mean tick over 40
+// detected only once never pays for it. Later renumberings cost about 65 ms
+// every ~18 ticks at 750k; when renumbering came, the mean tick over 40
 // ticks went 290 -> 244 ms (thresholds of 5% to 40% all gave 243-246 ms).
 void World::renumber_if_disordered() {
     if ((!grid_rebuilt_ || first_levels_) && grid_.disorder() * 5 > live_bodies_) renumber();

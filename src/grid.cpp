@@ -681,7 +681,7 @@ inline void scan(const Lanes &lanes, const Grid::SphereArrays &B, size_t j, size
         while (hits) {
             const size_t k = j + size_t(__builtin_ctz(hits));
             hits &= hits - 1;
-            out.push_back(pair_key(slot, E[k].slot));
+            out.push_back(uint64_t(slot) << 32 | E[k].slot);  // (either order: see find_pairs)
         }
         if (j + kBlock >= e || B.l[j + kBlock - 1] > right) return;
     }

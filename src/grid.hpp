@@ -69,8 +69,10 @@ class Grid {
                            const uint32_t *live_gen, uint32_t slot_count,
                            const GridLimits &limits, int threads);
 
-    // Appends to out[thread] every pair (lo << 32 | hi), lo < hi, of bodies
-    // whose spheres overlap. out must have one vector per thread.
+    // Appends to out[thread] every pair (a << 32 | b) of bodies whose spheres
+    // overlap, once, in either order (the sweeps' hot loop does not order
+    // them: its consumers do, 1.6 ms of 75 at tetra 750k). out must have
+    // one vector per thread.
     void find_pairs(const Sphere *spheres, int threads,
                     std::vector<std::vector<uint64_t>> &out) const;
 

@@ -83,7 +83,11 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
         std::vector<std::vector<uint64_t>> found(threads);
         grid.find_pairs(spheres.data(), threads, found);
         std::vector<uint64_t> all;
-        for (auto &f : found) all.insert(all.end(), f.begin(), f.end());
+        for (auto &f : found)
+            for (const uint64_t key : f) {  // (lo << 32 | hi: the grid gives either order)
+                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                all.push_back(a < b ? key : (uint64_t(b) << 32) | a);
+            }
         std::sort(all.begin(), all.end());
         std::copy_n(all.begin(), std::min<uint64_t>(cap, all.size()), out);
         return int64_t(all.size());

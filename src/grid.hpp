@@ -117,6 +117,7 @@ class Grid {
   public:
     struct SphereArrays {
         const double *x, *y, *z, *r, *l;  // l: left end along x (sweep order)
+        const double *reach;  // largest right end along x so far in the row
         Sphere at(size_t k) const { return Sphere{x[k], y[k], z[k], r[k]}; }
     };
 
@@ -124,17 +125,19 @@ class Grid {
     struct List {
         std::vector<Entry> entries;   // sorted by (key, left end)
         std::vector<Entry> spare;     // what update_lists writes the next entries into
-        // Spheres of entries, same order, as arrays (padded at the end), and
-        // their left ends along x (x - x_extent(r), grid.cpp).
-        std::vector<double> sx, sy, sz, sr, sl;
+        // Spheres of entries, same order, as arrays (padded at the end),
+        // their left ends along x (x - x_extent(r), grid.cpp), and the
+        // largest right end (x + x_extent(r)) of the entries of the row up to
+        // each (a floor for the sweeps that does not depend on the largest
+        // radius).
+        std::vector<double> sx, sy, sz, sr, sl, sreach;
         // The occupied rows: distinct keys in order, and where each row's
         // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
         double max_radius = 0;  // of spheres
-        double max_abs_left = 0;  // of left ends
         SphereArrays arrays() const {
-            return SphereArrays{sx.data(), sy.data(), sz.data(), sr.data(), sl.data()};
+            return SphereArrays{sx.data(), sy.data(), sz.data(), sr.data(), sl.data(), sreach.data()};
         }
     };
     struct Level {

@@ -74,6 +74,40 @@ static uint64_t check(const double *before, const double *after, uint32_t n, con
 
 /* Scene tetra's mix: log-uniform radii over three octaves, at its density
  * (the coarsest level holds about two bodies per cell), moved by up to 0.3. */
+static void test_row_sorted_outright(void **state) {
+    (void)state;
+    /* A row whose order changes too much for the update's insertion sort is
+     * sorted outright; the running largest right ends that the sweeps of
+     * the row before it start from must then be those of the new order. Row
+     * B (y = +0.3, z = 0.5): spheres of radius 1.1 along x, one of 1.9 at
+     * the far right; then the second half of the row reversed (more
+     * inversions than the insertion sort takes on) and the big sphere moved
+     * to the far left, where its right end is the largest of the row's first
+     * entries. Row A (y just below 0, across the row boundary y = 0 at
+     * every level, earlier in the sweep) has spheres whose left ends fall
+     * between the first small spheres' right ends and the big one's. (With
+     * the floors of the old order, test_far_coordinates fails too.) */
+    enum { NB = 160, NA = 40, N = NB + 1 + NA };
+    static double before[4 * N], after[4 * N];
+    for (int i = 0; i < NB; ++i) {
+        const double x = 0.2 * i;
+        double *b = before + 4 * i, *a = after + 4 * i;
+        b[0] = x, b[1] = 0.3, b[2] = 0.5, b[3] = 1.1;
+        a[0] = i < NB / 2 ? x : 0.2 * (NB / 2) + 0.2 * (NB - 1 - i), a[1] = 0.3, a[2] = 0.5, a[3] = 1.1;
+    }
+    double *big_b = before + 4 * NB, *big_a = after + 4 * NB;
+    big_b[0] = 0.2 * NB + 5, big_b[1] = 0.3, big_b[2] = 0.5, big_b[3] = 1.95;
+    big_a[0] = -0.2, big_a[1] = 0.3, big_a[2] = 0.5, big_a[3] = 1.95;  /* right end 1.75 */
+    for (int i = 0; i < NA; ++i) {
+        double *b = before + 4 * (NB + 1 + i), *a = after + 4 * (NB + 1 + i);
+        /* left ends 1.15 .. 1.64, above the first small spheres' right ends
+         * (1.1, 1.3, 1.5) but within the big sphere's (a finer body: a guest
+         * of the level, or a resident where levels join) */
+        a[0] = b[0] = 1.45 + 0.0125 * i, a[1] = b[1] = -0.05 - 0.001 * i, a[2] = b[2] = 0.5, a[3] = b[3] = 0.3;
+    }
+    assert_true(check(before, after, N, "row sorted outright") > NB);
+}
+
 static void test_dense_mixed_levels(void **state) {
     (void)state;
     const uint32_t n = 12000;
@@ -195,6 +229,7 @@ static void test_few_large_among_many(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_row_sorted_outright),
         cmocka_unit_test(test_dense_mixed_levels),
         cmocka_unit_test(test_touching_on_cell_faces),
         cmocka_unit_test(test_far_coordinates),

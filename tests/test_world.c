@@ -370,37 +370,44 @@ static void test_incremental_motion(void **state) {
 
 static void test_row_reversed(void **state) {
     (void)state;
-    /* Bodies on one line along x share a grid row. Mirroring them all
-     * reverses the row's order at once (more than the insertion sort of the
-     * grid's update may take on, so the row is sorted outright), then a
+    /* Bodies on one line along x share a grid row; a second line just across
+     * the plane y = 0 (a row boundary at every level) lies in the row next
+     * to it and overlaps it. Mirroring the first line reverses its row's
+     * order at once (more than the insertion sort of the grid's update may
+     * take on, so the row is sorted outright, its sweep floors too), then a
      * random shuffle, then single swaps: every detect matches the oracle. */
     rng r = {4242};
     scene sc;
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = 2;
-    const size_t n = 300;
-    scene_init(&sc, n, &wd);
+    const size_t n = 300, m = 100;
+    const double y = 0.05, z = 0.5; /* (the rows later in the sweep are read through their floors) */
+    scene_init(&sc, n + m, &wd);
     const double q[4] = {0, 0, 0, 1};
     for (size_t i = 0; i < n; ++i) {
-        const double p[3] = {0.2 * (double)i, 0.5, 0.5};
+        const double p[3] = {0.2 * (double)i, y, z};
+        add(&sc, (int)(i % SHAPE_COUNT), p, q, 0.3);
+    }
+    for (size_t i = 0; i < m; ++i) { /* the second line, never moved */
+        const double p[3] = {0.6 * (double)i + 0.1, -y, z};
         add(&sc, (int)(i % SHAPE_COUNT), p, q, 0.3);
     }
     assert_true(check_against_oracle(&sc) > n / 2);
     for (size_t i = 0; i < n; ++i) {
-        const double p[3] = {0.2 * (double)(n - 1) - sc.pos[3 * i], 0.5, 0.5};
+        const double p[3] = {0.2 * (double)(n - 1) - sc.pos[3 * i], y, z};
         move(&sc, i, p, NULL);
     }
     assert_true(check_against_oracle(&sc) > n / 2);
     for (size_t i = n - 1; i > 0; --i) { /* Fisher-Yates over the x positions */
         const size_t j = (size_t)(next(&r) % (i + 1));
-        const double pi[3] = {sc.pos[3 * j], 0.5, 0.5}, pj[3] = {sc.pos[3 * i], 0.5, 0.5};
+        const double pi[3] = {sc.pos[3 * j], y, z}, pj[3] = {sc.pos[3 * i], y, z};
         move(&sc, i, pi, NULL);
         move(&sc, j, pj, NULL);
     }
     check_against_oracle(&sc);
     for (int k = 0; k < 5; ++k) {
         const size_t i = (size_t)(next(&r) % n), j = (size_t)(next(&r) % n);
-        const double pi[3] = {sc.pos[3 * j], 0.5, 0.5}, pj[3] = {sc.pos[3 * i], 0.5, 0.5};
+        const double pi[3] = {sc.pos[3 * j], y, z}, pj[3] = {sc.pos[3 * i], y, z};
         move(&sc, i, pi, NULL);
         move(&sc, j, pj, NULL);
         check_against_oracle(&sc);

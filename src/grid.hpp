@@ -22,7 +22,8 @@
 // sphere along x. Within its row a body meets the later bodies up to its
 // right end (sweep and prune); in the 3x3 rows around it, only those it can
 // reach (by the distance of its centre to the row's faces), within a window
-// along x from its left end less twice the largest radius there. Rows are
+// along x from the first entry whose row's largest right end so far reaches
+// its left end. Rows are
 // found by cursors that only move forward while rows are visited in order,
 // and windows are tested four spheres at a time. No hashing, no pointer
 // chasing, and the parallel pair search only reads. Motion updates the

@@ -16,6 +16,9 @@ step "meson build and tests (debugoptimized)"
 meson compile -C build >/dev/null
 meson test -C build --print-errorlogs --num-processes "$jobs"
 
+step "every library source refuses -ffast-math and -Ofast (src/ieee.hpp)"
+bash scripts/check-ieee.sh
+
 step "the tetrahedron-pair tests again with the two-lane kernels (AVX2 machines pick four lanes)"
 HGCD_NARROW_NO_AVX2=1 HGCD_TEST_FILTER='test_tetra*' build/tests/test_world
 HGCD_NARROW_NO_AVX2=1 build/tests/test_threads

@@ -6,6 +6,7 @@
 
 #include "ccd_narrow.hpp"
 #include "hgcd/hgcd.h"
+#include "ieee.hpp"
 #include "tags.hpp"
 #include "world.hpp"
 

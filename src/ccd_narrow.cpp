@@ -3,6 +3,8 @@
 //
 // The plain Makefile compiles every src/*.cpp: without HGCD_HAVE_CCD this
 // file is empty (the header's inline definitions for that build stand in).
+#include "ieee.hpp"  // (every library source, this one with or without libccd)
+
 #ifdef HGCD_HAVE_CCD
 
 #include "ccd_narrow.hpp"

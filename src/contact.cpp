@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "geometry.hpp"
+#include "ieee.hpp"
 
 namespace hgcd {
 

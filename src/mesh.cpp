@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "geometry.hpp"
+#include "ieee.hpp"
 
 namespace hgcd {
 

@@ -9,6 +9,7 @@
 
 #include "geometry.hpp"
 #include "grid.hpp"
+#include "ieee.hpp"
 
 extern "C" {
 

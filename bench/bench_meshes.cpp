@@ -57,6 +57,7 @@
 #include <string>
 #include <vector>
 
+#include "../src/transform.hpp"
 #include "scene_meshes.h"
 
 #ifdef HGCD_BENCH_FCL
@@ -112,19 +113,8 @@ hgcd_mesh make_mesh(hgcd_world *w, const Blob &b) {
     return m;
 }
 
-// hgcd.h's rotation matrix.
-void rotation(const double *q, double *r) {
-    const double x = q[0], y = q[1], z = q[2], w = q[3];
-    r[0] = 1.0 - 2.0 * (y * y + z * z);
-    r[1] = 2.0 * (x * y - z * w);
-    r[2] = 2.0 * (x * z + y * w);
-    r[3] = 2.0 * (x * y + z * w);
-    r[4] = 1.0 - 2.0 * (x * x + z * z);
-    r[5] = 2.0 * (y * z - x * w);
-    r[6] = 2.0 * (x * z - y * w);
-    r[7] = 2.0 * (y * z + x * w);
-    r[8] = 1.0 - 2.0 * (x * x + y * y);
-}
+// hgcd.h's rotation matrix, as the library computes it (src/transform.hpp).
+void rotation(const double *q, double *r) { hgcd::rotation_entries(q[0], q[1], q[2], q[3], r); }
 
 bool colliding(hgcd_world *w) {
     const hgcd_pair *p;

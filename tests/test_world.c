@@ -368,6 +368,14 @@ static void test_incremental_motion(void **state) {
     scene_free(&sc);
 }
 
+/* Bodies i and j trade their x coordinates. */
+static void swap_x(scene *sc, size_t i, size_t j) {
+    const double pi[3] = {sc->pos[3 * j], sc->pos[3 * i + 1], sc->pos[3 * i + 2]};
+    const double pj[3] = {sc->pos[3 * i], sc->pos[3 * j + 1], sc->pos[3 * j + 2]};
+    move(sc, i, pi, NULL);
+    move(sc, j, pj, NULL);
+}
+
 static void test_row_reversed(void **state) {
     (void)state;
     /* Bodies on one line along x share a grid row; a second line just across
@@ -398,18 +406,11 @@ static void test_row_reversed(void **state) {
         move(&sc, i, p, NULL);
     }
     assert_true(check_against_oracle(&sc) > n / 2);
-    for (size_t i = n - 1; i > 0; --i) { /* Fisher-Yates over the x positions */
-        const size_t j = (size_t)(next(&r) % (i + 1));
-        const double pi[3] = {sc.pos[3 * j], y, z}, pj[3] = {sc.pos[3 * i], y, z};
-        move(&sc, i, pi, NULL);
-        move(&sc, j, pj, NULL);
-    }
+    for (size_t i = n - 1; i > 0; --i) /* Fisher-Yates over the x positions */
+        swap_x(&sc, i, (size_t)(next(&r) % (i + 1)));
     check_against_oracle(&sc);
     for (int k = 0; k < 5; ++k) {
-        const size_t i = (size_t)(next(&r) % n), j = (size_t)(next(&r) % n);
-        const double pi[3] = {sc.pos[3 * j], y, z}, pj[3] = {sc.pos[3 * i], y, z};
-        move(&sc, i, pi, NULL);
-        move(&sc, j, pj, NULL);
+        swap_x(&sc, (size_t)(next(&r) % n), (size_t)(next(&r) % n));
         check_against_oracle(&sc);
     }
     check_bodies(&sc);

@@ -125,11 +125,19 @@ struct ByRowX {
 
 }  // namespace
 
-CellKey Grid::key_of(uint32_t slot, int level_index) const {
-    const int own = level_[slot];
+CellKey Grid::key_at(const int64_t *cell, int own, int level_index) const {
     const int shift = std::min(levels_[level_index].exponent - levels_[own].exponent, 63);
-    const int64_t *c = &cell_[2 * size_t(slot)];
-    return row_key(clamp_bias(c[1] >> shift), clamp_bias(c[0] >> shift));
+    return row_key(clamp_bias(cell[1] >> shift), clamp_bias(cell[0] >> shift));
+}
+
+CellKey Grid::key_of(uint32_t slot, int level_index) const {
+    return key_at(&cell_[2 * size_t(slot)], level_[slot], level_index);
+}
+
+void Grid::cell_at(const Sphere &s, int level_index, int64_t *cell) const {
+    const int e = levels_[level_index].exponent + kRowShift;
+    cell[0] = cell_coord(s.y, e);
+    cell[1] = cell_coord(s.z, e);
 }
 
 GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
@@ -146,6 +154,11 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     // while the body is the same), or oversize (INT_MAX) when its test
     // sphere, whose rounding margin grows with its distance from the origin,
     // no longer fits that cell width.
+    // The level of exponent e (INT_MIN: none, INT_MAX: oversize), by the
+    // table of the last update (level_of_, replaced once the census is in).
+    auto level_index = [&](int e) -> int16_t {
+        return e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
+    };
     auto exponent_of = [&](int64_t s) {
         const int e = exponent_[s];
         return e > limits.max_exponent || 2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e))
@@ -194,25 +207,19 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                     gen_[s] = live_gen[s];
                     continue;
                 }
-                const int16_t li = e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
+                const int16_t li = level_index(e);
                 int64_t c[2] = {0, 0};
-                if (li >= 0) {
-                    const int ce = levels_[li].exponent + kRowShift;
-                    c[0] = cell_coord(spheres[s].y, ce);
-                    c[1] = cell_coord(spheres[s].z, ce);
-                }
+                if (li >= 0) cell_at(spheres[s], li, c);
                 int64_t *old = &cell_[2 * s];
                 uint8_t f = 0;
                 if (li != level_[s] || gen_[s] != live_gen[s]) f = 2;
                 else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) f = 1;
-                if (f) {
+                flag[s] = f;
+                if (f) {  // (most bodies keep their row: their state is not written)
                     guard.run([&] { changed_mine.push_back(Moved{uint32_t(s), level_[s], {old[0], old[1]}}); });
                     ++flagged;
                     if (level_[s] >= 0) ++my_touched[level_[s]];
                     if (li >= 0) ++my_touched[li];
-                }
-                flag[s] = f;
-                if (f) {  // (most bodies keep their row: their state is not written)
                     level_[s] = li;
                     gen_[s] = live_gen[s];
                     old[0] = c[0];
@@ -284,14 +291,9 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         }
 #pragma omp parallel for num_threads(threads) schedule(static)
         for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-            const int e = live_gen[s] ? exponent_of(s) : INT_MIN;
-            level_[s] = e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
+            level_[s] = level_index(live_gen[s] ? exponent_of(s) : INT_MIN);
             gen_[s] = live_gen[s];
-            if (level_[s] >= 0) {
-                const int ce = levels_[level_[s]].exponent + kRowShift;
-                cell_[2 * s] = cell_coord(spheres[s].y, ce);
-                cell_[2 * s + 1] = cell_coord(spheres[s].z, ce);
-            }
+            if (level_[s] >= 0) cell_at(spheres[s], level_[s], &cell_[2 * s]);
         }
         rebuild(spheres, slot_count, threads);
         stats.rebuilt = true;
@@ -390,8 +392,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
         std::vector<size_t> lost(parts, 0);
         for (const Moved &m : changed) {
             if (!belongs(m.old_level)) continue;
-            const int shift = std::min(levels_[li].exponent - levels_[m.old_level].exponent, 63);
-            const CellKey key = row_key(clamp_bias(m.old_cell[1] >> shift), clamp_bias(m.old_cell[0] >> shift));
+            const CellKey key = key_at(m.old_cell, m.old_level, li);
             const size_t r = first_row(keys, key);
             if (r == rows || keys[r] != key) throw std::logic_error("grid: an entry is not in its row");
             ++lost[size_t(std::upper_bound(cut.begin() + 1, cut.end() - 1, r) - (cut.begin() + 1))];

@@ -170,7 +170,12 @@ class Grid {
         }
         return lists;
     }
+    // The row key at level level_index of a body of level `own` whose row at
+    // its own level is cell (y, z); key_of: of the body in slot as of now.
+    CellKey key_at(const int64_t *cell, int own, int level_index) const;
     CellKey key_of(uint32_t slot, int level_index) const;
+    // The row (y, z) at level level_index of sphere s.
+    void cell_at(const Sphere &s, int level_index, int64_t *cell) const;
     // Pairs of the rows [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,
                          std::vector<uint64_t> &out) const;

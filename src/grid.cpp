@@ -123,6 +123,22 @@ struct ByRowX {
     }
 };
 
+// Cuts of a list's rows into runs of whole rows holding about `part`
+// entries each: run k is rows [cut[k], cut[k + 1]). (By the row index: the
+// list as of the last gather.)
+template <class ListT>
+std::vector<size_t> row_cuts(const ListT &list, size_t part) {
+    const size_t rows = list.row_keys.size();
+    std::vector<size_t> cut{0};
+    for (size_t r = 0; r < rows;) {
+        size_t e = r + 1;
+        while (e < rows && list.row_start[e] - list.row_start[r] < part) ++e;
+        cut.push_back(e);
+        r = e;
+    }
+    return cut;
+}
+
 }  // namespace
 
 CellKey Grid::key_at(const int64_t *cell, int own, int level_index) const {
@@ -334,7 +350,7 @@ void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t k = 0; k < lists; ++k) guard.run([&] {
-        List &list = (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents;
+        List &list = list_at(size_t(k));
         // Rows sorted by left end (a float copy: no random reads in the
         // comparisons; gather's insertion sort settles the few pairs that
         // rounding to float leaves out of order).
@@ -371,7 +387,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
         if (!dirty[k]) continue;
         const int li = int(k / 2);
         const bool guests = (k & 1) != 0;
-        List &list = guests ? levels_[li].guests : levels_[li].residents;
+        List &list = list_at(k);
         auto belongs = [&](int own) { return guests ? own >= 0 && own < li : own == li; };
         std::vector<Keyed> &add = adds[k];
         for (const Moved &m : changed)
@@ -380,13 +396,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
         // Parts: rows [cut[p], cut[p + 1]) of the list as it is.
         const std::vector<CellKey> &keys = list.row_keys;
         const size_t rows = keys.size();
-        std::vector<size_t> cut{0};
-        for (size_t r = 0; r < rows;) {
-            size_t e = r + 1;
-            while (e < rows && list.row_start[e] - list.row_start[r] < kPart) ++e;
-            cut.push_back(e);
-            r = e;
-        }
+        std::vector<size_t> cut = row_cuts(list, kPart);
         if (cut.size() == 1) cut.push_back(0);  // an empty list: one part, nothing in it
         const size_t parts = cut.size() - 1;
         std::vector<size_t> lost(parts, 0);
@@ -453,7 +463,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     if (out_of_step) throw std::logic_error("grid: a list update is out of step with its rows");
     for (size_t k = 0; k < dirty.size(); ++k) {
         if (!dirty[k]) continue;
-        List &list = (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents;
+        List &list = list_at(size_t(k));
         list.entries.swap(list.spare);
     }
 }
@@ -898,13 +908,8 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
     std::vector<Item> items;
     // Chunks of whole rows holding about kChunk entries each.
     auto chunk = [&](const List &list, int kind, uint32_t li) {
-        const size_t rows = list.row_keys.size();
-        for (size_t b = 0; b < rows;) {
-            size_t e = b + 1;
-            while (e < rows && list.row_start[e] - list.row_start[b] < kChunk) ++e;
-            items.push_back({kind, li, b, e});
-            b = e;
-        }
+        const std::vector<size_t> cut = row_cuts(list, kChunk);
+        for (size_t k = 0; k + 1 < cut.size(); ++k) items.push_back({kind, li, cut[k], cut[k + 1]});
     };
     for (uint32_t li = 0; li < levels_.size(); ++li) {
         const Level &lv = levels_[li];

@@ -162,12 +162,12 @@ class Grid {
     // Returns the residents' disorder (see disorder()).
     static uint64_t gather(const std::vector<List *> &lists, const Sphere *spheres, int threads);
     static void sort_row(List &list, size_t begin, size_t end);
+    // The residents of level k / 2 for even k, its guests for odd k (the
+    // order of all_lists()).
+    List &list_at(size_t k) { return (k & 1) ? levels_[k / 2].guests : levels_[k / 2].residents; }
     std::vector<List *> all_lists() {
         std::vector<List *> lists;
-        for (Level &lv : levels_) {
-            lists.push_back(&lv.residents);
-            lists.push_back(&lv.guests);
-        }
+        for (size_t k = 0; k < 2 * levels_.size(); ++k) lists.push_back(&list_at(k));
         return lists;
     }
     // The row key at level level_index of a body of level `own` whose row at

@@ -848,14 +848,14 @@ __attribute__((noinline)) HGCD_TET_CLONES bool tet_edges_separate_v2(const TetWo
                                                                     const double *cu, const double *cv,
                                                                     double ex, double ey, double ez) {
     auto dist2 = [](const TetWorld &w, const double *c) {
-        double d[4];
+        std::array<double, 4> d;
         for (int h = 0; h < 2; ++h) {
             const V2 dx = w.x[h] - c[0], dy = w.y[h] - c[1], dz = w.z[h] - c[2];
             const V2 dd = (dx * dx + dy * dy) + dz * dz;
             d[2 * h] = dd[0];
             d[2 * h + 1] = dd[1];
         }
-        return std::array<double, 4>{d[0], d[1], d[2], d[3]};
+        return d;
     };
     const EdgeAxis ax(u, v, dist2(u, cv), dist2(v, cu));
     auto project = [&](const TetWorld &w, double &lo, double &hi) {

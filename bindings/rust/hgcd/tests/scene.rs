@@ -7,8 +7,10 @@ use hgcd::scene::{self, TetraDesc};
 use hgcd::sys;
 use hgcd::{ErrorKind, Pair, World};
 
-/// FNV-1a over the pairs' (index, generation) words, in order.
-fn hash_pairs<I: IntoIterator<Item = [u32; 4]>>(pairs: I) -> u64 {
+/// FNV-1a over the pairs' index words, in order. Generations carry a
+/// per-world tag (hgcd.h, "Ids"), so two worlds' pairs agree on indices only;
+/// each caller checks its generations against its own world.
+fn hash_pairs<I: IntoIterator<Item = [u32; 2]>>(pairs: I) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for words in pairs {
         for w in words {
@@ -21,8 +23,8 @@ fn hash_pairs<I: IntoIterator<Item = [u32; 4]>>(pairs: I) -> u64 {
     h
 }
 
-fn words(p: &Pair) -> [u32; 4] {
-    [p.a.index(), p.a.generation(), p.b.index(), p.b.generation()]
+fn words(p: &Pair) -> [u32; 2] {
+    [p.a.index(), p.b.index()]
 }
 
 /// Per tick (0 = detect at the initial poses, then `ticks` steps): the pairs'
@@ -71,6 +73,7 @@ fn raw_c_ticks(n: u64, seed: u64, ticks: u32, threads: u32) -> Vec<(u64, usize, 
         assert_eq!(sys::hgcd_mesh_create(w, &md, &mut mesh), sys::HGCD_OK);
         let mut bd = sys::hgcd_body_desc_default();
         bd.mesh = mesh;
+        let mut ids = Vec::with_capacity(n);
         for i in 0..n {
             bd.position.copy_from_slice(&centers[3 * i..3 * i + 3]);
             bd.orientation.copy_from_slice(&quats[4 * i..4 * i + 4]);
@@ -82,6 +85,7 @@ fn raw_c_ticks(n: u64, seed: u64, ticks: u32, threads: u32) -> Vec<(u64, usize, 
             };
             assert_eq!(sys::hgcd_body_create(w, &bd, &mut b), sys::HGCD_OK);
             assert_eq!(b.index as usize, i);
+            ids.push(b.generation);
         }
         let mut out = Vec::new();
         for tick in 0..=ticks {
@@ -110,11 +114,11 @@ fn raw_c_ticks(n: u64, seed: u64, ticks: u32, threads: u32) -> Vec<(u64, usize, 
             st.struct_size = std::mem::size_of::<sys::hgcd_stats>() as u32;
             assert_eq!(sys::hgcd_world_stats(w, &mut st), sys::HGCD_OK);
             assert_eq!(st.colliding_pairs as usize, count);
-            let h = hash_pairs(
-                pairs
-                    .iter()
-                    .map(|p| [p.a.index, p.a.generation, p.b.index, p.b.generation]),
-            );
+            for p in pairs {
+                assert_eq!(p.a.generation, ids[p.a.index as usize]);
+                assert_eq!(p.b.generation, ids[p.b.index as usize]);
+            }
+            let h = hash_pairs(pairs.iter().map(|p| [p.a.index, p.b.index]));
             out.push((h, count, st.containment_pairs));
         }
         sys::hgcd_world_destroy(w);
@@ -136,6 +140,9 @@ fn safe_ticks(n: u64, seed: u64, ticks: u32, threads: u32) -> Vec<(u64, usize, u
         let pairs = world.pairs();
         let stats = world.stats();
         assert_eq!(stats.colliding_pairs as usize, pairs.len());
+        assert!(pairs
+            .iter()
+            .all(|p| world.is_body_alive(p.a) && world.is_body_alive(p.b)));
         out.push((
             hash_pairs(pairs.iter().map(words)),
             pairs.len(),

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <climits>
 #include <cmath>
 #include <new>
@@ -94,8 +95,11 @@ int exponent_at_most(double size) {  // largest e with 2^e <= size
 
 World::World(const hgcd_world_desc &d)
     : thread_count_(d.thread_count), time_step_(d.time_step), reflect_(d.reflect_at_bounds != 0) {
-    const uint64_t h = uint64_t(reinterpret_cast<uintptr_t>(this) >> 4) * 0x9E3779B97F4A7C15ull;
-    tag_ = uint32_t(h >> 56);
+    // From a count of worlds created, not from an address, so a program that
+    // creates its worlds in the same order gets the same ids on every run.
+    // An odd multiplier walks all 256 tags before one repeats.
+    static std::atomic<uint32_t> worlds_created{0};
+    tag_ = (worlds_created.fetch_add(1, std::memory_order_relaxed) * 167u + 0x5Au) & 0xFFu;
     for (int k = 0; k < 3; ++k) {
         bounds_min_[k] = d.bounds_min[k];
         bounds_max_[k] = d.bounds_max[k];

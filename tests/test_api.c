@@ -341,30 +341,40 @@ static void test_body_ids(void **state) {
 
 static void test_foreign_ids(void **state) {
     fixture *f = *state;
+    /* f->w and these 255 worlds are 256 worlds created one after another:
+     * their tags all differ (hgcd.h, "Ids"), so each refuses every other's
+     * ids, which share its indices. */
+    enum { kOthers = 255 };
+    hgcd_world *other[kOthers];
+    hgcd_mesh om[kOthers];
+    hgcd_body ob[kOthers + 1];
     hgcd_world_desc d = hgcd_world_desc_default();
-    hgcd_world *other;
-    assert_int_equal(hgcd_world_create(&d, &other), HGCD_OK);
     hgcd_mesh_desc md = hgcd_mesh_desc_default();
     md.vertices = kTetraVerts;
     md.triangles = kTetraTris;
     md.vertex_count = 4;
     md.triangle_count = 4;
-    hgcd_mesh om;
-    assert_int_equal(hgcd_mesh_create(other, &md, &om), HGCD_OK);
-    hgcd_body ob = add_body(other, om, 0, 0, 0);
-    hgcd_body mine = add_body(f->w, f->tetra, 0, 0, 0);
-    assert_int_equal(ob.index, mine.index);
-    /* The generation carries an 8-bit world tag: ids of another world are
-     * refused unless both tags happen to agree (1 in 256, documented). */
-    if ((ob.generation >> 24) != (mine.generation >> 24)) {
-        assert_int_equal(hgcd_body_validate(f->w, ob), HGCD_ERROR_STALE_ID);
-        hgcd_body_desc bd = hgcd_body_desc_default();
-        bd.mesh = om;
-        hgcd_body x;
-        assert_int_equal(hgcd_body_create(f->w, &bd, &x), HGCD_ERROR_STALE_ID);
+    for (int i = 0; i < kOthers; ++i) {
+        assert_int_equal(hgcd_world_create(&d, &other[i]), HGCD_OK);
+        assert_int_equal(hgcd_mesh_create(other[i], &md, &om[i]), HGCD_OK);
+        ob[i] = add_body(other[i], om[i], 0, 0, 0);
     }
-    assert_int_equal(hgcd_body_destroy(f->w, mine), HGCD_OK);
-    hgcd_world_destroy(other);
+    ob[kOthers] = add_body(f->w, f->tetra, 0, 0, 0);
+    for (int i = 0; i <= kOthers; ++i) {
+        hgcd_world *w = i < kOthers ? other[i] : f->w;
+        for (int j = 0; j <= kOthers; ++j) {
+            assert_int_equal(ob[j].index, ob[i].index);
+            assert_int_equal(hgcd_body_validate(w, ob[j]), i == j ? HGCD_OK : HGCD_ERROR_STALE_ID);
+        }
+    }
+    /* A foreign mesh id is refused too, and the refused call adds nothing. */
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    bd.mesh = om[0];
+    hgcd_body x;
+    assert_int_equal(hgcd_body_create(f->w, &bd, &x), HGCD_ERROR_STALE_ID);
+    assert_int_equal(hgcd_world_body_count(f->w), 1);
+    assert_int_equal(hgcd_body_destroy(f->w, ob[kOthers]), HGCD_OK);
+    for (int i = 0; i < kOthers; ++i) hgcd_world_destroy(other[i]);
 }
 
 static void test_body_value_errors(void **state) {

@@ -26,8 +26,13 @@
  * creation order, so pairs map straight back to the caller's arrays; a
  * destroyed body's index is reused by a later hgcd_body_create.
  * Ids of one world given to another world are refused as HGCD_ERROR_STALE_ID
- * (the generation carries an 8-bit world tag, so a foreign id is caught with
- * probability 255/256; a forged id with a wrong generation always is).
+ * (the generation carries an 8-bit world tag: the tags of any 256 worlds
+ * created one after another differ, so a foreign id from one of them is always
+ * caught, and from others with probability 255/256; a forged id with a wrong
+ * generation always is). Two worlds built alike therefore agree on indices,
+ * not on generations. The tag follows the order in which the process creates
+ * worlds, so a program that creates them in the same order gets the same ids,
+ * bit for bit, on every run.
  *
  * Errors
  * ------

@@ -517,10 +517,10 @@ static void test_large_meshes(void **state) {
     assert_int_equal(info.component_count, 1);
     printf("mesh_create: sheet of %llu triangles in %.2f s, closed cube of %u triangles in %.2f s\n",
            (unsigned long long)nt, sheet_s, cnt, cube_s);
-    /* Quadratic work on two million triangles would take hours; linear
-     * (n log n) work takes about a second. The bound leaves room for slow
-     * machines and sanitizers. */
-    assert_true(sheet_s < 60 && cube_s < 60);
+    /* (No bound on these times here: speed is the benchmarks' business.
+     * Quadratic work on two million triangles would take hours, which the
+     * test's timeout in tests/meson.build catches; n log n takes about a
+     * second.) */
 
     /* Bodies of the big cube with small tetrahedra crossing its surface,
      * inside it (containment), just outside it, and touching it exactly;

@@ -217,7 +217,7 @@ int main(int argc, char **argv) {
     const double rss_after = peak_rss_bytes();
 
     printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
-           "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"sphere\",\"min_cell_size\":%g,"
+           "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
            "\"containment_pairs\":%llu,\"initial_pairs\":%llu,\"initial_containment\":%llu,"

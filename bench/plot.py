@@ -60,7 +60,7 @@ def series_of(rows):
         unit = "thread" if t == 1 else "threads"
         out.append((f"hgcd whole tick, {t} {unit}", c, False,
                     [(int(r["n"]), r["tick_ms"]) for r in sel if usable(r, "tick_ms")]))
-        out.append((f"hgcd broad (spheres), {t} {unit}", c, True,
+        out.append((f"hgcd broad (boxes), {t} {unit}", c, True,
                     [(int(r["n"]), r["broad_ms"]) for r in sel if usable(r, "broad_ms")]))
     peers = sorted({r["lib"] for r in rows if r["lib"] != "hgcd"}, key=lambda l: (LIB_ORDER.get(l, 9), l))
     for lib in peers:
@@ -205,7 +205,7 @@ def markdown(rows):
                        f"{why} | 0 |")
             continue
         if lib == "hgcd":
-            pairs = f"{r.get('colliding_pairs', '?')} colliding / {r.get('candidate_pairs', '?')} sphere candidates"
+            pairs = f"{r.get('colliding_pairs', '?')} colliding / {r.get('candidate_pairs', '?')} box candidates"
             if r.get("reference_ok") is False:
                 pairs += " (initial detect ≠ SCENES.md!)"
             narrow, tick = cell(r.get("narrow_ms")), cell(r.get("tick_ms"))
@@ -220,7 +220,7 @@ def markdown(rows):
     out.append("")
     out.append(f"Scene `tetra` (SCENES.md, seed {rows[0].get('seed', 1) if rows else 1}), "
                f"{machine_of(rows)}, commit {commits_of(rows)}; medians over the ticks. "
-               "hgcd: broad phase on bounding spheres, exact narrow phase, tick = motion + grid update + broad + "
+               "hgcd: broad phase on each body's axis-aligned box of its world vertices, exact narrow phase, tick = motion + grid update + broad + "
                "narrow. Peers: broad phase only (update + pair search) on each body's axis-aligned box; their pair "
                "counts are checked against a sort-and-sweep of the same boxes.")
     return "\n".join(out)

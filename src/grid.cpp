@@ -24,7 +24,7 @@ namespace {
 // 128 bits. Clamping is monotone and never increases a difference, so two
 // bodies in neighbouring rows stay in neighbouring (or equal) rows: far-away
 // bodies only crowd the border rows, they are never missed (x is swept on
-// the centres themselves).
+// the boxes themselves).
 constexpr int64_t kCoordLimit = (int64_t(1) << 41) - 2;
 constexpr int64_t kCoordBias = int64_t(1) << 41;
 constexpr int64_t kSaturate = int64_t(1) << 62;
@@ -35,14 +35,14 @@ constexpr size_t kChunk = 1024;
 // lie in [-1074, 1024]; tables over them are indexed by e + kExponentBias.
 constexpr int kExponentBias = 1080;
 constexpr int kExponents = 2110;
-constexpr int kBlock = 4;  // spheres per step of a sweep's window
-constexpr size_t kPad = 16;  // readable entries past the end of a list's sphere arrays
+constexpr int kBlock = 4;  // boxes per step of a sweep's window
+constexpr size_t kPad = 16;  // readable entries past the end of a list's box arrays
 // Rows are 2^kRowShift cells high and deep.
 constexpr int kRowShift = 1;
-// Reach bits: the neighbouring rows a sphere can reach (RowReach).
+// Reach bits: the neighbouring rows a box can reach (RowReach).
 constexpr uint8_t kReachYLo = 1, kReachYHi = 2, kReachZLo = 4, kReachZHi = 8, kReachAll = 15;
 
-// The bits a sphere needs to meet the row (z + dz, y + dy).
+// The bits a box needs to meet the row (z + dz, y + dy).
 inline uint8_t reach_needed(int dz, int dy) {
     return uint8_t((dy < 0 ? kReachYLo : dy > 0 ? kReachYHi : 0) | (dz < 0 ? kReachZLo : dz > 0 ? kReachZHi : 0));
 }
@@ -91,22 +91,6 @@ inline int ceil_log2(double d) {
     return biased - 1023 + (power ? 0 : 1);
 }
 
-inline bool overlap(const Sphere &a, const Sphere &b) {
-    const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
-    const double rs = a.r + b.r;
-    return dx * dx + dy * dy + dz * dz <= rs * rs;
-}
-
-// Half the extent along x of a sphere of radius r, as the sweeps use it.
-// overlap() evaluates as disjoint whatever its rounding when |xa - xb| >
-// (ra + rb)(1 + 1e-9); the extents are inflated past that, so two spheres
-// it accepts have left ends (x - x_extent(r), rounded) each at most the
-// other's right end (x + x_extent(r), rounded): the bound holds for the
-// reals, and rounding is monotone. The 1e-150 covers squares that
-// underflow to zero.
-inline double x_extent(double r) { return r * (1 + 2e-9) + 1e-150; }
-inline double left_end(const Sphere &s) { return s.x - x_extent(s.r); }
-
 inline size_t first_row(const std::vector<CellKey> &keys, CellKey target) {
     return size_t(std::lower_bound(keys.begin(), keys.end(), target) - keys.begin());
 }
@@ -150,26 +134,29 @@ CellKey Grid::key_of(uint32_t slot, int level_index) const {
     return key_at(&cell_[2 * size_t(slot)], level_[slot], level_index);
 }
 
-void Grid::cell_at(const Sphere &s, int level_index, int64_t *cell) const {
+void Grid::cell_at(const double *p, int level_index, int64_t *cell) const {
     const int e = levels_[level_index].exponent + kRowShift;
-    cell[0] = cell_coord(s.y, e);
-    cell[1] = cell_coord(s.z, e);
+    cell[0] = cell_coord(p[1], e);
+    cell[1] = cell_coord(p[2], e);
 }
 
-GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
-                             const uint32_t *live_gen, uint32_t slot_count,
-                             const GridLimits &limits, int threads) {
+GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const uint32_t *live_gen,
+                             uint32_t slot_count, const GridLimits &limits, int threads) {
     GridUpdateStats stats;
     level_.resize(slot_count, kNone);
     gen_.resize(slot_count, 0);
     cell_.resize(2 * size_t(slot_count), 0);
     exponent_.resize(slot_count, 0);
+    slack_.resize(slot_count, 0);
     const bool stale_exponents = limits.min_exponent != exponent_floor_;
     exponent_floor_ = limits.min_exponent;
-    // The level exponent of a live body: that of its r_level (kept per slot
-    // while the body is the same), or oversize (INT_MAX) when its test
-    // sphere, whose rounding margin grows with its distance from the origin,
-    // no longer fits that cell width.
+    // The level exponent of a live body: the smallest e with 2^e at least
+    // 2 r_level (kept per slot while the body is the same, with the slack
+    // 2^e - 2 r_level), or oversize (INT_MAX) when the rounding of p +
+    // offset, which grows with p, could take its box farther than 2^e / 2
+    // from p: each coordinate of fl(p + offset) is within 2^-53 (|p| +
+    // r_level) of exact, which 4e-16 |p|_1 < slack and r_level's own
+    // inflation (the world's, relative) cover.
     // The level of exponent e (INT_MIN: none, INT_MAX: oversize), by the
     // table of the last update (level_of_, replaced once the census is in).
     auto level_index = [&](int e) -> int16_t {
@@ -177,7 +164,8 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
     };
     auto exponent_of = [&](int64_t s) {
         const int e = exponent_[s];
-        return e > limits.max_exponent || 2 * spheres[s].r > (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e))
+        const double *p = boxes.pos + boxes.stride * size_t(s);
+        return e > limits.max_exponent || 4e-16 * (std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2])) > slack_[s]
                    ? INT_MAX
                    : e;
     };
@@ -213,8 +201,16 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 int e = INT_MIN;
                 if (live_gen[s]) {
-                    if (gen_[s] != live_gen[s] || stale_exponents)
-                        exponent_[s] = int16_t(std::max(ceil_log2(2 * r_level[s]), limits.min_exponent));
+                    if (gen_[s] != live_gen[s] || stale_exponents) {
+                        const double h2 = 2 * r_level[s];
+                        const int e = std::max(ceil_log2(h2), limits.min_exponent);
+                        exponent_[s] = int16_t(e);
+                        // (Rounded down to float; 0 when it is not positive: oversize.)
+                        const double slack = (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)) - h2;
+                        float f = float(slack);
+                        if (double(f) > slack) f = std::nextafter(f, -INFINITY);
+                        slack_[s] = std::max(f, 0.0f);
+                    }
                     e = exponent_of(s);
                     if (e == INT_MAX) guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
                     else ++hist[e + kExponentBias];
@@ -225,7 +221,7 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
                 }
                 const int16_t li = level_index(e);
                 int64_t c[2] = {0, 0};
-                if (li >= 0) cell_at(spheres[s], li, c);
+                if (li >= 0) cell_at(boxes.pos + boxes.stride * size_t(s), li, c);
                 int64_t *old = &cell_[2 * s];
                 uint8_t f = 0;
                 if (li != level_[s] || gen_[s] != live_gen[s]) f = 2;
@@ -309,9 +305,9 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
         for (int64_t s = 0; s < int64_t(slot_count); ++s) {
             level_[s] = level_index(live_gen[s] ? exponent_of(s) : INT_MIN);
             gen_[s] = live_gen[s];
-            if (level_[s] >= 0) cell_at(spheres[s], level_[s], &cell_[2 * s]);
+            if (level_[s] >= 0) cell_at(boxes.pos + boxes.stride * size_t(s), level_[s], &cell_[2 * s]);
         }
-        rebuild(spheres, slot_count, threads);
+        rebuild(boxes, slot_count, threads);
         stats.rebuilt = true;
         stats.moved = slot_count;  // every body (re-)entered
     } else {
@@ -327,31 +323,33 @@ GridUpdateStats Grid::update(const Sphere *spheres, const double *r_level,
             dirty[2 * li + 1] = moved_finer != 0 && !levels_[li].down;
             moved_finer += touched[li];
         }
-        update_lists(dirty, flag, changed, spheres, threads);
+        update_lists(dirty, flag, changed, boxes, threads);
         stats.moved = flagged;
     }
-    disorder_ = gather(all_lists(), spheres, threads);
+    disorder_ = gather(all_lists(), boxes, threads);
     oversize_.clear();
     for (const auto &local : oversize_local) oversize_.insert(oversize_.end(), local.begin(), local.end());
     built_ = true;
     return stats;
 }
 
-void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
+void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
     std::vector<std::vector<Keyed>> keyed(2 * levels_.size());  // by list, as all_lists()
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int16_t own = level_[s];
         if (own < 0) continue;
-        keyed[2 * size_t(own)].push_back({key_of(s, own), s, float(left_end(spheres[s]))});
+        double lo[3], hi[3];
+        boxes.at(s, lo, hi);
+        keyed[2 * size_t(own)].push_back({key_of(s, own), s, float(lo[0])});
         for (size_t li = size_t(own) + 1; li < levels_.size(); ++li)
-            if (!levels_[li].down) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, float(left_end(spheres[s]))});
+            if (!levels_[li].down) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, float(lo[0])});
     }
     const int64_t lists = int64_t(2 * levels_.size());
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t k = 0; k < lists; ++k) guard.run([&] {
         List &list = list_at(size_t(k));
-        // Rows sorted by left end (a float copy: no random reads in the
+        // Rows sorted by low x (a float copy: no random reads in the
         // comparisons; gather's insertion sort settles the few pairs that
         // rounding to float leaves out of order).
         std::vector<Keyed> &in = keyed[size_t(k)];
@@ -374,7 +372,7 @@ void Grid::rebuild(const Sphere *spheres, uint32_t slot_count, int threads) {
 // in, by the row index of the last gather), and from the entries that enter
 // in its range of rows. One pass reads and writes each entry once.
 void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uint8_t> &flag,
-                        const std::vector<Moved> &changed, const Sphere *spheres, int threads) {
+                        const std::vector<Moved> &changed, const Boxes &boxes, int threads) {
     constexpr size_t kPart = 32768;  // entries
     struct Work {
         List *list;
@@ -391,7 +389,11 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
         auto belongs = [&](int own) { return guests ? own >= 0 && own < li : own == li; };
         std::vector<Keyed> &add = adds[k];
         for (const Moved &m : changed)
-            if (belongs(level_[m.slot])) add.push_back({key_of(m.slot, li), m.slot, float(left_end(spheres[m.slot]))});
+            if (belongs(level_[m.slot])) {
+                double lo[3], hi[3];
+                boxes.at(m.slot, lo, hi);
+                add.push_back({key_of(m.slot, li), m.slot, float(lo[0])});
+            }
         std::sort(add.begin(), add.end(), ByRowX<Keyed>());
         // Parts: rows [cut[p], cut[p + 1]) of the list as it is.
         const std::vector<CellKey> &keys = list.row_keys;
@@ -439,7 +441,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     for (int64_t k = 0; k < int64_t(work.size()); ++k) {
         const Work &wk = work[k];
         const Entry *E = wk.list->entries.data();
-        const double *X = wk.list->sl.data();  // the entries' left ends, as of the last gather
+        const double *X = wk.list->bl.data();  // the entries' low x, as of the last gather
         const Keyed *A = wk.add->data();
         Entry *O = wk.list->spare.data();
         // Does add a go before entry i?
@@ -468,15 +470,15 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     }
 }
 
-// Brings the sphere arrays and the row index of every list to the current
-// spheres, in parallel over parts of whole rows of all lists together
-// (lists differ in size tenfold, one task per list balanced badly). One
-// pass copies the spheres (reads by slot, nearly in sequence while storage
-// follows the sweep order), indexes the rows and restores each row's order
-// by left end as it goes (insertion sort: between ticks the order barely
-// changes, and what moves is still in cache; a row it would take long over,
-// many bodies entering one row, is sorted outright at its end).
-uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, int threads) {
+// Brings the box arrays and the row index of every list to the current
+// boxes, in parallel over parts of whole rows of all lists together (lists
+// differ in size tenfold, one task per list balanced badly). One pass copies
+// the boxes (reads by slot, nearly in sequence while storage follows the
+// sweep order), indexes the rows and restores each row's order by low x as
+// it goes (insertion sort: between ticks the order barely changes, and what
+// moves is still in cache; a row it would take long over, many bodies
+// entering one row, is sorted outright at its end).
+uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int threads) {
     constexpr size_t kPart = 16384;
     struct Part {
         List *list;
@@ -488,14 +490,10 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         List *list = lists[l];
         const size_t m = list->entries.size();
         // Padded so that the sweep may read past the end.
-        list->sx.resize(m + kPad);
-        list->sy.resize(m + kPad);
-        list->sz.resize(m + kPad);
-        list->sr.resize(m + kPad);
-        list->sl.resize(m + kPad);
-        list->sreach.resize(m + kPad);
-        for (size_t k = m; k < m + kPad; ++k)
-            list->sx[k] = list->sy[k] = list->sz[k] = list->sr[k] = list->sl[k] = list->sreach[k] = 0;
+        for (auto *v : {&list->bl, &list->bhx, &list->bly, &list->bhy, &list->blz, &list->bhz, &list->breach}) {
+            v->resize(m + kPad);
+            std::fill(v->begin() + std::ptrdiff_t(m), v->end(), 0.0);
+        }
         // Parts of about kPart entries, ending where a row ends. (all_lists():
         // residents at even positions.)
         const Entry *E = list->entries.data();
@@ -506,11 +504,10 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
             b = e;
         }
     }
-    // What each part finds: its largest radius, its residents' jumps
-    // (disorder()), and the rows that start in it (key and first entry),
-    // joined in order into each list's row index.
+    // What each part finds: its residents' jumps (disorder()), and the rows
+    // that start in it (key and first entry), joined in order into each
+    // list's row index.
     struct Found {
-        double rmax = 0;
         uint64_t jumps = 0;
         std::vector<std::pair<CellKey, uint32_t>> rows;
     };
@@ -520,10 +517,9 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
         List &list = *parts[p].list;
         Entry *E = list.entries.data();
-        double *X = list.sx.data(), *Y = list.sy.data(), *Z = list.sz.data(), *R = list.sr.data(),
-               *L = list.sl.data(), *P = list.sreach.data();
+        double *L = list.bl.data(), *HX = list.bhx.data(), *LY = list.bly.data(), *HY = list.bhy.data(),
+               *LZ = list.blz.data(), *HZ = list.bhz.data(), *P = list.breach.data();
         const size_t b = parts[p].begin, e = parts[p].end;
-        double rmax = 0;
         uint64_t jumps = 0;
         const uint32_t counts = parts[p].residents;
         auto &rows = found[p].rows;
@@ -534,50 +530,52 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         for (size_t k = b; k < e; ++k) {
             const Entry en = E[k];
             // A resident more than 64 slots from the one before it (its
-            // sphere is in another stretch of memory).
+            // box is in another stretch of memory).
             jumps += counts & (uint32_t(en.slot - prev + 64) > 128);
             prev = en.slot;
             const CellKey row = en.key;  // by value: the member is packed
             if (k == b || row != CellKey(E[row_b].key)) {
-                if (whole) sort_row(list, row_b, k);  // (and its largest right ends)
+                if (whole) sort_row(list, row_b, k);  // (and its largest high x)
                 row_b = k;
                 budget = 64;
                 whole = false;
                 rows.push_back({row, uint32_t(k)});
             }
             budget += 8;
-            // The next bodies' spheres (storage drifts from this order between
-            // renumberings): ask for them early.
-            if (k + 16 < e) __builtin_prefetch(&spheres[E[k + 16].slot]);
-            const Sphere sp = spheres[en.slot];
-            const double l = left_end(sp);
-            rmax = std::max(rmax, sp.r);
+            // The next bodies' points and offsets (storage drifts from this
+            // order between renumberings): ask for them early.
+            if (k + 16 < e) {
+                __builtin_prefetch(boxes.pos + boxes.stride * E[k + 16].slot);
+                __builtin_prefetch(boxes.off + 6 * size_t(E[k + 16].slot));
+            }
+            double lo[3], hi[3];
+            boxes.at(en.slot, lo, hi);
             size_t j = k;
             if (!whole)
-                for (; j > row_b && l < L[j - 1]; --j) {
-                    X[j] = X[j - 1];
-                    Y[j] = Y[j - 1];
-                    Z[j] = Z[j - 1];
-                    R[j] = R[j - 1];
+                for (; j > row_b && lo[0] < L[j - 1]; --j) {
                     L[j] = L[j - 1];
+                    HX[j] = HX[j - 1];
+                    LY[j] = LY[j - 1];
+                    HY[j] = HY[j - 1];
+                    LZ[j] = LZ[j - 1];
+                    HZ[j] = HZ[j - 1];
                     E[j] = E[j - 1];
                     if (--budget == 0) {
                         whole = true;
                         break;
                     }
                 }
-            X[j] = sp.x;
-            Y[j] = sp.y;
-            Z[j] = sp.z;
-            R[j] = sp.r;
-            L[j] = l;
+            L[j] = lo[0];
+            HX[j] = hi[0];
+            LY[j] = lo[1];
+            HY[j] = hi[1];
+            LZ[j] = lo[2];
+            HZ[j] = hi[2];
             if (j != k) E[j] = en;  // (an entry that stays is not rewritten)
-            // The row's largest right end so far, from where the order changed.
-            for (size_t t = j; t <= k; ++t)
-                P[t] = std::max(t > row_b ? P[t - 1] : -INFINITY, X[t] + x_extent(R[t]));
+            // The row's largest high x so far, from where the order changed.
+            for (size_t t = j; t <= k; ++t) P[t] = std::max(t > row_b ? P[t - 1] : -INFINITY, HX[t]);
         }
         if (whole) sort_row(list, row_b, e);
-        found[p].rmax = rmax;
         found[p].jumps = jumps;
     });
     guard.rethrow();
@@ -585,7 +583,6 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
         list->row_keys.clear();
         list->row_start.clear();
     }
-    for (List *list : lists) list->max_radius = 0;
     uint64_t disorder = 0;
     for (size_t p = 0; p < parts.size(); ++p) {  // parts of a list are consecutive, in order
         List &list = *parts[p].list;
@@ -593,17 +590,16 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Sphere *spheres, i
             list.row_keys.push_back(row.first);
             list.row_start.push_back(row.second);
         }
-        list.max_radius = std::max(list.max_radius, found[p].rmax);
         disorder += found[p].jumps;
     }
     for (List *list : lists) list->row_start.push_back(uint32_t(list->entries.size()));
     return disorder;
 }
 
-// Sorts the entries [b, e) of a row outright by left end (then slot).
+// Sorts the entries [b, e) of a row outright by low x (then slot).
 void Grid::sort_row(List &list, size_t b, size_t e) {
     Entry *E = list.entries.data();
-    double *A[5] = {list.sl.data(), list.sx.data(), list.sy.data(), list.sz.data(), list.sr.data()};
+    double *A[6] = {list.bl.data(), list.bhx.data(), list.bly.data(), list.bhy.data(), list.blz.data(), list.bhz.data()};
     const double *L = A[0];
     std::vector<uint32_t> order(e - b);
     for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
@@ -611,7 +607,7 @@ void Grid::sort_row(List &list, size_t b, size_t e) {
         return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && E[b + p].slot < E[b + q].slot);
     });
     std::vector<double> t(order.size());
-    for (int a = 0; a < 5; ++a) {
+    for (int a = 0; a < 6; ++a) {
         for (size_t k = 0; k < order.size(); ++k) t[k] = A[a][b + order[k]];
         std::copy(t.begin(), t.end(), A[a] + b);
     }
@@ -619,7 +615,7 @@ void Grid::sort_row(List &list, size_t b, size_t e) {
     for (size_t k = 0; k < order.size(); ++k) te[k] = E[b + order[k]];
     std::copy(te.begin(), te.end(), E + b);
     double most = -INFINITY;
-    for (size_t k = b; k < e; ++k) list.sreach[k] = most = std::max(most, list.sx[k] + x_extent(list.sr[k]));
+    for (size_t k = b; k < e; ++k) list.breach[k] = most = std::max(most, list.bhx[k]);
 }
 
 namespace {
@@ -638,26 +634,25 @@ inline CellKey row_step(int dz, int dy) {
     return (CellKey(int64_t(dz)) << kAxisBits) + CellKey(int64_t(dy));
 }
 
-// One sphere against kBlock = 4 consecutive spheres of a row (arrays x, y,
-// z, r): bit k of the result is set when sphere k overlaps, by the same
-// operations in the same order as overlap(). SSE2 on x86-64 (two lanes
-// twice), vector extensions elsewhere (NEON on arm64). No window test: the
-// windows only prune (every pair a sweep may test is one it owns, see
-// sweep_residents), so they bound where a scan starts and stops, no more.
+// One box against kBlock = 4 consecutive boxes of a row: bit k of the
+// result is set when box k overlaps it (closed intervals on every axis).
+// SSE2 on x86-64 (two lanes twice), vector extensions elsewhere (NEON on
+// arm64). No window test: the windows only prune (every pair a sweep may
+// test is one it owns, see sweep_residents), so they bound where a scan
+// starts and stops, no more.
 #if defined(__SSE2__)
 struct Lanes {
-    __m128d ax, ay, az, ar;
-    Lanes(double x, double y, double z, double r)
-        : ax(_mm_set1_pd(x)), ay(_mm_set1_pd(y)), az(_mm_set1_pd(z)), ar(_mm_set1_pd(r)) {}
-    unsigned two(const double *x, const double *y, const double *z, const double *r) const {
-        const __m128d dx = _mm_sub_pd(ax, _mm_loadu_pd(x)), dy = _mm_sub_pd(ay, _mm_loadu_pd(y)),
-                      dz = _mm_sub_pd(az, _mm_loadu_pd(z)), rs = _mm_add_pd(ar, _mm_loadu_pd(r));
-        const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-        return unsigned(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(rs, rs))));
+    __m128d lx, hx, ly, hy, lz, hz;
+    Lanes(const Grid::BoxArrays &A, size_t i)
+        : lx(_mm_set1_pd(A.l[i])), hx(_mm_set1_pd(A.hx[i])), ly(_mm_set1_pd(A.ly[i])), hy(_mm_set1_pd(A.hy[i])),
+          lz(_mm_set1_pd(A.lz[i])), hz(_mm_set1_pd(A.hz[i])) {}
+    unsigned two(const Grid::BoxArrays &B, size_t j) const {
+        const __m128d in_x = _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(B.l + j), hx), _mm_cmple_pd(lx, _mm_loadu_pd(B.hx + j)));
+        const __m128d in_y = _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(B.ly + j), hy), _mm_cmple_pd(ly, _mm_loadu_pd(B.hy + j)));
+        const __m128d in_z = _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(B.lz + j), hz), _mm_cmple_pd(lz, _mm_loadu_pd(B.hz + j)));
+        return unsigned(_mm_movemask_pd(_mm_and_pd(in_x, _mm_and_pd(in_y, in_z))));
     }
-    unsigned test(const double *x, const double *y, const double *z, const double *r) const {
-        return two(x, y, z, r) | two(x + 2, y + 2, z + 2, r + 2) << 2;
-    }
+    unsigned test(const Grid::BoxArrays &B, size_t j) const { return two(B, j) | two(B, j + 2) << 2; }
 };
 #else
 typedef double V2 __attribute__((vector_size(16)));
@@ -668,14 +663,14 @@ inline V2 load2(const double *p) {
     return v;
 }
 struct Lanes {
-    double ax, ay, az, ar;
-    Lanes(double x, double y, double z, double r) : ax(x), ay(y), az(z), ar(r) {}
-    unsigned test(const double *x, const double *y, const double *z, const double *r) const {
+    double lx, hx, ly, hy, lz, hz;
+    Lanes(const Grid::BoxArrays &A, size_t i)
+        : lx(A.l[i]), hx(A.hx[i]), ly(A.ly[i]), hy(A.hy[i]), lz(A.lz[i]), hz(A.hz[i]) {}
+    unsigned test(const Grid::BoxArrays &B, size_t j) const {
         unsigned hits = 0;
         for (int h = 0; h < kBlock; h += 2) {
-            const V2 dx = ax - load2(x + h), dy = ay - load2(y + h), dz = az - load2(z + h),
-                     rs = ar + load2(r + h);
-            const M2 in = dx * dx + dy * dy + dz * dz <= rs * rs;
+            const M2 in = (load2(B.l + j + h) <= hx) & (lx <= load2(B.hx + j + h)) & (load2(B.ly + j + h) <= hy) &
+                          (ly <= load2(B.hy + j + h)) & (load2(B.lz + j + h) <= hz) & (lz <= load2(B.hz + j + h));
             hits |= unsigned((in[0] & 1) | (in[1] & 2)) << h;
         }
         return hits;
@@ -683,15 +678,21 @@ struct Lanes {
 };
 #endif
 
-// The pairs of sphere `slot` (its lanes) with the entries [j, e) of a list
-// up to the block holding the first whose left end passes `right` (none
-// after it can overlap, see x_extent), four at a time. Needs j < e; the
-// padding past e is read and masked.
+// Whether box [lo, hi] and entry j of B overlap (closed intervals).
+inline bool box_meets(const double *lo, const double *hi, const Grid::BoxArrays &B, size_t j) {
+    return B.l[j] <= hi[0] && lo[0] <= B.hx[j] && B.ly[j] <= hi[1] && lo[1] <= B.hy[j] && B.lz[j] <= hi[2] &&
+           lo[2] <= B.hz[j];
+}
+
+// The pairs of box `slot` (its lanes) with the entries [j, e) of a list up
+// to the block holding the first whose low x passes `right` (none after it
+// can overlap), four at a time. Needs j < e; the padding past e is read and
+// masked.
 template <class EntryT>
-inline void scan(const Lanes &lanes, const Grid::SphereArrays &B, size_t j, size_t e, double right,
-                 uint32_t slot, const EntryT *E, std::vector<uint64_t> &out) {
+inline void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t e, double right, uint32_t slot,
+                 const EntryT *E, std::vector<uint64_t> &out) {
     for (;; j += kBlock) {
-        unsigned hits = lanes.test(B.x + j, B.y + j, B.z + j, B.r + j);
+        unsigned hits = lanes.test(B, j);
         if (j + kBlock > e) hits &= (1u << (e - j)) - 1;
         while (hits) {
             const size_t k = j + size_t(__builtin_ctz(hits));
@@ -702,55 +703,53 @@ inline void scan(const Lanes &lanes, const Grid::SphereArrays &B, size_t j, size
     }
 }
 
-// Which neighbouring rows a sphere of a row can reach (kReach* bits): a row
-// y - 1 needs y - r_i - r_j < y0 (the row's lower face), and every sphere it
-// can meet at this level has r_j <= w / 2 (a level's residents fit its
-// cells), so a sphere farther than r_i + w/2 from a face skips the rows
-// beyond. Inflated as x_extent is, in row units, where v - c is within
-// 2^-53 of exact; a centre not truly in its row (far keys saturate) reaches
-// every row.
+// Which neighbouring rows a box of a row can reach (kReach* bits): every
+// body of this level has its point p in its row and its box within w / 2 of
+// p (the level's cells fit it, see Grid::update), so a body of row y - 1 has
+// its box below the row's lower face plus w / 2, and the box [lo, hi] meets
+// it only if lo_y is below that too. Compared in row units, where v - c is
+// within 2^-53 of exact, and inflated past that. In a row at the edge of the
+// key range (far keys saturate: the row holds bodies that are not in it)
+// every box reaches every row.
 class RowReach {
   public:
     RowReach(int exponent, CellKey row)
-        : on_(exponent > -990 && exponent < 990),
+        : on_(exponent > -990 && exponent < 990 && inner(uint64_t(row) & kAxisMask) &&
+              inner(uint64_t(row >> kAxisBits) & kAxisMask)),
           inv_(on_ ? pow2(-exponent - kRowShift) : 0),
-          half_(0.5 * pow2(-kRowShift)),
+          reach_(0.5 * pow2(-kRowShift) * (1 + 1e-9) + 1e-12),
           cy_(double(int64_t(uint64_t(row) & kAxisMask) - kCoordBias)),
           cz_(double(int64_t(uint64_t(row >> kAxisBits) & kAxisMask) - kCoordBias)) {}
-    unsigned bits(double y, double z, double r) const {
-        const double fy = y * inv_ - cy_, fz = z * inv_ - cz_;
-        const double reach = (r * inv_ + half_) * (1 + 1e-9) + 1e-12;
-        const bool inside = on_ & (fy >= 0) & (fy < 1) & (fz >= 0) & (fz < 1) & (reach < 1);
-        const unsigned b = (fy < reach ? kReachYLo : 0) | (1 - fy <= reach ? kReachYHi : 0) |
-                           (fz < reach ? kReachZLo : 0) | (1 - fz <= reach ? kReachZHi : 0);
-        return inside ? b : kReachAll;
+    unsigned bits(double ly, double hy, double lz, double hz) const {
+        const double fly = ly * inv_ - cy_, fhy = hy * inv_ - cy_, flz = lz * inv_ - cz_, fhz = hz * inv_ - cz_;
+        const unsigned b = (fly < reach_ ? kReachYLo : 0) | (1 - fhy <= reach_ ? kReachYHi : 0) |
+                           (flz < reach_ ? kReachZLo : 0) | (1 - fhz <= reach_ ? kReachZHi : 0);
+        return on_ ? b : kReachAll;
     }
 
   private:
+    // A row coordinate that no clamped coordinate lands on (clamp_bias).
+    static bool inner(uint64_t c) {
+        return c > uint64_t(kCoordBias - kCoordLimit) && c < uint64_t(kCoordBias + kCoordLimit);
+    }
     bool on_;
-    double inv_, half_, cy_, cz_;
+    double inv_, reach_, cy_, cz_;
 };
 
 // Every overlapping pair of an entry of row A [ib, ie) with an entry of the
-// rows B[r] = [jb[r], je[r]) (r < rows), all sorted by left end. Each sphere
-// of A visits only the rows its reach bits allow (need[r] are the bits row r
+// rows B[r] = [jb[r], je[r]) (r < rows), all sorted by low x. Each box of A
+// visits only the rows its reach bits allow (need[r] are the bits row r
 // needs) and that still have candidates; in each, it scans from the first
-// entry whose row's largest right end so far reaches its own left end (none
-// before it can overlap it: overlap() needs each left end at most the
-// other's right end, see x_extent; and the floor only rises as A's left
-// ends do) up to its right end. The largest right end so far is no more
-// than 2 x_extent(rmax) past the entry's own left end, and usually less: on
-// tetra at n = 750000 the sweeps test 14% fewer blocks of four spheres than
-// with a floor at the left end less 2 x_extent(rmax) (22.9 M against 26.5 M
-// in three detects; broad 1.4 to 4 ms less). Visiting A's spheres in the outer loop, each
-// with its rows, costs one loop exit per sphere where one test per (sphere,
-// row) pair went either way.
+// entry whose row's largest high x so far reaches its own low x (none before
+// it can overlap it; and the floor only rises as A's low x do) up to its
+// high x. Visiting A's boxes in the outer loop, each with its rows, costs
+// one loop exit per box where one test per (box, row) pair went either way.
 template <class EntryT>
-inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const RowReach &row_reach, size_t ib,
-                       size_t ie, const Grid::SphereArrays &B, const EntryT *EB, const size_t *jb,
+inline void sweep_rows(const Grid::BoxArrays &A, const EntryT *EA, const RowReach &row_reach, size_t ib,
+                       size_t ie, const Grid::BoxArrays &B, const EntryT *EB, const size_t *jb,
                        const size_t *je, const uint8_t *need, int rows, std::vector<uint64_t> &out) {
     const double *BL = B.l, *BP = B.reach;
-    unsigned allowed[16];  // rows a sphere with these reach bits may meet
+    unsigned allowed[16];  // rows a box with these reach bits may meet
     for (unsigned f = 0; f < 16; ++f) {
         allowed[f] = 0;
         for (int r = 0; r < rows; ++r) allowed[f] |= unsigned((f & need[r]) == need[r]) << r;
@@ -762,10 +761,10 @@ inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const RowR
         live |= unsigned(jb[r] < je[r]) << r;
     }
     for (size_t i = ib; i < ie && live; ++i) {
-        unsigned mask = allowed[row_reach.bits(A.y[i], A.z[i], A.r[i])] & live;
+        unsigned mask = allowed[row_reach.bits(A.ly[i], A.hy[i], A.lz[i], A.hz[i])] & live;
         if (!mask) continue;
-        const double floor = A.l[i], right = A.x[i] + x_extent(A.r[i]);
-        const Lanes lanes(A.x[i], A.y[i], A.z[i], A.r[i]);
+        const double floor = A.l[i], right = A.hx[i];
+        const Lanes lanes(A, i);
         do {
             const int r = __builtin_ctz(mask);
             mask &= mask - 1;
@@ -789,10 +788,10 @@ inline void sweep_rows(const Grid::SphereArrays &A, const EntryT *EA, const RowR
 
 }  // namespace
 
-// A level's residents, rows (z, y) sorted by key and each by left end: each
-// body meets the later bodies of its own row up to its right end (sweep and
-// prune: a pair of the row is found from the member with the lower left
-// end), and is swept against the rows (z, y+1), (z+1, y-1), (z+1, y) and
+// A level's residents, rows (z, y) sorted by key and each by low x: each
+// body meets the later bodies of its own row up to its high x (sweep and
+// prune: a pair of the row is found from the member with the lower low x),
+// and is swept against the rows (z, y+1), (z+1, y-1), (z+1, y) and
 // (z+1, y+1) (the later half of the 3x3 rows around it in key order, so
 // each pair of two rows once). Rows are found by cursors that only move
 // forward.
@@ -801,7 +800,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     const List &R = lv.residents;
     const std::vector<CellKey> &rows = R.row_keys;
     const uint32_t *start = R.row_start.data();
-    const SphereArrays S = R.arrays();
+    const BoxArrays S = R.arrays();
     const Entry *E = R.entries.data();
     static const int later[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
     uint8_t need[4];
@@ -815,9 +814,8 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     for (size_t row = begin; row < end; ++row) {
         const size_t b = start[row], e = start[row + 1];
         for (size_t i = b; i + 1 < e; ++i) {
-            const double right = S.x[i] + x_extent(S.r[i]);
-            if (S.l[i + 1] <= right)
-                scan(Lanes(S.x[i], S.y[i], S.z[i], S.r[i]), S, i + 1, e, right, E[i].slot, E, out);
+            const double right = S.hx[i];
+            if (S.l[i + 1] <= right) scan(Lanes(S, i), S, i + 1, e, right, E[i].slot, E, out);
         }
         size_t jb[4], je[4];
         for (int r = 0; r < 4; ++r) {
@@ -860,43 +858,43 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end,
     }
 }
 
-void Grid::query_levels(const Sphere &o, uint32_t slot, size_t level_end,
+void Grid::query_levels(const double *lo, const double *hi, uint32_t slot, size_t level_end,
                         std::vector<uint64_t> &out) const {
     for (size_t li = 0; li < level_end; ++li) {
         const Level &lv = levels_[li];
         const List &R = lv.residents;
         const Entry *E = R.entries.data();
-        const SphereArrays S = R.arrays();
+        const BoxArrays S = R.arrays();
         const size_t m = R.entries.size();
         if (m == 0) continue;
-        const double ext = o.r + R.max_radius;
+        // A resident j meeting the box has its point p_j within w / 2 of
+        // its box, so within w / 2 of [lo, hi], and its low x at least lo_x
+        // less w (its box is at most w wide). Widened past the rounding of
+        // these bounds, which grows with the coordinates.
+        const double w = lv.exponent > -1000 && lv.exponent < 1000 ? pow2(lv.exponent) : std::ldexp(1.0, lv.exponent);
+        auto wide = [&](double v, double d) { return v + d * (1 + 1e-9) + (d < 0 ? -1 : 1) * std::fabs(v) * 0x1p-50; };
         const int e = lv.exponent + kRowShift;
-        const uint64_t ly = clamp_bias(cell_coord(o.y - ext, e)), hy = clamp_bias(cell_coord(o.y + ext, e));
-        const uint64_t lz = clamp_bias(cell_coord(o.z - ext, e)), hz = clamp_bias(cell_coord(o.z + ext, e));
+        const uint64_t ly = clamp_bias(cell_coord(wide(lo[1], -w / 2), e)), hy = clamp_bias(cell_coord(wide(hi[1], w / 2), e));
+        const uint64_t lz = clamp_bias(cell_coord(wide(lo[2], -w / 2), e)), hz = clamp_bias(cell_coord(wide(hi[2], w / 2), e));
         const double rows = double(hz - lz + 1) * double(hy - ly + 1);
         if (rows * 32 >= double(R.row_keys.size())) {
             for (size_t j = 0; j < m; ++j)
-                if (overlap(o, S.at(j))) out.push_back(pair_key(slot, E[j].slot));
+                if (box_meets(lo, hi, S, j)) out.push_back(pair_key(slot, E[j].slot));
             continue;
         }
-        // A sphere j overlapping o has x_j - x_extent(r_j) >= x_o -
-        // (x_extent(r_o) + 2 x_extent(rmax)) as reals, so its rounded left
-        // end is at least the rounded `left` (rounding is monotone).
-        const double left = o.x - (x_extent(o.r) + 2 * x_extent(R.max_radius)) * (1 + 1e-12);
-        const double right = o.x + x_extent(o.r);
+        const double left = wide(lo[0], -w);
         for (uint64_t z = lz; z <= hz; ++z) {
             for (uint64_t y = ly; y <= hy; ++y) {
                 const size_t k = first_row(R.row_keys, row_key(z, y));
                 if (k == R.row_keys.size() || R.row_keys[k] != row_key(z, y)) continue;
-                for (size_t j = R.row_start[k]; j < R.row_start[k + 1] && S.l[j] <= right; ++j)
-                    if (S.l[j] >= left && overlap(o, S.at(j))) out.push_back(pair_key(slot, E[j].slot));
+                for (size_t j = R.row_start[k]; j < R.row_start[k + 1] && S.l[j] <= hi[0]; ++j)
+                    if (S.l[j] >= left && box_meets(lo, hi, S, j)) out.push_back(pair_key(slot, E[j].slot));
             }
         }
     }
 }
 
-void Grid::find_pairs(const Sphere *spheres, int threads,
-                      std::vector<std::vector<uint64_t>> &out) const {
+void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<std::vector<uint64_t>> &out) const {
     // Work items: chunks of every resident and guest list, one per oversize
     // body, and one for the oversize-oversize sweep. Chunks are small and
     // scheduled dynamically, because dense rows cost far more than sparse ones.
@@ -934,23 +932,32 @@ void Grid::find_pairs(const Sphere *spheres, int threads,
         } else if (it.kind == 1) {
             sweep_guests(levels_[it.level], it.begin, it.end, mine);
         } else if (it.kind == 2) {
-            query_levels(spheres[oversize_[it.begin]], oversize_[it.begin], levels_.size(), mine);
+            double lo[3], hi[3];
+            boxes.at(oversize_[it.begin], lo, hi);
+            query_levels(lo, hi, oversize_[it.begin], levels_.size(), mine);
         } else if (it.kind == 4) {
             const List &R = levels_[it.level].residents;
-            for (size_t j = it.begin; j < it.end; ++j) query_levels(R.arrays().at(j), R.entries[j].slot, it.level, mine);
+            const BoxArrays S = R.arrays();
+            for (size_t j = it.begin; j < it.end; ++j) {
+                const double lo[3] = {S.l[j], S.ly[j], S.lz[j]}, hi[3] = {S.hx[j], S.hy[j], S.hz[j]};
+                query_levels(lo, hi, R.entries[j].slot, it.level, mine);
+            }
         } else {
-            std::vector<uint32_t> order(oversize_);
-            std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-                const double ka = spheres[a].x - spheres[a].r, kb = spheres[b].x - spheres[b].r;
-                return ka < kb || (ka == kb && a < b);
+            const size_t m = oversize_.size();
+            std::vector<double> b(6 * m);
+            for (size_t i = 0; i < m; ++i) boxes.at(oversize_[i], &b[6 * i], &b[6 * i + 3]);
+            std::vector<uint32_t> order(m);
+            for (size_t i = 0; i < m; ++i) order[i] = uint32_t(i);
+            std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t c) {
+                return b[6 * a] < b[6 * c] || (b[6 * a] == b[6 * c] && a < c);
             });
-            for (size_t i = 0; i < order.size(); ++i) {
-                const Sphere &a = spheres[order[i]];
-                const double reach = a.x + a.r;
-                for (size_t j = i + 1; j < order.size(); ++j) {
-                    const Sphere &b = spheres[order[j]];
-                    if (b.x - b.r > reach) break;
-                    if (overlap(a, b)) mine.push_back(pair_key(order[i], order[j]));
+            for (size_t i = 0; i < m; ++i) {
+                const double *A = &b[6 * order[i]];
+                for (size_t j = i + 1; j < m; ++j) {
+                    const double *B = &b[6 * order[j]];
+                    if (B[0] > A[3]) break;
+                    if (B[1] <= A[4] && A[1] <= B[4] && B[2] <= A[5] && A[2] <= B[5])
+                        mine.push_back(pair_key(oversize_[order[i]], oversize_[order[j]]));
                 }
             }
         }
@@ -970,10 +977,12 @@ void Grid::reserve_slots(size_t n) {
     gen_.reserve(n);
     cell_.reserve(2 * n);
     exponent_.reserve(n);
+    slack_.reserve(n);
     level_.resize(n, kNone);  // (no allocation past here)
     gen_.resize(n, 0);
     cell_.resize(2 * n, 0);
     exponent_.resize(n, 0);
+    slack_.resize(n, 0);
 }
 
 void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
@@ -985,15 +994,19 @@ void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<u
     struct Record {
         int64_t cell[2];
         uint32_t gen;
+        float slack;
         int16_t level, exponent;
     };
     permute_in_place(
         old_of_new.data(), n, done,
-        [&](size_t k) { return Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], level_[k], exponent_[k]}; },
+        [&](size_t k) {
+            return Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], slack_[k], level_[k], exponent_[k]};
+        },
         [&](size_t k, const Record &r) {
             cell_[2 * k] = r.cell[0];
             cell_[2 * k + 1] = r.cell[1];
             gen_[k] = r.gen;
+            slack_[k] = r.slack;
             level_[k] = r.level;
             exponent_[k] = r.exponent;
         });
@@ -1005,11 +1018,11 @@ void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<u
 size_t Grid::memory_bytes() const {
     size_t bytes = level_.capacity() * sizeof(int16_t) + gen_.capacity() * sizeof(uint32_t) +
                    cell_.capacity() * sizeof(int64_t) + oversize_.capacity() * sizeof(uint32_t) +
-                   exponent_.capacity() * sizeof(int16_t);
+                   exponent_.capacity() * sizeof(int16_t) + slack_.capacity() * sizeof(float);
     for (const Level &lv : levels_)
         for (const List *list : {&lv.residents, &lv.guests})
             bytes += (list->entries.capacity() + list->spare.capacity()) * sizeof(Entry) +
-                     list->sx.capacity() * 6 * sizeof(double) +
+                     list->bl.capacity() * 7 * sizeof(double) +
                      (list->row_keys.capacity() * sizeof(CellKey) + list->row_start.capacity() * sizeof(uint32_t));
     return bytes;
 }

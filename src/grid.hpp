@@ -1,38 +1,40 @@
-// Broad phase: the hierarchical grid of the paper, stored as sorted arrays.
+// Broad phase: the hierarchical grid of the paper, stored as sorted arrays,
+// over each body's axis-aligned box.
 //
-// Levels have cells of width w = 2^e. A body lives on the finest level whose
-// width is at least its bounding sphere's diameter, so every body it can
-// overlap on its own level has its centre within one cell width of its own.
-// It is also entered as a "guest" in every coarser level (the paper's "noted
-// in every level with larger size") and compared there with that level's
-// residents. Each pair is produced exactly once: same-level pairs from the
-// earlier entry of the sorted order, cross-level pairs from the finer body.
-// Bodies too large for the coarsest allowed level form an oversize set,
-// compared with the residents of every level by range queries and with each
-// other by a sweep on x. A level whose bodies are very few beside those of
-// the finer levels keeps no guests; its residents query the finer levels by
-// range instead. Where the world says bodies are sparse
-// (GridLimits::coarsen), the levels at most a factor 4 below the coarsest
-// level that keeps guests join it.
+// A body is a reference point p (its position) and a box of offsets from p
+// that holds its solid, fixed while its orientation is (the world computes
+// it once per pose: the exact box of the world vertices' offsets for small
+// meshes). Levels have cells of width w = 2^e. A body lives on the finest
+// level whose width is at least twice a bound r_level on its offsets in any
+// orientation, so its box lies within w / 2 of p and every body it can
+// overlap on its own level has p within one cell width of its own. It is also entered as a
+// "guest" in every coarser level (the paper's "noted in every level with
+// larger size") and compared there with that level's residents. Each pair is
+// produced exactly once: same-level pairs from the earlier entry of the
+// sorted order, cross-level pairs from the finer body. Bodies too large for
+// the coarsest allowed level form an oversize set, compared with the
+// residents of every level by range queries and with each other by a sweep
+// on x. A level whose bodies are very few beside those of the finer levels
+// keeps no guests; its residents query the finer levels by range instead.
+// Where the world says bodies are sparse (GridLimits::coarsen), the levels at
+// most a factor 4 below the coarsest level that keeps guests join it.
 //
 // Within a level the grid is sparse in y and z and swept along x: a body is
-// keyed by its row, the (z, y) cell of its centre for cells two widths high
-// and deep, and each level keeps its residents and its guests as arrays of
-// (row key, body) sorted by key and, within a row, by the left end of the
-// sphere along x. Within its row a body meets the later bodies up to its
-// right end (sweep and prune); in the 3x3 rows around it, only those it can
-// reach (by the distance of its centre to the row's faces), within a window
-// along x from the first entry whose row's largest right end so far reaches
-// its left end. Rows are
-// found by cursors that only move forward while rows are visited in order,
-// and windows are tested four spheres at a time. No hashing, no pointer
-// chasing, and the parallel pair search only reads. Motion updates the
-// arrays incrementally: bodies whose row did not change keep their entries
-// (moves along x never re-key), the rest leave and re-enter in one pass that
-// rewrites each list in parallel parts of rows, and an insertion sort during
-// the copy of the spheres restores the x order within rows. The
-// world keeps its bodies' storage in the residents' order (order(),
-// renumber()), so the update's reads of the spheres run nearly in sequence.
+// keyed by its row, the (z, y) cell of p for cells two widths high and deep,
+// and each level keeps its residents and its guests as arrays of (row key,
+// body) sorted by key and, within a row, by the box's low x. Within its row
+// a body meets the later bodies up to its high x (sweep and prune); in the
+// 3x3 rows around it, only those its box comes within w / 2 of, within a
+// window along x from the first entry whose row's largest high x so far
+// reaches its low x. Rows are found by cursors that only move forward while
+// rows are visited in order, and windows are tested four boxes at a time. No
+// hashing, no pointer chasing, and the parallel pair search only reads.
+// Motion updates the arrays incrementally: bodies whose row did not change
+// keep their entries (moves along x never re-key), the rest leave and
+// re-enter in one pass that rewrites each list in parallel parts of rows, and
+// an insertion sort during the copy of the boxes restores the x order within
+// rows. The world keeps its bodies' storage in the residents' order (order(),
+// renumber()), so the update's reads run nearly in sequence.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -42,8 +44,23 @@ namespace hgcd {
 
 using CellKey = unsigned __int128;
 
-struct Sphere {
-    double x, y, z, r;
+// The bodies as the grid reads them: body s has reference point
+// p = pos[stride * s + (0, 1, 2)] and offsets off[6 s + (0..5)] (low x y z,
+// high x y z); its box is [fl(p + low), fl(p + high)] per axis, and holds
+// its solid. (Rounding is monotone: offsets at most, or at least, every
+// vertex's offset give a box holding the vertices fl(p + offset).)
+struct Boxes {
+    const double *pos;
+    size_t stride;
+    const float *off;
+    void at(size_t s, double *lo, double *hi) const {
+        const double *p = pos + stride * s;
+        const float *o = off + 6 * s;
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = p[k] + double(o[k]);
+            hi[k] = p[k] + double(o[3 + k]);
+        }
+    }
 };
 
 struct GridLimits {
@@ -51,7 +68,7 @@ struct GridLimits {
     int max_exponent;  // INT32_MAX: none
     // Bodies whose level is at most a factor 4 finer than the coarsest level
     // that keeps guests live on that level instead: fewer levels, guests and
-    // row visits for more sphere tests, which pays where bodies are sparse
+    // row visits for more box tests, which pays where bodies are sparse
     // (the world decides, from the candidate pairs per body).
     bool coarsen = false;
 };
@@ -63,19 +80,18 @@ struct GridUpdateStats {
 
 class Grid {
   public:
-    // Brings the grid to the current spheres. live_gen[s] is the generation of
-    // the body in slot s, or 0 for an empty slot; r_level[s] is the
-    // position-independent radius that picks the body's level.
-    GridUpdateStats update(const Sphere *spheres, const double *r_level,
-                           const uint32_t *live_gen, uint32_t slot_count,
-                           const GridLimits &limits, int threads);
+    // Brings the grid to the current boxes. live_gen[s] is the generation of
+    // the body in slot s, or 0 for an empty slot; r_level[s] bounds the
+    // magnitude of its offsets in every orientation (so it picks the body's
+    // level once for its life: position- and orientation-independent).
+    GridUpdateStats update(const Boxes &boxes, const double *r_level, const uint32_t *live_gen,
+                           uint32_t slot_count, const GridLimits &limits, int threads);
 
-    // Appends to out[thread] every pair (a << 32 | b) of bodies whose spheres
-    // overlap, once, in either order (the sweeps' hot loop does not order
-    // them: its consumers do, 1.6 ms of 75 at tetra 750k). out must have
-    // one vector per thread.
-    void find_pairs(const Sphere *spheres, int threads,
-                    std::vector<std::vector<uint64_t>> &out) const;
+    // Appends to out[thread] every pair (a << 32 | b) of bodies whose boxes
+    // overlap (closed intervals on every axis), once, in either order (the
+    // sweeps' hot loop does not order them: its consumers do). out must have
+    // one vector per thread. boxes: as given to the last update.
+    void find_pairs(const Boxes &boxes, int threads, std::vector<std::vector<uint64_t>> &out) const;
 
     // The slots of every body in the grid, each once, in sweep order: the
     // residents of each level as their lists hold them, then the oversize.
@@ -101,44 +117,40 @@ class Grid {
 
   private:
     // 20 bytes rather than the 32 that __int128's alignment would give: the
-    // key is only ever read and written by value. (Its left end is in the
-    // list's sphere arrays, at the same index.)
+    // key is only ever read and written by value. (Its box is in the list's
+    // box arrays, at the same index.)
     struct __attribute__((packed, aligned(4))) Entry {
         CellKey key;
         uint32_t slot;
     };
     static_assert(sizeof(Entry) == 20, "Entry layout");
-    // An entry with its left end rounded to float, where entries are sorted
-    // before they have sphere arrays (a list built, entries entering one).
+    // An entry with its low x rounded to float, where entries are sorted
+    // before they have box arrays (a list built, entries entering one).
     struct __attribute__((packed, aligned(8))) Keyed {
         CellKey key;
         uint32_t slot;
         float x;
     };
   public:
-    struct SphereArrays {
-        const double *x, *y, *z, *r, *l;  // l: left end along x (sweep order)
-        const double *reach;  // largest right end along x so far in the row
-        Sphere at(size_t k) const { return Sphere{x[k], y[k], z[k], r[k]}; }
+    struct BoxArrays {
+        const double *l, *hx, *ly, *hy, *lz, *hz;  // box: l is the low x (sweep order)
+        const double *reach;  // largest high x so far in the row
     };
 
   private:
     struct List {
         std::vector<Entry> entries;   // sorted by (key, left end)
         std::vector<Entry> spare;     // what update_lists writes the next entries into
-        // Spheres of entries, same order, as arrays (padded at the end),
-        // their left ends along x (x - x_extent(r), grid.cpp), and the
-        // largest right end (x + x_extent(r)) of the entries of the row up to
-        // each (a floor for the sweeps that does not depend on the largest
-        // radius).
-        std::vector<double> sx, sy, sz, sr, sl, sreach;
+        // Boxes of entries, same order, as arrays (padded at the end), and
+        // the largest high x of the entries of the row up to each (a floor
+        // for the sweeps that does not depend on the largest box).
+        std::vector<double> bl, bhx, bly, bhy, blz, bhz, breach;
         // The occupied rows: distinct keys in order, and where each row's
         // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
-        double max_radius = 0;  // of spheres
-        SphereArrays arrays() const {
-            return SphereArrays{sx.data(), sy.data(), sz.data(), sr.data(), sl.data(), sreach.data()};
+        BoxArrays arrays() const {
+            return BoxArrays{bl.data(), bhx.data(), bly.data(), bhy.data(), blz.data(), bhz.data(), breach.data()};
         }
     };
     struct Level {
@@ -150,7 +162,7 @@ class Grid {
     static constexpr int16_t kNone = -1;
     static constexpr int16_t kOversize = -2;
 
-    void rebuild(const Sphere *spheres, uint32_t slot_count, int threads);
+    void rebuild(const Boxes &boxes, uint32_t slot_count, int threads);
     // A body flagged by an update: its slot, and its level and row before.
     struct Moved {
         uint32_t slot;
@@ -158,9 +170,9 @@ class Grid {
         int64_t old_cell[2];
     };
     void update_lists(const std::vector<uint8_t> &dirty, const std::vector<uint8_t> &flag,
-                      const std::vector<Moved> &changed, const Sphere *spheres, int threads);
+                      const std::vector<Moved> &changed, const Boxes &boxes, int threads);
     // Returns the residents' disorder (see disorder()).
-    static uint64_t gather(const std::vector<List *> &lists, const Sphere *spheres, int threads);
+    static uint64_t gather(const std::vector<List *> &lists, const Boxes &boxes, int threads);
     static void sort_row(List &list, size_t begin, size_t end);
     // The residents of level k / 2 for even k, its guests for odd k (the
     // order of all_lists()).
@@ -174,16 +186,16 @@ class Grid {
     // its own level is cell (y, z); key_of: of the body in slot as of now.
     CellKey key_at(const int64_t *cell, int own, int level_index) const;
     CellKey key_of(uint32_t slot, int level_index) const;
-    // The row (y, z) at level level_index of sphere s.
-    void cell_at(const Sphere &s, int level_index, int64_t *cell) const;
+    // The row (y, z) at level level_index of point p.
+    void cell_at(const double *p, int level_index, int64_t *cell) const;
     // Pairs of the rows [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,
                          std::vector<uint64_t> &out) const;
     void sweep_guests(const Level &lv, size_t begin, size_t end,
                       std::vector<uint64_t> &out) const;
-    // Pairs of sphere o (body slot) with the residents of levels [0, level_end),
-    // by range queries over their rows.
-    void query_levels(const Sphere &o, uint32_t slot, size_t level_end,
+    // Pairs of the box [lo, hi] (body slot) with the residents of levels
+    // [0, level_end), by range queries over their rows.
+    void query_levels(const double *lo, const double *hi, uint32_t slot, size_t level_end,
                       std::vector<uint64_t> &out) const;
 
     std::vector<Level> levels_;       // ascending exponent
@@ -192,7 +204,8 @@ class Grid {
     std::vector<int16_t> level_;      // index into levels_, kNone or kOversize
     std::vector<uint32_t> gen_;       // live generation seen
     std::vector<int64_t> cell_;       // 2 per slot: row (y, z) at its own level
-    std::vector<int16_t> exponent_;   // level exponent of r_level (at least min_exponent), for gen_
+    std::vector<int16_t> exponent_;   // level exponent of the box (at least min_exponent), for gen_
+    std::vector<float> slack_;        // 2^exponent less 2 r_level, for gen_
     int exponent_floor_ = 0;          // the min_exponent exponent_ was computed with
     std::vector<int16_t> level_of_;   // level index of each exponent (+ kExponentBias), as of the last update
     uint64_t disorder_ = 0;

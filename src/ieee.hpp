@@ -1,8 +1,8 @@
 // Every library source includes this. Their results rest on IEEE double
 // rounding and on NaN and infinity behaving as IEEE says: the exact
 // predicates and their filters (geometry.cpp, narrow.cpp, bvh.cpp), the
-// grid's window, floor and reach margins (grid.cpp), the bounding spheres'
-// margins and the motion formula of SCENES.md (world.cpp, mesh.cpp), the
+// grid's window, floor and reach margins (grid.cpp), the bodies' boxes and
+// the motion formula of SCENES.md (world.cpp, mesh.cpp), the
 // scene generator's bit-exact arithmetic (scene.cpp), and the refusal of
 // non-finite input (std::isfinite in capi.cpp, world.cpp, mesh.cpp,
 // ccd_narrow.cpp, which -ffinite-math-only may fold to true). -ffast-math

@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include <algorithm>
+#include <cmath>
 #include <climits>
 #include <vector>
 
@@ -69,20 +70,34 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
     try {
         hgcd::Grid grid;
         std::vector<uint32_t> gen(n, 1);
+        std::vector<double> pos(3 * size_t(n));
+        std::vector<float> off(6 * size_t(n));
         std::vector<double> r_level(n);
-        std::vector<hgcd::Sphere> spheres(n);
         hgcd::GridLimits limits{INT_MIN, INT_MAX};
         limits.coarsen = coarsen != 0;
+        const hgcd::Boxes boxes{pos.data(), 3, off.data()};
         for (int pass = before ? 0 : 1; pass < 2; ++pass) {
             const double *s = pass ? after : before;
             for (uint32_t i = 0; i < n; ++i) {
-                spheres[i] = hgcd::Sphere{s[4 * i], s[4 * i + 1], s[4 * i + 2], s[4 * i + 3]};
-                r_level[i] = s[4 * i + 3];
+                const double r = s[4 * i + 3];
+                float lo = float(-r), hi = float(r);
+                if (double(lo) > -r) lo = std::nextafter(lo, -INFINITY);
+                if (double(hi) < r) hi = std::nextafter(hi, INFINITY);
+                // A body's size is fixed for its life (the world's r_level):
+                // one whose size changes is a new body (a new generation).
+                const double level = std::max(-double(lo), double(hi));
+                if (pass == 1 && before && level != r_level[i]) gen[i] = 2;
+                r_level[i] = level;
+                for (int k = 0; k < 3; ++k) {
+                    pos[3 * size_t(i) + k] = s[4 * i + k];
+                    off[6 * size_t(i) + k] = lo;
+                    off[6 * size_t(i) + 3 + k] = hi;
+                }
             }
-            grid.update(spheres.data(), r_level.data(), gen.data(), n, limits, threads);
+            grid.update(boxes, r_level.data(), gen.data(), n, limits, threads);
         }
         std::vector<std::vector<uint64_t>> found(threads);
-        grid.find_pairs(spheres.data(), threads, found);
+        grid.find_pairs(boxes, threads, found);
         std::vector<uint64_t> all;
         for (auto &f : found)
             for (const uint64_t key : f) {  // (lo << 32 | hi: the grid gives either order)

@@ -32,10 +32,15 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
                           const uint32_t *tris, uint32_t tri_count,
                           int inward_sign);
 
-/* The broad phase alone (src/grid.cpp): n spheres, 4 doubles each (x, y, z,
- * r), each on the level its r picks (coarsened as GridLimits::coarsen says
- * when coarsen is not 0). If before is not NULL the grid is first built from
- * it, then brought to after incrementally, as a step does. Writes every
+/* The broad phase alone (src/grid.cpp): n bodies given as 4 doubles each
+ * (x, y, z, r): position (x, y, z) and offsets -r and r on every axis, each
+ * rounded outward to float (the nearest float, moved one step out when it
+ * falls inside), so body i's box is [x + lo, x + hi] per axis, evaluated in
+ * double; each on the level its box picks (coarsened as GridLimits::coarsen
+ * says when coarsen is not 0). If before is not NULL the grid is first built
+ * from it, then brought to after incrementally, as a step does (a body
+ * whose r changes is a new body there: sizes are fixed for a body's life,
+ * as in a world). Writes every
  * reported pair (i << 32 | j, i < j), sorted, to out (room for cap); returns
  * the count (which may exceed cap), or -1 on an error. */
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,

@@ -25,9 +25,6 @@ constexpr uint32_t kCounterMask = (1u << kCounterBits) - 1;
 constexpr uint32_t kMaxSlots = 0x7FFFFFFEu;
 constexpr double kMaxCoordinate = 1e15;
 constexpr double kUnitTolerance = 1e-6;
-// Level radius: the largest stretch an accepted quaternion can give is
-// 1 + 2e-6 (see rotation_stretch); the rest is slack for rounding margins.
-constexpr double kLevelInflation = 1 + 4e-6;
 
 // Sorts pair keys (a << 32 | b) ascending: least significant digit first,
 // on the keys packed as a << w | b (w the bits of the largest b: 40 bits in
@@ -326,8 +323,9 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             body_mesh_.reserve(cap);
             user_data_.reserve(cap);
             body_gen_.reserve(cap);
+            box_off_.reserve(6 * cap);
             r_level_.reserve(cap);
-            sphere_.reserve(cap);
+            point_.reserve(3 * cap);
             at_.reserve(cap);
             slot_of_.reserve(cap);
             stored_gen_.reserve(cap);
@@ -341,8 +339,9 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         user_data_.resize(n);
         body_gen_.resize(n, tag_ << kCounterBits);
         live_gen_.resize(n, 0);
+        box_off_.resize(6 * n);
         r_level_.resize(n);
-        sphere_.resize(n);
+        point_.resize(3 * n);
         at_.push_back(slot);
         slot_of_.push_back(slot);
         stored_gen_.push_back(0);
@@ -350,14 +349,19 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     if (reuse) body_free_.pop_back();
     const size_t i = at_[slot];
     for (int k = 0; k < 3; ++k) {
-        place_[i].position[k] = d.position[k];
+        place_[i].position[k] = point_[3 * i + k] = d.position[k];
         velocity_[3 * i + k] = d.velocity[k];
     }
     for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
     user_data_[i] = d.user_data;
-    r_level_[i] = d.scale * m.radius * kLevelInflation;
+    // (The largest stretch an accepted quaternion can give is 1 + 2e-6, see
+    // rotation_stretch; the offsets' rounding to float adds 2^-23 at most;
+    // the rest is slack for the rounding of the offsets themselves.)
+    const double centre = std::sqrt(m.center[0] * m.center[0] + m.center[1] * m.center[1] + m.center[2] * m.center[2]);
+    r_level_[i] = d.scale * (centre + m.radius) * (1 + 4e-6);
+    set_box_offsets(i);
     body_gen_[slot] = (tag_ << kCounterBits) | ((body_gen_[slot] + 1) & kCounterMask);
     live_gen_[slot] = body_gen_[slot];
     stored_gen_[i] = body_gen_[slot];
@@ -385,9 +389,11 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     Placement &pl = place_[at_[slot]];
     if (position)
-        for (int k = 0; k < 3; ++k) pl.position[k] = position[k];
-    if (orientation)
+        for (int k = 0; k < 3; ++k) pl.position[k] = point_[3 * size_t(at_[slot]) + k] = position[k];
+    if (orientation) {
         for (int k = 0; k < 4; ++k) pl.orientation[k] = orientation[k];
+        set_box_offsets(at_[slot]);
+    }
     return HGCD_OK;
 }
 
@@ -436,34 +442,58 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 
 // ----------------------------------------------------------------- ticks --
 
-// The test sphere of a body of mesh m placed at pl.
-inline Sphere World::test_sphere(const Mesh &m, const Placement &pl) {
-    const double *q = pl.orientation;
-    const double *c = pl.position;
-    double center[3] = {c[0], c[1], c[2]};
-    // A mesh centred on its origin (most are) needs no rotation here.
-    if (m.center[0] != 0 || m.center[1] != 0 || m.center[2] != 0)
-        transform_point(rotation_of(q), c, pl.scale, m.center, center);
-    const double stretch = rotation_stretch(q);
-    const double reach = pl.scale * stretch * m.radius;
-    // The world vertices and this centre carry rounding errors of a few
-    // ulps of the coordinates involved; the margin covers them with room.
-    const double local = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
-    const double margin =
-        1e-14 * (std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]) + pl.scale * stretch * local);
-    return Sphere{center[0], center[1], center[2], (reach + margin) * (1 + 1e-9)};
+// Offsets d of the world vertices from the position, by transform_point's
+// operations with a zero position (so c + d is the world vertex as every
+// path computes it, and fl(c + min d) <= fl(c + d): rounding is monotone),
+// rounded outward to float, over the vertices the triangles use (those the
+// mesh's bounding sphere, and so r_level, bounds). Meshes of more triangles
+// than kExactBoxTriangles take the cube around their bounding sphere instead
+// (a pose set costs no more than a few hundred vertex transforms), widened
+// past the rounding of R.
+void World::set_box_offsets(size_t s) {
+    constexpr uint32_t kExactBoxTriangles = 128;
+    const Placement &pl = place_[s];
+    const Mesh &m = meshes_[body_mesh_[s]];
+    const Rotation r = rotation_of(pl.orientation);
+    const double zero[3] = {0, 0, 0};
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    if (m.triangle_count <= kExactBoxTriangles) {
+        for (const uint32_t v : m.triangles) {  // (a vertex of several triangles is seen again)
+            double d[3];
+            transform_point(r, zero, pl.scale, &m.vertices[3 * size_t(v)], d);
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], d[k]);
+                hi[k] = std::max(hi[k], d[k]);
+            }
+        }
+    } else {
+        // |R (s v) - R (s c)| <= stretch s radius for every vertex v; each
+        // computed offset is within 8 eps (|R| |s v|) of R (s v), |R| <= 2.
+        double c[3];
+        transform_point(r, zero, pl.scale, m.center, c);
+        const double local = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
+        const double reach = pl.scale * (rotation_stretch(pl.orientation) * m.radius + 1e-14 * local);
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = c[k] - reach * (1 + 1e-12);
+            hi[k] = c[k] + reach * (1 + 1e-12);
+        }
+    }
+    float *o = &box_off_[6 * s];
+    for (int k = 0; k < 3; ++k) {
+        float f = float(lo[k]);
+        if (double(f) > lo[k]) f = std::nextafter(f, -INFINITY);
+        o[k] = f;
+        f = float(hi[k]);
+        if (double(f) < hi[k]) f = std::nextafter(f, INFINITY);
+        o[3 + k] = f;
+    }
 }
 
-void World::compute_spheres(int threads) {
-    const int64_t n = int64_t(stored_gen_.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (int64_t s = 0; s < n; ++s)
-        sphere_[s] = stored_gen_[s] ? test_sphere(meshes_[body_mesh_[s]], place_[s]) : Sphere{0, 0, 0, 0};
-}
+Boxes World::boxes() const { return Boxes{point_.data(), 3, box_off_.data()}; }
 
 // Storage in the grid's sweep order again once a fifth of it is out of
 // order (bodies that changed rows since, or the order of creation the first
-// time); before the spheres, which follow storage. Not right after the grid
+// time); before the motion, so that it moves storage in order. Not right after the grid
 // was rebuilt: its levels may still be settling (coarsening), and each new
 // set of levels is a new order; but right after the first detect, whose
 // levels come from an estimate that is usually right (grid_limits): the
@@ -487,9 +517,8 @@ void World::renumber_if_disordered() {
 // body) the paper's finer levels are 2% and 10% faster, so they stay.
 //
 // Before the first detect there is no count yet: it is estimated from the
-// spheres as if their centres were spread evenly over their bounding box
-// (pairs per body (n / V)(4 pi / 3)(E[r^3] + 3 E[r^2] E[r]), which the real
-// count soon corrects). Without it the first detect built the finer levels
+// boxes as if their positions were spread evenly over their bounding box
+// (estimated_candidates_per_body), which the real count soon corrects. Without it the first detect built the finer levels
 // and the first step rebuilt the grid coarsened: on tetra at n = 750000 the
 // estimate is 1.44 (the count 1.43); the first detect takes 360 ms where
 // it took 510, and the first step 235 where it took 340 (1 thread).
@@ -504,32 +533,35 @@ GridLimits World::grid_limits(int threads) {
 double World::estimated_candidates_per_body(int threads) const {
     const int64_t n = int64_t(stored_gen_.size());
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double r1 = 0, r2 = 0, r3 = 0, count = 0;
+    double a1 = 0, a2 = 0, a3 = 0, count = 0;
 #pragma omp parallel for num_threads(threads) schedule(static) \
-    reduction(min : lo[:3]) reduction(max : hi[:3]) reduction(+ : r1, r2, r3, count)
+    reduction(min : lo[:3]) reduction(max : hi[:3]) reduction(+ : a1, a2, a3, count)
     for (int64_t s = 0; s < n; ++s) {
         if (!stored_gen_[s]) continue;
-        const Sphere &sp = sphere_[s];
-        lo[0] = std::min(lo[0], sp.x);
-        lo[1] = std::min(lo[1], sp.y);
-        lo[2] = std::min(lo[2], sp.z);
-        hi[0] = std::max(hi[0], sp.x);
-        hi[1] = std::max(hi[1], sp.y);
-        hi[2] = std::max(hi[2], sp.z);
-        r1 += sp.r;
-        r2 += sp.r * sp.r;
-        r3 += sp.r * sp.r * sp.r;
+        const double *p = place_[s].position;
+        const float *o = &box_off_[6 * s];
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], p[k]);
+            hi[k] = std::max(hi[k], p[k]);
+        }
+        // Half the box's mean side.
+        const double a = ((double(o[3]) - o[0]) + (double(o[4]) - o[1]) + (double(o[5]) - o[2])) / 6;
+        a1 += a;
+        a2 += a * a;
+        a3 += a * a * a;
         count += 1;
     }
     const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
     if (count < 2 || !(volume > 0) || !std::isfinite(volume)) return -1;  // no estimate
-    const double e1 = r1 / count, e2 = r2 / count, e3 = r3 / count;
-    return count / volume * (4 * M_PI / 3) * (e3 + 3 * e2 * e1);
+    // Cubes of half sides a_i, a_j meet when within a_i + a_j on every
+    // axis: (n / V) E[8 (a_i + a_j)^3] / 2 pairs per body.
+    const double e1 = a1 / count, e2 = a2 / count, e3 = a3 / count;
+    return count / volume * 8 * (e3 + 3 * e2 * e1);
 }
 
 hgcd_status World::detect() { return detect_with(false); }
 
-hgcd_status World::detect_with(bool spheres_ready) {
+hgcd_status World::detect_with(bool renumbered) {
     pairs_.clear();
     contacts_.clear();
     contacts_recorded_ = contacts_on_;
@@ -541,13 +573,9 @@ hgcd_status World::detect_with(bool spheres_ready) {
     const double t0 = omp_get_wtime();
     const bool first_detect = candidates_per_body_ < 0;
     try {
-        if (!spheres_ready) {
-            renumber_if_disordered();
-            compute_spheres(T);
-        }
+        if (!renumbered) renumber_if_disordered();
         const uint32_t stored = uint32_t(stored_gen_.size());
-        const GridUpdateStats us =
-            grid_.update(sphere_.data(), r_level_.data(), stored_gen_.data(), stored, grid_limits(T), T);
+        const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(), stored, grid_limits(T), T);
         grid_rebuilt_ = us.rebuilt;
         const double t1 = omp_get_wtime();
 
@@ -556,7 +584,7 @@ hgcd_status World::detect_with(bool spheres_ready) {
         std::vector<std::vector<uint64_t>> &found = candidates_;
         found.resize(size_t(T));
         for (auto &f : found) f.clear();
-        grid_.find_pairs(sphere_.data(), T, found);
+        grid_.find_pairs(boxes(), T, found);
         // Narrow phase straight over every thread's candidate list, in
         // chunks scheduled dynamically (pairs cost very different amounts).
         struct Chunk {
@@ -793,7 +821,9 @@ bool World::renumber() {
         struct Record {
             Placement place;
             double velocity[3];
+            double point[3];
             uint64_t user_data;
+            float off[6];
             double r_level;
             uint32_t mesh, gen, slot;
         };
@@ -804,9 +834,11 @@ bool World::renumber() {
                 if (groups & 1) r.place = place_[k];
                 if (groups & 2) {
                     for (int c = 0; c < 3; ++c) r.velocity[c] = velocity_[3 * k + c];
+                    for (int c = 0; c < 3; ++c) r.point[c] = point_[3 * k + c];
                     r.user_data = user_data_[k];
                 }
                 if (groups & 4) {
+                    for (int c = 0; c < 6; ++c) r.off[c] = box_off_[6 * k + c];
                     r.r_level = r_level_[k];
                     r.mesh = body_mesh_[k];
                     r.gen = stored_gen_[k];
@@ -818,9 +850,11 @@ bool World::renumber() {
                 if (groups & 1) place_[k] = r.place;
                 if (groups & 2) {
                     for (int c = 0; c < 3; ++c) velocity_[3 * k + c] = r.velocity[c];
+                    for (int c = 0; c < 3; ++c) point_[3 * k + c] = r.point[c];
                     user_data_[k] = r.user_data;
                 }
                 if (groups & 4) {
+                    for (int c = 0; c < 6; ++c) box_off_[6 * k + c] = r.off[c];
                     r_level_[k] = r.r_level;
                     body_mesh_[k] = r.mesh;
                     stored_gen_[k] = r.gen;
@@ -863,7 +897,7 @@ hgcd_status World::step() {
             return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_step: body " + std::to_string(bad) +
                                                          " would leave the coordinate range (|x| <= 1e15)");
     }
-    renumber_if_disordered();  // (before the spheres, which follow storage)
+    renumber_if_disordered();  // (before the motion: it then moves storage in order)
     // Locals, so the compiler need not reload them after each store.
     const bool reflect = reflect_;
     const double lo[3] = {bounds_min_[0], bounds_min_[1], bounds_min_[2]};
@@ -871,14 +905,11 @@ hgcd_status World::step() {
     Placement *place = place_.data();
     double *velocity = velocity_.data();
     const uint32_t *live = stored_gen_.data();
-    // Each body's test sphere in the same pass as its move (one read of
-    // its placement a tick, not two).
+    // (A body's box is its position plus offsets fixed while its
+    // orientation is: the grid reads it from both, nothing to compute here.)
 #pragma omp parallel for num_threads(T) schedule(static)
     for (int64_t s = 0; s < n; ++s) {
-        if (!live[s]) {
-            sphere_[s] = Sphere{0, 0, 0, 0};
-            continue;
-        }
+        if (!live[s]) continue;
         for (int k = 0; k < 3; ++k) {
             double &c = place[s].position[k];
             double &v = velocity[3 * s + k];
@@ -894,9 +925,8 @@ hgcd_status World::step() {
                 // A move longer than the box is clamped rather than leaving it.
                 x = std::min(std::max(x, lo[k]), hi[k]);
             }
-            c = x;
+            c = point_[3 * s + k] = x;
         }
-        sphere_[s] = test_sphere(meshes_[body_mesh_[s]], place[s]);
     }
     const double motion = omp_get_wtime() - t0;
     const hgcd_status s = detect_with(true);
@@ -911,11 +941,12 @@ size_t World::memory_bytes() const {
         for (const auto &c : *lists) bytes += c.capacity() * sizeof(uint64_t);
     bytes += contacts_.capacity() * sizeof(hgcd_contact);
     bytes += place_.capacity() * sizeof(Placement);
-    bytes += (velocity_.capacity() + r_level_.capacity()) * sizeof(double);
+    bytes += (velocity_.capacity() + point_.capacity() + r_level_.capacity()) * sizeof(double) +
+             box_off_.capacity() * sizeof(float);
     bytes += (body_mesh_.capacity() + body_gen_.capacity() + live_gen_.capacity() + at_.capacity() +
               slot_of_.capacity() + stored_gen_.capacity()) *
              sizeof(uint32_t);
-    bytes += user_data_.capacity() * sizeof(uint64_t) + sphere_.capacity() * sizeof(Sphere);
+    bytes += user_data_.capacity() * sizeof(uint64_t);
     for (const Mesh &m : meshes_)
         bytes += m.vertices.capacity() * sizeof(double) + m.triangles.capacity() * sizeof(uint32_t);
     return bytes;

@@ -60,19 +60,21 @@ class World {
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
     struct Placement;
-    static Sphere test_sphere(const Mesh &m, const Placement &pl);
-    void compute_spheres(int threads);
+    // The offsets from its position of a box holding the solid of the body
+    // stored at s (box_off_), for its current orientation and scale.
+    void set_box_offsets(size_t s);
+    Boxes boxes() const;
     void renumber_if_disordered();
-    // detect(); spheres_ready: step() renumbered and computed the spheres.
-    hgcd_status detect_with(bool spheres_ready);
+    // detect(); renumbered: step() has renumbered storage already.
+    hgcd_status detect_with(bool renumbered);
     // Moves every body's storage to the grid's sweep order (see at_); false,
     // changing nothing, when there is no memory for it.
     bool renumber();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     int threads() const;
     GridLimits grid_limits(int threads);
-    // Candidate pairs per body expected of spheres spread evenly over their
-    // centres' box; -1 when there is no such box.
+    // Candidate pairs per body expected of boxes spread evenly over their
+    // positions' box; -1 when there is no such box.
     double estimated_candidates_per_body(int threads) const;
 
     // Ids: generation = world tag (8 bits) << 24 | counter (24 bits, >= 1).
@@ -117,8 +119,15 @@ class World {
     std::vector<double> velocity_;     // 3
     std::vector<uint32_t> body_mesh_;  // mesh slot
     std::vector<uint64_t> user_data_;
-    std::vector<double> r_level_;      // radius that picks the grid level
-    std::vector<Sphere> sphere_;       // this tick's test spheres
+    // The body's box less its position, fixed while its orientation is:
+    // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
+    std::vector<float> box_off_;
+    // A bound on the magnitude of the offsets in any orientation, that picks
+    // the body's grid level: scale (|mesh centre| + mesh radius), inflated.
+    std::vector<double> r_level_;
+    // The positions again, 3 doubles each: what the grid reads every tick,
+    // in a third of the memory of the placements.
+    std::vector<double> point_;
     uint32_t live_bodies_ = 0;
 
     Grid grid_;

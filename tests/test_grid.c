@@ -1,11 +1,13 @@
 /* The broad phase alone (src/grid.cpp through src/testing.h) against brute
- * force: every pair of spheres whose test `dx*dx + dy*dy + dz*dz <= (ra+rb)^2`
- * (evaluated as the grid evaluates it) holds must be reported, and nothing
- * else. Scenes aim at the grid's shortcuts: the dense coarse levels where
- * the reach filter skips neighbouring slabs, spheres touching exactly across
- * cell faces, centres on cell faces, far-out coordinates, incremental
- * updates after motion, several thread counts, with and without the
- * coarsening of close levels (GridLimits::coarsen). */
+ * force: every pair of bodies whose boxes overlap (closed intervals on every
+ * axis; a body (x, y, z, r) is the box [x + lo, x + hi] per axis with lo, hi
+ * = -r, r rounded outward to float, as the hook builds it) must be reported,
+ * and nothing else. Scenes aim at the grid's shortcuts: the dense coarse
+ * levels where the reach filter skips neighbouring rows, boxes touching
+ * exactly across cell faces, positions on cell faces, far-out coordinates,
+ * incremental updates after motion, several thread counts, with and without
+ * the coarsening of close levels (GridLimits::coarsen). */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -24,6 +26,32 @@ static int cmp_u64(const void *a, const void *b) {
     return x < y ? -1 : x > y;
 }
 
+/* r rounded outward to float: the nearest float, one step out if inside. */
+static double out_lo(double r) {
+    float f = (float)-r;
+    if ((double)f > -r) f = nextafterf(f, -INFINITY);
+    return (double)f;
+}
+static double out_hi(double r) {
+    float f = (float)r;
+    if ((double)f < r) f = nextafterf(f, INFINITY);
+    return (double)f;
+}
+
+/* Whether the boxes of bodies a and b (4 doubles each) overlap; *touch is
+ * set when they do with some face against another exactly. */
+static int boxes_overlap(const double *a, const double *b, int *touch) {
+    int meet = 1, face = 0;
+    for (int k = 0; k < 3; ++k) {
+        const double alo = a[k] + out_lo(a[3]), ahi = a[k] + out_hi(a[3]);
+        const double blo = b[k] + out_lo(b[3]), bhi = b[k] + out_hi(b[3]);
+        meet &= alo <= bhi && blo <= ahi;
+        face |= alo == bhi || blo == ahi;
+    }
+    if (touch) *touch = meet && face;
+    return meet;
+}
+
 /* Brute force over all pairs, sorted. */
 static uint64_t brute(const double *s, uint32_t n, uint64_t **out) {
     uint64_t cap = 1024, m = 0;
@@ -31,10 +59,7 @@ static uint64_t brute(const double *s, uint32_t n, uint64_t **out) {
     assert_non_null(p);
     for (uint32_t i = 0; i < n; ++i)
         for (uint32_t j = i + 1; j < n; ++j) {
-            const double *a = s + 4 * (size_t)i, *b = s + 4 * (size_t)j;
-            const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-            const double rs = a[3] + b[3];
-            if (dx * dx + dy * dy + dz * dz <= rs * rs) {
+            if (boxes_overlap(s + 4 * (size_t)i, s + 4 * (size_t)j, NULL)) {
                 if (m == cap) {
                     cap *= 2;
                     p = realloc(p, cap * sizeof *p);
@@ -72,21 +97,19 @@ static uint64_t check(const double *before, const double *after, uint32_t n, con
     return m;
 }
 
-/* Scene tetra's mix: log-uniform radii over three octaves, at its density
- * (the coarsest level holds about two bodies per cell), moved by up to 0.3. */
 static void test_row_sorted_outright(void **state) {
     (void)state;
     /* A row whose order changes too much for the update's insertion sort is
-     * sorted outright; the running largest right ends that the sweeps of
-     * the row before it start from must then be those of the new order. Row
-     * B (y = +0.3, z = 0.5): spheres of radius 1.1 along x, one of 1.9 at
+     * sorted outright; the running largest high x that the sweeps of the
+     * row before it start from must then be those of the new order. Row B
+     * (y = +0.3, z = 0.5): boxes of half side 1.1 along x, one of 1.95 at
      * the far right; then the second half of the row reversed (more
-     * inversions than the insertion sort takes on) and the big sphere moved
-     * to the far left, where its right end is the largest of the row's first
+     * inversions than the insertion sort takes on) and the big box moved to
+     * the far left, where its high x is the largest of the row's first
      * entries. Row A (y just below 0, across the row boundary y = 0 at
-     * every level, earlier in the sweep) has spheres whose left ends fall
-     * between the first small spheres' right ends and the big one's. (With
-     * the floors of the old order, test_far_coordinates fails too.) */
+     * every level, earlier in the sweep) has boxes whose low x fall between
+     * the first small boxes' high x and the big one's. (With the floors of
+     * the old order, test_far_coordinates fails too.) */
     enum { NB = 160, NA = 40, N = NB + 1 + NA };
     static double before[4 * N], after[4 * N];
     for (int i = 0; i < NB; ++i) {
@@ -97,17 +120,19 @@ static void test_row_sorted_outright(void **state) {
     }
     double *big_b = before + 4 * NB, *big_a = after + 4 * NB;
     big_b[0] = 0.2 * NB + 5, big_b[1] = 0.3, big_b[2] = 0.5, big_b[3] = 1.95;
-    big_a[0] = -0.2, big_a[1] = 0.3, big_a[2] = 0.5, big_a[3] = 1.95;  /* right end 1.75 */
+    big_a[0] = -0.2, big_a[1] = 0.3, big_a[2] = 0.5, big_a[3] = 1.95;  /* high x 1.75 */
     for (int i = 0; i < NA; ++i) {
         double *b = before + 4 * (NB + 1 + i), *a = after + 4 * (NB + 1 + i);
-        /* left ends 1.15 .. 1.64, above the first small spheres' right ends
-         * (1.1, 1.3, 1.5) but within the big sphere's (a finer body: a guest
-         * of the level, or a resident where levels join) */
+        /* low x 1.15 .. 1.64, above the first small boxes' high x (1.1,
+         * 1.3, 1.5) but within the big box's (a finer body: a guest of the
+         * level, or a resident where levels join) */
         a[0] = b[0] = 1.45 + 0.0125 * i, a[1] = b[1] = -0.05 - 0.001 * i, a[2] = b[2] = 0.5, a[3] = b[3] = 0.3;
     }
     assert_true(check(before, after, N, "row sorted outright") > NB);
 }
 
+/* Scene tetra's mix: log-uniform sizes over three octaves, at its density
+ * (the coarsest level holds about two bodies per cell), moved by up to 0.3. */
 static void test_dense_mixed_levels(void **state) {
     (void)state;
     const uint32_t n = 12000;
@@ -127,9 +152,9 @@ static void test_dense_mixed_levels(void **state) {
     free(b);
 }
 
-/* Centres on a lattice of step 1/4 (so on cell faces of every level from
- * 1/4 up), radii powers of two and their sums, many pairs at exactly the
- * touching distance, which the test counts as overlapping. */
+/* Positions on a lattice of step 1/4 (so on cell faces of every level from
+ * 1/4 up), half sides powers of two and their sums (exact in float), many
+ * pairs of boxes exactly touching, which the test counts as overlapping. */
 static void fill_lattice(double *s, uint32_t n, double offset, uint64_t seed) {
     static const double radii[] = {0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0};
     rng r = {seed};
@@ -147,9 +172,9 @@ static void test_touching_on_cell_faces(void **state) {
     uint64_t touching = 0;
     for (uint32_t i = 0; i < n; ++i)  /* some pairs are exactly touching */
         for (uint32_t j = i + 1; j < n; ++j) {
-            const double *p = a + 4 * i, *q = a + 4 * j;
-            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2], rs = p[3] + q[3];
-            touching += dx * dx + dy * dy + dz * dz == rs * rs;
+            int touch;
+            boxes_overlap(a + 4 * i, a + 4 * j, &touch);
+            touching += (uint64_t)touch;
         }
     assert_true(touching > 50);
     check(NULL, a, n, "lattice");
@@ -179,8 +204,9 @@ static void test_far_coordinates(void **state) {
     free(a);
 }
 
-/* Radii that are not powers of two, with one sphere exactly reaching the
- * face of its cell from either side, along each axis. */
+/* Half sides that are not powers of two (but exact in float), with one box
+ * exactly reaching the face of its cell from either side, along each axis,
+ * the other touching it there, or just apart, or just overlapping. */
 static void test_reach_exactly_to_faces(void **state) {
     (void)state;
     enum { n = 4000 };
@@ -189,11 +215,11 @@ static void test_reach_exactly_to_faces(void **state) {
     for (uint32_t i = 0; i < n; i += 2) {
         const int axis = (int)(next(&r) % 3);
         const double w = 4.0;  /* cell width of radii in (1, 2] */
-        const double ra = 1.0 + unif(&r), rb = 0.1 + 0.5 * unif(&r);
+        const double ra = (double)(float)(1.0 + unif(&r)), rb = (double)(float)(0.1 + 0.5 * unif(&r));
         double *p = s + 4 * i, *q = s + 4 * (i + 1);
         for (int k = 0; k < 3; ++k) p[k] = q[k] = w * (double)(next(&r) % 6) + w * unif(&r);
-        /* p's centre at a face, q beyond it at exactly ra + rb (when that is
-         * representable) or just around it. */
+        /* p's position at a face, q beyond it at exactly ra + rb (when that
+         * is representable) or just around it. */
         p[axis] = w * (double)(next(&r) % 6);
         const int jitter = (int)(next(&r) % 3) - 1;
         q[axis] = p[axis] - (ra + rb) + jitter * 1e-15;
@@ -203,10 +229,10 @@ static void test_reach_exactly_to_faces(void **state) {
     check(NULL, s, n, "reach to faces");
 }
 
-/* A few large spheres among many small ones: the coarse levels hold too few
+/* A few large boxes among many small ones: the coarse levels hold too few
  * bodies to keep a guest list and query the finer levels instead; moving
  * the scene takes the incremental path with that choice kept, and growing
- * the number of large spheres switches it back (a rebuild). */
+ * the number of large boxes switches it back (a rebuild). */
 static void test_few_large_among_many(void **state) {
     (void)state;
     const uint32_t n = 8000;

@@ -241,12 +241,16 @@ typedef struct hgcd_world_desc {
      *  Finite, min < max. Default 0..1 on each axis. */
     double bounds_min[3];
     double bounds_max[3];
-    /** Broad-phase grid override. Cell widths are powers of two; a body lives
-     *  on the level whose width is the smallest power of two >= its bounding
-     *  sphere's diameter, except where bodies are sparse (the previous detect
-     *  found fewer than 3 candidate pairs per body): then the levels at most
-     *  a factor 4 finer than the coarsest populated level join it (fewer
-     *  levels, same pairs). min_cell_size > 0 raises the finest width to the
+    /** Broad-phase grid override. The broad phase compares each body's
+     *  axis-aligned box (see hgcd_stats.candidate_pairs) in a hierarchical
+     *  grid keyed by the bodies' positions. Cell widths are powers of two; a
+     *  body lives on the level whose width is the smallest power of two >=
+     *  twice the farthest its vertices reach from its position in any
+     *  orientation (scale x (distance of the mesh's bounding-sphere centre
+     *  from the mesh origin + that sphere's radius)), except where bodies are
+     *  sparse (the previous detect found fewer than 3 candidate pairs per
+     *  body): then the levels at most a factor 4 finer than the coarsest
+     *  populated level join it (fewer levels, same pairs). min_cell_size > 0 raises the finest width to the
      *  power of two >= min_cell_size (bodies smaller than that share it).
      *  max_cell_size > 0 caps the coarsest width at the largest power of two
      *  <= max_cell_size: bodies larger than that are kept in a separate
@@ -414,7 +418,12 @@ typedef struct hgcd_stats {
     uint32_t thread_count;
     /** Bodies that changed grid cell in the last update. */
     uint64_t moved_bodies;
-    /** Pairs whose bounding spheres overlap (broad-phase output). */
+    /** Pairs whose axis-aligned boxes overlap (broad-phase output; closed
+     *  intervals, so touching boxes count). A body's box holds its solid:
+     *  for meshes of at most 128 triangles it is the box of the world
+     *  vertices themselves (their offsets from the position, computed when
+     *  the orientation is set, rounded outward to float, plus the position),
+     *  for larger meshes the box of the mesh's bounding sphere. */
     uint64_t candidate_pairs;
     /** Candidate pairs that reached the exact test (not rejected by the
      *  exact prefilters: vertex boxes, and for two tetrahedra also a
@@ -425,10 +434,9 @@ typedef struct hgcd_stats {
     /** Colliding pairs, and those of them found by containment alone. */
     uint64_t colliding_pairs;
     uint64_t containment_pairs;
-    /** Wall-clock seconds: moving bodies (step only; it also computes the
-     *  bodies' bounding spheres, which detect counts in the update, and
-     *  now and then reorders the bodies' storage to follow the grid, which
-     *  a detect called alone also counts in the update), updating the grid,
+    /** Wall-clock seconds: moving bodies (step only; now and then it also
+     *  reorders the bodies' storage to follow the grid, which a detect called
+     *  alone counts in the update), updating the grid,
      *  broad phase, narrow phase (with sorting of the output), total. */
     double motion_seconds;
     double update_seconds;

@@ -286,12 +286,16 @@ pub struct hgcd_world_desc {
     #[doc = "  Finite, min < max. Default 0..1 on each axis."]
     pub bounds_min: [f64; 3usize],
     pub bounds_max: [f64; 3usize],
-    #[doc = " Broad-phase grid override. Cell widths are powers of two; a body lives"]
-    #[doc = "  on the level whose width is the smallest power of two >= its bounding"]
-    #[doc = "  sphere's diameter, except where bodies are sparse (the previous detect"]
-    #[doc = "  found fewer than 3 candidate pairs per body): then the levels at most"]
-    #[doc = "  a factor 4 finer than the coarsest populated level join it (fewer"]
-    #[doc = "  levels, same pairs). min_cell_size > 0 raises the finest width to the"]
+    #[doc = " Broad-phase grid override. The broad phase compares each body's"]
+    #[doc = "  axis-aligned box (see hgcd_stats.candidate_pairs) in a hierarchical"]
+    #[doc = "  grid keyed by the bodies' positions. Cell widths are powers of two; a"]
+    #[doc = "  body lives on the level whose width is the smallest power of two >="]
+    #[doc = "  twice the farthest its vertices reach from its position in any"]
+    #[doc = "  orientation (scale x (distance of the mesh's bounding-sphere centre"]
+    #[doc = "  from the mesh origin + that sphere's radius)), except where bodies are"]
+    #[doc = "  sparse (the previous detect found fewer than 3 candidate pairs per"]
+    #[doc = "  body): then the levels at most a factor 4 finer than the coarsest"]
+    #[doc = "  populated level join it (fewer levels, same pairs). min_cell_size > 0 raises the finest width to the"]
     #[doc = "  power of two >= min_cell_size (bodies smaller than that share it)."]
     #[doc = "  max_cell_size > 0 caps the coarsest width at the largest power of two"]
     #[doc = "  <= max_cell_size: bodies larger than that are kept in a separate"]
@@ -829,7 +833,12 @@ pub struct hgcd_stats {
     pub thread_count: u32,
     #[doc = " Bodies that changed grid cell in the last update."]
     pub moved_bodies: u64,
-    #[doc = " Pairs whose bounding spheres overlap (broad-phase output)."]
+    #[doc = " Pairs whose axis-aligned boxes overlap (broad-phase output; closed"]
+    #[doc = "  intervals, so touching boxes count). A body's box holds its solid:"]
+    #[doc = "  for meshes of at most 128 triangles it is the box of the world"]
+    #[doc = "  vertices themselves (their offsets from the position, computed when"]
+    #[doc = "  the orientation is set, rounded outward to float, plus the position),"]
+    #[doc = "  for larger meshes the box of the mesh's bounding sphere."]
     pub candidate_pairs: u64,
     #[doc = " Candidate pairs that reached the exact test (not rejected by the"]
     #[doc = "  exact prefilters: vertex boxes, and for two tetrahedra also a"]
@@ -840,10 +849,9 @@ pub struct hgcd_stats {
     #[doc = " Colliding pairs, and those of them found by containment alone."]
     pub colliding_pairs: u64,
     pub containment_pairs: u64,
-    #[doc = " Wall-clock seconds: moving bodies (step only; it also computes the"]
-    #[doc = "  bodies' bounding spheres, which detect counts in the update, and"]
-    #[doc = "  now and then reorders the bodies' storage to follow the grid, which"]
-    #[doc = "  a detect called alone also counts in the update), updating the grid,"]
+    #[doc = " Wall-clock seconds: moving bodies (step only; now and then it also"]
+    #[doc = "  reorders the bodies' storage to follow the grid, which a detect called"]
+    #[doc = "  alone counts in the update), updating the grid,"]
     #[doc = "  broad phase, narrow phase (with sorting of the output), total."]
     pub motion_seconds: f64,
     pub update_seconds: f64,

@@ -352,7 +352,8 @@ pub struct Stats {
     pub thread_count: u32,
     /// Bodies that changed grid cell in the last update.
     pub moved_bodies: u64,
-    /// Pairs whose bounding spheres overlap (broad-phase output).
+    /// Pairs whose axis-aligned boxes overlap (broad-phase output; see
+    /// `hgcd_stats.candidate_pairs` in hgcd.h).
     pub candidate_pairs: u64,
     /// Candidate pairs that reached the exact test.
     pub narrow_tests: u64,

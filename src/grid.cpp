@@ -164,7 +164,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     };
     auto exponent_of = [&](int64_t s) {
         const int e = exponent_[s];
-        const double *p = boxes.pos + boxes.stride * size_t(s);
+        const double *p = boxes.point(size_t(s));
         return e > limits.max_exponent || 4e-16 * (std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2])) > slack_[s]
                    ? INT_MAX
                    : e;
@@ -221,7 +221,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
                 }
                 const int16_t li = level_index(e);
                 int64_t c[2] = {0, 0};
-                if (li >= 0) cell_at(boxes.pos + boxes.stride * size_t(s), li, c);
+                if (li >= 0) cell_at(boxes.point(size_t(s)), li, c);
                 int64_t *old = &cell_[2 * s];
                 uint8_t f = 0;
                 if (li != level_[s] || gen_[s] != live_gen[s]) f = 2;
@@ -305,7 +305,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
         for (int64_t s = 0; s < int64_t(slot_count); ++s) {
             level_[s] = level_index(live_gen[s] ? exponent_of(s) : INT_MIN);
             gen_[s] = live_gen[s];
-            if (level_[s] >= 0) cell_at(boxes.pos + boxes.stride * size_t(s), level_[s], &cell_[2 * s]);
+            if (level_[s] >= 0) cell_at(boxes.point(size_t(s)), level_[s], &cell_[2 * s]);
         }
         rebuild(boxes, slot_count, threads);
         stats.rebuilt = true;
@@ -545,7 +545,7 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
             // The next bodies' points and offsets (storage drifts from this
             // order between renumberings): ask for them early.
             if (k + 16 < e) {
-                __builtin_prefetch(boxes.pos + boxes.stride * E[k + 16].slot);
+                __builtin_prefetch(boxes.point(E[k + 16].slot));
                 __builtin_prefetch(boxes.off + 6 * size_t(E[k + 16].slot));
             }
             double lo[3], hi[3];

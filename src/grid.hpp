@@ -45,16 +45,16 @@ namespace hgcd {
 using CellKey = unsigned __int128;
 
 // The bodies as the grid reads them: body s has reference point
-// p = pos[stride * s + (0, 1, 2)] and offsets off[6 s + (0..5)] (low x y z,
+// p = pos[3 s + (0, 1, 2)] and offsets off[6 s + (0..5)] (low x y z,
 // high x y z); its box is [fl(p + low), fl(p + high)] per axis, and holds
 // its solid. (Rounding is monotone: offsets at most, or at least, every
 // vertex's offset give a box holding the vertices fl(p + offset).)
 struct Boxes {
     const double *pos;
-    size_t stride;
     const float *off;
+    const double *point(size_t s) const { return pos + 3 * s; }
     void at(size_t s, double *lo, double *hi) const {
-        const double *p = pos + stride * s;
+        const double *p = point(s);
         const float *o = off + 6 * s;
         for (int k = 0; k < 3; ++k) {
             lo[k] = p[k] + double(o[k]);

@@ -75,7 +75,7 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
         std::vector<double> r_level(n);
         hgcd::GridLimits limits{INT_MIN, INT_MAX};
         limits.coarsen = coarsen != 0;
-        const hgcd::Boxes boxes{pos.data(), 3, off.data()};
+        const hgcd::Boxes boxes{pos.data(), off.data()};
         for (int pass = before ? 0 : 1; pass < 2; ++pass) {
             const double *s = pass ? after : before;
             for (uint32_t i = 0; i < n; ++i) {

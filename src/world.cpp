@@ -489,7 +489,7 @@ void World::set_box_offsets(size_t s) {
     }
 }
 
-Boxes World::boxes() const { return Boxes{point_.data(), 3, box_off_.data()}; }
+Boxes World::boxes() const { return Boxes{point_.data(), box_off_.data()}; }
 
 // Storage in the grid's sweep order again once a fifth of it is out of
 // order (bodies that changed rows since, or the order of creation the first

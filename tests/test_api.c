@@ -683,6 +683,53 @@ static void test_scene_tetra_populate(void **state) {
     hgcd_world_destroy(w);
 }
 
+/* A body's box (hgcd_stats.candidate_pairs) is that of the world vertices
+ * its triangles use: a vertex no triangle uses, here 10 units out along x,
+ * does not widen it. Body b's solid and box lie within [8, 10] in x, body
+ * a's within [-1, 1]: no candidate pair, though a box over all of a's
+ * vertices would reach x = 10. Likewise turned a quarter about z, the
+ * unused vertex then 10 units out along y. */
+static void test_box_ignores_unused_vertices(void **state) {
+    fixture *f = *state;
+    static const double verts[15] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1, 10, 0, 0};
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = verts;
+    md.triangles = kTetraTris;
+    md.vertex_count = 5;
+    md.triangle_count = 4;
+    hgcd_mesh m;
+    assert_int_equal(hgcd_mesh_create(f->w, &md, &m), HGCD_OK);
+    const double r = 0.70710678118654757;
+    const double turns[2][4] = {{0, 0, 0, 1}, {0, 0, r, r}};
+    for (int t = 0; t < 2; ++t) {
+        hgcd_body a = add_body(f->w, m, 0, 0, 0);
+        hgcd_body b = add_body(f->w, f->tetra, t ? 0 : 9, t ? 9 : 0, 0);
+        assert_int_equal(hgcd_body_set_pose(f->w, a, NULL, turns[t]), HGCD_OK);
+        assert_int_equal(hgcd_world_detect(f->w), HGCD_OK);
+        hgcd_stats st;
+        memset(&st, 0, sizeof st);
+        st.struct_size = sizeof st;
+        assert_int_equal(hgcd_world_stats(f->w, &st), HGCD_OK);
+        assert_int_equal(st.candidate_pairs, 0);
+        assert_int_equal(st.colliding_pairs, 0);
+        /* 2 units closer: still apart (a box over every vertex would meet
+         * b's); then touching b's box face to face. */
+        const double closer[3] = {t ? 0 : 7, t ? 7 : 0, 0};
+        assert_int_equal(hgcd_body_set_pose(f->w, b, closer, NULL), HGCD_OK);
+        assert_int_equal(hgcd_world_detect(f->w), HGCD_OK);
+        assert_int_equal(hgcd_world_stats(f->w, &st), HGCD_OK);
+        assert_int_equal(st.candidate_pairs, 0);
+        const double touching[3] = {t ? 0 : 2, t ? 2 : 0, 0};
+        assert_int_equal(hgcd_body_set_pose(f->w, b, touching, NULL), HGCD_OK);
+        assert_int_equal(hgcd_world_detect(f->w), HGCD_OK);
+        assert_int_equal(hgcd_world_stats(f->w, &st), HGCD_OK);
+        assert_int_equal(st.candidate_pairs, 1);
+        assert_int_equal(hgcd_body_destroy(f->w, a), HGCD_OK);
+        assert_int_equal(hgcd_body_destroy(f->w, b), HGCD_OK);
+    }
+    assert_int_equal(hgcd_mesh_destroy(f->w, m), HGCD_OK);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_version),
@@ -698,6 +745,7 @@ int main(void) {
         cmocka_unit_test(test_step_motion),
         cmocka_unit_test_setup_teardown(test_refused_call_keeps_pairs, setup, teardown),
         cmocka_unit_test(test_scene_tetra_populate),
+        cmocka_unit_test_setup_teardown(test_box_ignores_unused_vertices, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -41,6 +41,18 @@ static int teardown(void **state) {
     return 0;
 }
 
+/* A mesh of nv vertices and nt triangles in w (it must be accepted). */
+static hgcd_mesh add_mesh(hgcd_world *w, const double *v, uint32_t nv, const uint32_t *t, uint32_t nt) {
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = v;
+    md.triangles = t;
+    md.vertex_count = nv;
+    md.triangle_count = nt;
+    hgcd_mesh m = {0, 0};
+    assert_int_equal(hgcd_mesh_create(w, &md, &m), HGCD_OK);
+    return m;
+}
+
 static hgcd_body add_body(hgcd_world *w, hgcd_mesh m, double x, double y, double z) {
     hgcd_body_desc d = hgcd_body_desc_default();
     d.mesh = m;
@@ -349,14 +361,9 @@ static void test_foreign_ids(void **state) {
     hgcd_mesh om[kOthers];
     hgcd_body ob[kOthers + 1];
     hgcd_world_desc d = hgcd_world_desc_default();
-    hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    md.vertices = kTetraVerts;
-    md.triangles = kTetraTris;
-    md.vertex_count = 4;
-    md.triangle_count = 4;
     for (int i = 0; i < kOthers; ++i) {
         assert_int_equal(hgcd_world_create(&d, &other[i]), HGCD_OK);
-        assert_int_equal(hgcd_mesh_create(other[i], &md, &om[i]), HGCD_OK);
+        om[i] = add_mesh(other[i], kTetraVerts, 4, kTetraTris, 4);
         ob[i] = add_body(other[i], om[i], 0, 0, 0);
     }
     ob[kOthers] = add_body(f->w, f->tetra, 0, 0, 0);
@@ -531,13 +538,7 @@ static void test_step_motion(void **state) {
     }
     hgcd_world *w;
     assert_int_equal(hgcd_world_create(&d, &w), HGCD_OK);
-    hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    md.vertices = kTetraVerts;
-    md.triangles = kTetraTris;
-    md.vertex_count = 4;
-    md.triangle_count = 4;
-    hgcd_mesh m;
-    assert_int_equal(hgcd_mesh_create(w, &md, &m), HGCD_OK);
+    hgcd_mesh m = add_mesh(w, kTetraVerts, 4, kTetraTris, 4);
     hgcd_body b = add_body(w, m, 9.5, 5, 0.25);
     const double v[3] = {2, 0, -1};
     assert_int_equal(hgcd_body_set_velocity(w, b, v), HGCD_OK);
@@ -554,7 +555,7 @@ static void test_step_motion(void **state) {
     /* Without bounds, a step that would leave the coordinate range moves nothing. */
     d = hgcd_world_desc_default();
     assert_int_equal(hgcd_world_create(&d, &w), HGCD_OK);
-    assert_int_equal(hgcd_mesh_create(w, &md, &m), HGCD_OK);
+    m = add_mesh(w, kTetraVerts, 4, kTetraTris, 4);
     hgcd_body slow = add_body(w, m, 0, 0, 0);
     hgcd_body fast = add_body(w, m, 9e14, 0, 0);
     const double v1[3] = {1, 0, 0}, v2[3] = {2e14, 0, 0};
@@ -616,13 +617,7 @@ static void test_scene_tetra_populate(void **state) {
     double uv[12];
     uint32_t ut[12];
     hgcd_scene_tetra_unit_mesh(uv, ut);
-    hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    md.vertices = uv;
-    md.triangles = ut;
-    md.vertex_count = 4;
-    md.triangle_count = 4;
-    hgcd_mesh mb;
-    assert_int_equal(hgcd_mesh_create(b, &md, &mb), HGCD_OK);
+    const hgcd_mesh mb = add_mesh(b, uv, 4, ut, 4);
     hgcd_body_desc bd = hgcd_body_desc_default();
     bd.mesh = mb;
     for (uint32_t i = 0; i < n; ++i) {
@@ -692,13 +687,7 @@ static void test_scene_tetra_populate(void **state) {
 static void test_box_ignores_unused_vertices(void **state) {
     fixture *f = *state;
     static const double verts[15] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1, 10, 0, 0};
-    hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    md.vertices = verts;
-    md.triangles = kTetraTris;
-    md.vertex_count = 5;
-    md.triangle_count = 4;
-    hgcd_mesh m;
-    assert_int_equal(hgcd_mesh_create(f->w, &md, &m), HGCD_OK);
+    const hgcd_mesh m = add_mesh(f->w, verts, 5, kTetraTris, 4);
     const double r = 0.70710678118654757;
     const double turns[2][4] = {{0, 0, 0, 1}, {0, 0, r, r}};
     for (int t = 0; t < 2; ++t) {

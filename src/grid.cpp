@@ -207,9 +207,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
                         exponent_[s] = int16_t(e);
                         // (Rounded down to float; 0 when it is not positive: oversize.)
                         const double slack = (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)) - h2;
-                        float f = float(slack);
-                        if (double(f) > slack) f = std::nextafter(f, -INFINITY);
-                        slack_[s] = std::max(f, 0.0f);
+                        slack_[s] = std::max(float_at_most(slack), 0.0f);
                     }
                     e = exponent_of(s);
                     if (e == INT_MAX) guard.run([&] { oversize_mine.push_back(uint32_t(s)); });

@@ -36,6 +36,7 @@
 // rows. The world keeps its bodies' storage in the residents' order (order(),
 // renumber()), so the update's reads run nearly in sequence.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -43,6 +44,17 @@
 namespace hgcd {
 
 using CellKey = unsigned __int128;
+
+// x rounded to a float at most x, or at least x (the nearest float, moved
+// one step out when it falls on the wrong side): how offsets are stored.
+inline float float_at_most(double x) {
+    const float f = float(x);
+    return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+}
+inline float float_at_least(double x) {
+    const float f = float(x);
+    return double(f) < x ? std::nextafter(f, INFINITY) : f;
+}
 
 // The bodies as the grid reads them: body s has reference point
 // p = pos[3 s + (0, 1, 2)] and offsets off[6 s + (0..5)] (low x y z,

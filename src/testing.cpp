@@ -80,9 +80,7 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
             const double *s = pass ? after : before;
             for (uint32_t i = 0; i < n; ++i) {
                 const double r = s[4 * i + 3];
-                float lo = float(-r), hi = float(r);
-                if (double(lo) > -r) lo = std::nextafter(lo, -INFINITY);
-                if (double(hi) < r) hi = std::nextafter(hi, INFINITY);
+                const float lo = hgcd::float_at_most(-r), hi = hgcd::float_at_least(r);
                 // A body's size is fixed for its life (the world's r_level):
                 // one whose size changes is a new body (a new generation).
                 const double level = std::max(-double(lo), double(hi));

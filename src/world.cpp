@@ -25,6 +25,10 @@ constexpr uint32_t kCounterMask = (1u << kCounterBits) - 1;
 constexpr uint32_t kMaxSlots = 0x7FFFFFFEu;
 constexpr double kMaxCoordinate = 1e15;
 constexpr double kUnitTolerance = 1e-6;
+// Level radius: the largest stretch an accepted quaternion can give is
+// 1 + 2e-6 (see rotation_stretch), the offsets' rounding to float adds
+// 2^-23 at most; the rest is slack for the rounding of the offsets.
+constexpr double kLevelInflation = 1 + 4e-6;
 
 // Sorts pair keys (a << 32 | b) ascending: least significant digit first,
 // on the keys packed as a << w | b (w the bits of the largest b: 40 bits in
@@ -356,11 +360,9 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
     user_data_[i] = d.user_data;
-    // (The largest stretch an accepted quaternion can give is 1 + 2e-6, see
-    // rotation_stretch; the offsets' rounding to float adds 2^-23 at most;
-    // the rest is slack for the rounding of the offsets themselves.)
+    // (Every vertex is within |centre| + radius of the mesh origin.)
     const double centre = std::sqrt(m.center[0] * m.center[0] + m.center[1] * m.center[1] + m.center[2] * m.center[2]);
-    r_level_[i] = d.scale * (centre + m.radius) * (1 + 4e-6);
+    r_level_[i] = d.scale * (centre + m.radius) * kLevelInflation;
     set_box_offsets(i);
     body_gen_[slot] = (tag_ << kCounterBits) | ((body_gen_[slot] + 1) & kCounterMask);
     live_gen_[slot] = body_gen_[slot];
@@ -480,12 +482,8 @@ void World::set_box_offsets(size_t s) {
     }
     float *o = &box_off_[6 * s];
     for (int k = 0; k < 3; ++k) {
-        float f = float(lo[k]);
-        if (double(f) > lo[k]) f = std::nextafter(f, -INFINITY);
-        o[k] = f;
-        f = float(hi[k]);
-        if (double(f) < hi[k]) f = std::nextafter(f, INFINITY);
-        o[3 + k] = f;
+        o[k] = float_at_most(lo[k]);
+        o[3 + k] = float_at_least(hi[k]);
     }
 }
 
@@ -493,9 +491,9 @@ Boxes World::boxes() const { return Boxes{point_.data(), box_off_.data()}; }
 
 // Storage in the grid's sweep order again once a fifth of it is out of
 // order (bodies that changed rows since, or the order of creation the first
-// time); before the motion, so that it moves storage in order. Not right after the grid
-// was rebuilt: its levels may still be settling (coarsening), and each new
-// set of levels is a new order; but right after the first detect, whose
+// time); before the motion, so that it moves storage in order. Not right
+// after the grid was rebuilt: its levels may still be settling
+// (coarsening), and each new set of levels is a new order; but right after the first detect, whose
 // levels come from an estimate that is usually right (grid_limits): the
 // first ticks then read in sequence too (on tetra at n = 750000, 1 thread,
 // the first two ticks took 525 ms where they took 550: the first tick
@@ -518,10 +516,12 @@ void World::renumber_if_disordered() {
 //
 // Before the first detect there is no count yet: it is estimated from the
 // boxes as if their positions were spread evenly over their bounding box
-// (estimated_candidates_per_body), which the real count soon corrects. Without it the first detect built the finer levels
-// and the first step rebuilt the grid coarsened: on tetra at n = 750000 the
-// estimate is 1.44 (the count 1.43); the first detect takes 360 ms where
-// it took 510, and the first step 235 where it took 340 (1 thread).
+// (estimated_candidates_per_body), which the real count soon corrects.
+// Without it the first detect built the finer levels and the first step
+// rebuilt the grid coarsened: on tetra at n = 750000 (measured with
+// spheres, whose estimate was 1.44 against a count of 1.43) the first
+// detect took 360 ms where it took 510, and the first step 235 where it
+// took 340 (1 thread).
 GridLimits World::grid_limits(int threads) {
     const double per_body = candidates_per_body_ >= 0 ? candidates_per_body_ : estimated_candidates_per_body(threads);
     if (per_body >= 0) coarse_grid_ = coarse_grid_ ? per_body <= 6 : per_body < 3;
@@ -538,7 +538,7 @@ double World::estimated_candidates_per_body(int threads) const {
     reduction(min : lo[:3]) reduction(max : hi[:3]) reduction(+ : a1, a2, a3, count)
     for (int64_t s = 0; s < n; ++s) {
         if (!stored_gen_[s]) continue;
-        const double *p = place_[s].position;
+        const double *p = &point_[3 * s];
         const float *o = &box_off_[6 * s];
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::min(lo[k], p[k]);

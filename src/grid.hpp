@@ -36,9 +36,11 @@
 // rows. The world keeps its bodies' storage in the residents' order (order(),
 // renumber()), so the update's reads run nearly in sequence.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace hgcd {
@@ -85,6 +87,42 @@ struct GridLimits {
     bool coarsen = false;
 };
 
+// One thread's candidate pairs. Its storage is not initialised as it grows,
+// and the sweeps write whole blocks into room() before counting the pairs
+// among them (commit), so that their hot loop has no branch per pair. Aligned
+// to its own cache lines: every thread updates its size all the time.
+class alignas(64) PairBuffer {
+  public:
+    size_t size() const { return size_; }
+    size_t capacity() const { return capacity_; }
+    bool empty() const { return size_ == 0; }
+    const uint64_t *begin() const { return data_.get(); }
+    const uint64_t *end() const { return data_.get() + size_; }
+    uint64_t operator[](size_t k) const { return data_[k]; }
+    void clear() { size_ = 0; }
+    // At least k writable places past the end (may throw bad_alloc).
+    uint64_t *room(size_t k) {
+        if (capacity_ - size_ < k) grow(k);
+        return data_.get() + size_;
+    }
+    void commit(size_t k) { size_ += k; }  // the first k places of room() are pairs
+    void push_back(uint64_t pair) {
+        *room(1) = pair;
+        ++size_;
+    }
+
+  private:
+    void grow(size_t k) {
+        const size_t cap = std::max(2 * capacity_, size_ + k + 4096);
+        std::unique_ptr<uint64_t[]> bigger(new uint64_t[cap]);  // (left uninitialised)
+        std::copy(begin(), end(), bigger.get());
+        data_ = std::move(bigger);
+        capacity_ = cap;
+    }
+    std::unique_ptr<uint64_t[]> data_;
+    size_t size_ = 0, capacity_ = 0;
+};
+
 struct GridUpdateStats {
     uint64_t moved = 0;  // bodies that changed row or membership
     bool rebuilt = false;
@@ -103,7 +141,7 @@ class Grid {
     // overlap (closed intervals on every axis), once, in either order (the
     // sweeps' hot loop does not order them: its consumers do). out must have
     // one vector per thread. boxes: as given to the last update.
-    void find_pairs(const Boxes &boxes, int threads, std::vector<std::vector<uint64_t>> &out) const;
+    void find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &out) const;
 
     // The slots of every body in the grid, each once, in sweep order: the
     // residents of each level as their lists hold them, then the oversize.
@@ -147,22 +185,28 @@ class Grid {
     struct BoxArrays {
         const double *l, *hx, *ly, *hy, *lz, *hz;  // box: l is the low x (sweep order)
         const double *reach;  // largest high x so far in the row
+        const uint32_t *slot;  // the entry's body
     };
 
   private:
     struct List {
         std::vector<Entry> entries;   // sorted by (key, left end)
         std::vector<Entry> spare;     // what update_lists writes the next entries into
-        // Boxes of entries, same order, as arrays (padded at the end), and
-        // the largest high x of the entries of the row up to each (a floor
-        // for the sweeps that does not depend on the largest box).
+        // Boxes of entries, same order, as arrays (padded at the end), the
+        // largest high x of the entries of the row up to each (a floor for
+        // the sweeps that does not depend on the largest box), and the
+        // entries' slots again (what a sweep reports: 4 bytes an entry beside
+        // the boxes it reads, where the 20-byte entries took a cache miss
+        // per pair).
         std::vector<double> bl, bhx, bly, bhy, blz, bhz, breach;
+        std::vector<uint32_t> bslot;
         // The occupied rows: distinct keys in order, and where each row's
         // entries start (one more than rows, ending with entries.size()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
         BoxArrays arrays() const {
-            return BoxArrays{bl.data(), bhx.data(), bly.data(), bhy.data(), blz.data(), bhz.data(), breach.data()};
+            return BoxArrays{bl.data(),  bhx.data(), bly.data(),    bhy.data(),
+                             blz.data(), bhz.data(), breach.data(), bslot.data()};
         }
     };
     struct Level {
@@ -202,13 +246,13 @@ class Grid {
     void cell_at(const double *p, int level_index, int64_t *cell) const;
     // Pairs of the rows [begin, end) of a level's residents (or guests).
     void sweep_residents(const Level &lv, size_t begin, size_t end,
-                         std::vector<uint64_t> &out) const;
+                         PairBuffer &out) const;
     void sweep_guests(const Level &lv, size_t begin, size_t end,
-                      std::vector<uint64_t> &out) const;
+                      PairBuffer &out) const;
     // Pairs of the box [lo, hi] (body slot) with the residents of levels
     // [0, level_end), by range queries over their rows.
     void query_levels(const double *lo, const double *hi, uint32_t slot, size_t level_end,
-                      std::vector<uint64_t> &out) const;
+                      PairBuffer &out) const;
 
     std::vector<Level> levels_;       // ascending exponent
     std::vector<uint32_t> oversize_;  // slots, ascending

@@ -94,7 +94,7 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
             }
             grid.update(boxes, r_level.data(), gen.data(), n, limits, threads);
         }
-        std::vector<std::vector<uint64_t>> found(threads);
+        std::vector<hgcd::PairBuffer> found(threads);
         grid.find_pairs(boxes, threads, found);
         std::vector<uint64_t> all;
         for (auto &f : found)

@@ -581,7 +581,7 @@ hgcd_status World::detect_with(bool renumbered) {
 
         // Kept across detects: a tick's candidates need not grow fresh
         // buffers (and fault in fresh pages) every time.
-        std::vector<std::vector<uint64_t>> &found = candidates_;
+        std::vector<PairBuffer> &found = candidates_;
         found.resize(size_t(T));
         for (auto &f : found) f.clear();
         grid_.find_pairs(boxes(), T, found);
@@ -631,7 +631,7 @@ hgcd_status World::detect_with(bool renumbered) {
             std::vector<hgcd_contact> &mine_contacts = hit_contacts[me];
 #pragma omp for schedule(dynamic, 1)
             for (int64_t c = 0; c < int64_t(chunks.size()); ++c) guard.run([&] {
-                const std::vector<uint64_t> &list = found[chunks[c].list];
+                const PairBuffer &list = found[chunks[c].list];
                 const size_t end = chunks[c].end;
                 for (size_t k = chunks[c].begin; k < end; ++k) {
                     if (k + 8 < end) {  // the bodies of a later pair, to hide the latency
@@ -937,7 +937,8 @@ hgcd_status World::step() {
 
 size_t World::memory_bytes() const {
     size_t bytes = grid_.memory_bytes() + pairs_.capacity() * sizeof(hgcd_pair);
-    for (const auto *lists : {&candidates_, &hits_, &sort_scratch_})
+    for (const PairBuffer &c : candidates_) bytes += c.capacity() * sizeof(uint64_t);
+    for (const auto *lists : {&hits_, &sort_scratch_})
         for (const auto &c : *lists) bytes += c.capacity() * sizeof(uint64_t);
     bytes += contacts_.capacity() * sizeof(hgcd_contact);
     bytes += place_.capacity() * sizeof(Placement);

@@ -131,7 +131,7 @@ class World {
     uint32_t live_bodies_ = 0;
 
     Grid grid_;
-    std::vector<std::vector<uint64_t>> candidates_;  // per thread, one detect's candidate pairs
+    std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs
     std::vector<std::vector<uint64_t>> hits_, sort_scratch_;  // per thread, its colliding pairs (keys)
     // Candidate pairs per body of the last successful detect (-1: none yet),
     // and whether the grid is coarsened (grid_limits).

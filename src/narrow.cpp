@@ -949,11 +949,17 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
     TetSides suv, svu;  // v's vertices against u's faces, and u's against v's
     K::planes(*u, ex, ey, ez, pu);
     if (K::sides_separate(*u, pu, *v, suv)) return Contact::None;
+    // A vertex of v strictly inside u is a common point: no face of v can
+    // separate them, and v's verdict cannot differ (v wholly inside u's
+    // interior leaves no vertex of u inside v).
+    const int vu = tet_verdict(suv);
+    if (vu == 2) return Contact::Surface;
+    if (vu == 1) return Contact::Containment;
     K::planes(*v, ex, ey, ez, pv);
     if (K::sides_separate(*v, pv, *u, svu)) return Contact::None;
-    const int vu = tet_verdict(suv), vv = tet_verdict(svu);
-    if (vu == 2 || vv == 2) return Contact::Surface;
-    if (vu == 1 || vv == 1) return Contact::Containment;
+    const int vv = tet_verdict(svu);
+    if (vv == 2) return Contact::Surface;
+    if (vv == 1) return Contact::Containment;
     if (K::edges_separate(*u, *v, cu, cv, ex, ey, ez)) return Contact::None;
     return collide_tetra_exact(*u, *v, suv, svu, scratch);
 }

@@ -443,12 +443,13 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
 //
 // Before any world vertex is computed, a separating axis along the line of
 // centres rejects most pairs that are apart (tet_axis_separates), then the
-// exact vertex boxes. Decisions, in order: a face plane of one body with all
-// of the other body strictly on its outer side: no contact. A vertex of B
+// exact vertex boxes. Decisions, in order, first with the faces of A (the
+// larger box) and the vertices of B, then the other way round: a face plane
+// of A with all of B strictly on its outer side: no contact. A vertex of B
 // strictly inside A and one strictly outside: B's surface (connected,
 // containing the edge between them) crosses A's boundary: Surface. All of B
 // strictly inside A: Containment (B's hull in A's open interior, surfaces
-// apart). The same with A and B swapped. Anything else (edge crossings,
+// apart). Either verdict makes B's faces needless. Anything else (edge crossings,
 // touching, undecided filters) makes every sign exact, takes the same
 // decisions, then runs the exact triangle test on the face pairs with those
 // signs; if no pair meets, there is no contact (a solid holding the other's

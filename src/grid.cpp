@@ -55,6 +55,9 @@ inline double pow2(int k) {
     return d;
 }
 
+// 2^k for any k a level can have (cell widths).
+inline double cell_width(int k) { return k > -1000 && k < 1000 ? pow2(k) : std::ldexp(1.0, k); }
+
 inline int64_t cell_coord(double x, int exponent) {
     // x * 2^-e is exact (a power-of-two scale) unless it leaves the normal
     // range, where ldexp keeps it exact too.
@@ -95,10 +98,7 @@ inline size_t first_row(const std::vector<CellKey> &keys, CellKey target) {
     return size_t(std::lower_bound(keys.begin(), keys.end(), target) - keys.begin());
 }
 
-inline uint64_t pair_key(uint32_t a, uint32_t b) {
-    return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
-}
-
+// (A template so that Grid's members can name their private Keyed.)
 template <class T>
 struct ByRowX {
     bool operator()(const T &a, const T &b) const {
@@ -206,7 +206,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
                         const int e = std::max(ceil_log2(h2), limits.min_exponent);
                         exponent_[s] = int16_t(e);
                         // (Rounded down to float; 0 when it is not positive: oversize.)
-                        const double slack = (e > -1000 && e < 1000 ? pow2(e) : std::ldexp(1.0, e)) - h2;
+                        const double slack = cell_width(e) - h2;
                         slack_[s] = std::max(float_at_most(slack), 0.0f);
                     }
                     e = exponent_of(s);
@@ -687,6 +687,10 @@ inline bool box_meets(const double *lo, const double *hi, const Grid::BoxArrays 
     return B.l[j] <= hi[0] && lo[0] <= B.hx[j] && B.ly[j] <= hi[1] && lo[1] <= B.hy[j] && B.lz[j] <= hi[2] &&
            lo[2] <= B.hz[j];
 }
+// The same for two boxes (low x y z, high x y z).
+inline bool boxes_meet(const double *a, const double *b) {
+    return b[0] <= a[3] && a[0] <= b[3] && b[1] <= a[4] && a[1] <= b[4] && b[2] <= a[5] && a[2] <= b[5];
+}
 
 // The pairs of box `slot` (its lanes) with the entries [j, e) of a list up
 // to the block holding the first whose low x passes `right` (none after it
@@ -876,7 +880,7 @@ void Grid::query_levels(const double *lo, const double *hi, uint32_t slot, size_
         // its box, so within w / 2 of [lo, hi], and its low x at least lo_x
         // less w (its box is at most w wide). Widened past the rounding of
         // these bounds, which grows with the coordinates.
-        const double w = lv.exponent > -1000 && lv.exponent < 1000 ? pow2(lv.exponent) : std::ldexp(1.0, lv.exponent);
+        const double w = cell_width(lv.exponent);
         auto wide = [&](double v, double d) { return v + d * (1 + 1e-9) + (d < 0 ? -1 : 1) * std::fabs(v) * 0x1p-50; };
         const int e = lv.exponent + kRowShift;
         const uint64_t ly = clamp_bias(cell_coord(wide(lo[1], -w / 2), e)), hy = clamp_bias(cell_coord(wide(hi[1], w / 2), e));
@@ -961,8 +965,7 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
                 for (size_t j = i + 1; j < m; ++j) {
                     const double *B = &b[6 * order[j]];
                     if (B[0] > A[3]) break;
-                    if (B[1] <= A[4] && A[1] <= B[4] && B[2] <= A[5] && A[2] <= B[5])
-                        mine.push_back(pair_key(oversize_[order[i]], oversize_[order[j]]));
+                    if (boxes_meet(A, B)) mine.push_back(pair_key(oversize_[order[i]], oversize_[order[j]]));
                 }
             }
         }

@@ -77,6 +77,12 @@ struct Boxes {
     }
 };
 
+// The key of the pair {a, b}: the lower slot in the high half (the order the
+// world reports and the sweeps' consumers sort by).
+inline uint64_t pair_key(uint32_t a, uint32_t b) {
+    return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
+}
+
 struct GridLimits {
     int min_exponent;  // INT32_MIN: none
     int max_exponent;  // INT32_MAX: none
@@ -95,7 +101,6 @@ class alignas(64) PairBuffer {
   public:
     size_t size() const { return size_; }
     size_t capacity() const { return capacity_; }
-    bool empty() const { return size_ == 0; }
     const uint64_t *begin() const { return data_.get(); }
     const uint64_t *end() const { return data_.get() + size_; }
     uint64_t operator[](size_t k) const { return data_[k]; }
@@ -140,7 +145,7 @@ class Grid {
     // Appends to out[thread] every pair (a << 32 | b) of bodies whose boxes
     // overlap (closed intervals on every axis), once, in either order (the
     // sweeps' hot loop does not order them: its consumers do). out must have
-    // one vector per thread. boxes: as given to the last update.
+    // one buffer per thread. boxes: as given to the last update.
     void find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &out) const;
 
     // The slots of every body in the grid, each once, in sweep order: the
@@ -190,7 +195,7 @@ class Grid {
 
   private:
     struct List {
-        std::vector<Entry> entries;   // sorted by (key, left end)
+        std::vector<Entry> entries;   // sorted by (key, low x)
         std::vector<Entry> spare;     // what update_lists writes the next entries into
         // Boxes of entries, same order, as arrays (padded at the end), the
         // largest high x of the entries of the row up to each (a floor for

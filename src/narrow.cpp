@@ -873,8 +873,10 @@ __attribute__((noinline)) HGCD_TET_CLONES bool tet_edges_separate_v2(const TetWo
 }
 
 // Separating axis along the line of centres (the bodies' positions), tested
-// before any world vertex is computed: on scene tetra it rejects 56% of the
-// candidate pairs (the vertex boxes 31%, both 59%). Any axis u proves the hulls
+// before any world vertex is computed: on scene tetra at n = 750000 it rejects
+// 47% of the broad phase's box candidates (the exact vertex boxes after it
+// almost none: the broad phase's boxes are the same, rounded outward to
+// float; with sphere candidates the figures were 56% and 31%). Any axis u proves the hulls
 // of two point sets disjoint when their projections on it are strictly apart,
 // so u = fl(c_b - c_a) need not be exact, and touching sets are never rejected.
 // The projection of a world vertex w = fl(c + fl(R l)) (tet_world) is u.c +
@@ -928,7 +930,9 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
     TetWorld ta, tb;
     K::template world<0>(a, r, la, ta);
     K::template world<1>(b, r, lb, tb);
-    // Exact prefilter: the solids lie inside these boxes.
+    // Exact prefilter: the solids lie inside these boxes. (Behind the broad
+    // phase's boxes it only catches pairs within a float step of touching;
+    // the boxes are needed below anyway.)
     if (ta.hi[0] < tb.lo[0] || tb.hi[0] < ta.lo[0] || ta.hi[1] < tb.lo[1] || tb.hi[1] < ta.lo[1] ||
         ta.hi[2] < tb.lo[2] || tb.hi[2] < ta.lo[2])
         return Contact::None;

@@ -4,7 +4,6 @@
 #include <cstddef>
 
 #include <algorithm>
-#include <cmath>
 #include <climits>
 #include <vector>
 
@@ -98,10 +97,8 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
         grid.find_pairs(boxes, threads, found);
         std::vector<uint64_t> all;
         for (auto &f : found)
-            for (const uint64_t key : f) {  // (lo << 32 | hi: the grid gives either order)
-                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
-                all.push_back(a < b ? key : (uint64_t(b) << 32) | a);
-            }
+            for (const uint64_t key : f)  // (the grid gives either order)
+                all.push_back(hgcd::pair_key(uint32_t(key >> 32), uint32_t(key)));
         std::sort(all.begin(), all.end());
         std::copy_n(all.begin(), std::min<uint64_t>(cap, all.size()), out);
         return int64_t(all.size());

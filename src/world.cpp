@@ -502,8 +502,7 @@ Boxes World::boxes() const { return Boxes{point_.data(), box_off_.data()}; }
 // every ~18 ticks at 750k; when renumbering came, the mean tick over 40
 // ticks went 290 -> 244 ms (thresholds of 5% to 40% all gave 243-246 ms).
 void World::renumber_if_disordered() {
-    if ((!grid_rebuilt_ || first_levels_) && grid_.disorder() * 5 > live_bodies_) renumber();
-    first_levels_ = false;
+    if (!grid_rebuilt_ && grid_.disorder() * 5 > live_bodies_) renumber();
 }
 
 // The grid's limits for this detect. Coarsening (GridLimits::coarsen) is
@@ -576,7 +575,7 @@ hgcd_status World::detect_with(bool renumbered) {
         if (!renumbered) renumber_if_disordered();
         const uint32_t stored = uint32_t(stored_gen_.size());
         const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(), stored, grid_limits(T), T);
-        grid_rebuilt_ = us.rebuilt;
+        grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)
         const double t1 = omp_get_wtime();
 
         // Kept across detects: a tick's candidates need not grow fresh
@@ -672,8 +671,7 @@ hgcd_status World::detect_with(bool renumbered) {
                         hit = collide(pa, pb, scratch);
                     }
                     if (hit != Contact::None) {
-                        const uint64_t sa = slot_of_[a], sb = slot_of_[b];
-                        mine.push_back(sa < sb ? sa << 32 | sb : sb << 32 | sa);
+                        mine.push_back(pair_key(slot_of_[a], slot_of_[b]));
                         if (want_contacts) mine_contacts.push_back(contact);
                         if (hit == Contact::Containment) ++containment[me];
                     }
@@ -767,7 +765,6 @@ hgcd_status World::detect_with(bool renumbered) {
         stats_.broad_seconds = t2 - t1;
         stats_.narrow_seconds = t3 - t2;
         stats_.total_seconds = t3 - t0;
-        first_levels_ = first_detect;
     } catch (...) {
         // The grid may be half updated: drop it, the next detect rebuilds it.
         grid_ = Grid();
@@ -889,7 +886,7 @@ hgcd_status World::step() {
         for (int64_t s = 0; s < n; ++s) {
             if (!stored_gen_[s]) continue;
             for (int k = 0; k < 3; ++k) {
-                const double x = place_[s].position[k] + velocity_[3 * s + k] * dt;
+                const double x = point_[3 * s + k] + velocity_[3 * s + k] * dt;
                 if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, int64_t(slot_of_[s]));
             }
         }

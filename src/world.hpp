@@ -137,8 +137,7 @@ class World {
     // and whether the grid is coarsened (grid_limits).
     double candidates_per_body_ = -1;
     bool coarse_grid_ = false;
-    bool grid_rebuilt_ = true;  // by the last detect (renumber waits for an incremental one)
-    bool first_levels_ = false;  // the last detect was the world's first (renumber need not wait)
+    bool grid_rebuilt_ = true;  // by the last detect, after its first (renumber waits for an incremental one)
     std::vector<hgcd_pair> pairs_;
     std::vector<hgcd_contact> contacts_;  // parallel to pairs_ when contacts_recorded_
     hgcd_stats stats_{};

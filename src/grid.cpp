@@ -20,6 +20,40 @@ namespace hgcd {
 
 namespace {
 
+// Body s's box [fl(p + low), fl(p + high)] rounded outward to float (the
+// nearest float, one step out where it falls inside): what the lists hold,
+// half the bytes of doubles and four boxes to a vector compare. SSE2
+// converts two at a time in whole registers: scalar cvtsd2ss keeps the rest
+// of its destination register, which chained every conversion of a gather
+// (update 22 -> 39 ms, tetra 750k). Rounded down as integers: a float's
+// bits step down by 1 when it is positive and up by 1 when negative (-0
+// included), so the highs are rounded down negated.
+inline void float_box(const Boxes &boxes, uint32_t s, float *lo, float *hi) {
+    double dlo[3], dhi[3];
+    boxes.at(s, dlo, dhi);
+#if defined(__SSE2__)
+    auto down2 = [](__m128d x) {
+        const __m128 f = _mm_cvtpd_ps(x);
+        const __m128i above =
+            _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmpgt_pd(_mm_cvtps_pd(f), x)), _MM_SHUFFLE(3, 3, 2, 0));
+        const __m128i bits = _mm_castps_si128(f);
+        const __m128i step = _mm_and_si128(_mm_or_si128(_mm_srai_epi32(bits, 31), _mm_set1_epi32(1)), above);
+        return _mm_castsi128_ps(_mm_sub_epi32(bits, step));
+    };
+    alignas(16) float t[12];
+    _mm_store_ps(t, down2(_mm_set_pd(dlo[1], dlo[0])));
+    _mm_store_ps(t + 4, down2(_mm_set_pd(-dhi[0], dlo[2])));
+    _mm_store_ps(t + 8, down2(_mm_set_pd(-dhi[2], -dhi[1])));
+    lo[0] = t[0], lo[1] = t[1], lo[2] = t[4];
+    hi[0] = -t[5], hi[1] = -t[8], hi[2] = -t[9];
+#else
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = float_at_most(dlo[k]);
+        hi[k] = float_at_least(dhi[k]);
+    }
+#endif
+}
+
 // Row coordinates (y and z) are kept in 42 bits each so a row key packs into
 // 128 bits. Clamping is monotone and never increases a difference, so two
 // bodies in neighbouring rows stay in neighbouring (or equal) rows: far-away
@@ -439,7 +473,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     for (int64_t k = 0; k < int64_t(work.size()); ++k) {
         const Work &wk = work[k];
         const Entry *E = wk.list->entries.data();
-        const double *X = wk.list->bl.data();  // the entries' low x, as of the last gather
+        const float *X = wk.list->bl.data();  // the entries' low x, as of the last gather
         const Keyed *A = wk.add->data();
         Entry *O = wk.list->spare.data();
         // Does add a go before entry i?
@@ -490,7 +524,7 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
         // Padded so that the sweep may read past the end.
         for (auto *v : {&list->bl, &list->bhx, &list->bly, &list->bhy, &list->blz, &list->bhz, &list->breach}) {
             v->resize(m + kPad);
-            std::fill(v->begin() + std::ptrdiff_t(m), v->end(), 0.0);
+            std::fill(v->begin() + std::ptrdiff_t(m), v->end(), 0.0f);
         }
         list->bslot.resize(m + kPad);
         std::fill(list->bslot.begin() + std::ptrdiff_t(m), list->bslot.end(), 0u);
@@ -517,7 +551,7 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
         List &list = *parts[p].list;
         Entry *E = list.entries.data();
-        double *L = list.bl.data(), *HX = list.bhx.data(), *LY = list.bly.data(), *HY = list.bhy.data(),
+        float *L = list.bl.data(), *HX = list.bhx.data(), *LY = list.bly.data(), *HY = list.bhy.data(),
                *LZ = list.blz.data(), *HZ = list.bhz.data(), *P = list.breach.data();
         uint32_t *S = list.bslot.data();
         const size_t b = parts[p].begin, e = parts[p].end;
@@ -549,8 +583,8 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
                 __builtin_prefetch(boxes.point(E[k + 16].slot));
                 __builtin_prefetch(boxes.off + 6 * size_t(E[k + 16].slot));
             }
-            double lo[3], hi[3];
-            boxes.at(en.slot, lo, hi);
+            float lo[3], hi[3];
+            float_box(boxes, en.slot, lo, hi);
             size_t j = k;
             if (!whole)
                 for (; j > row_b && lo[0] < L[j - 1]; --j) {
@@ -602,14 +636,14 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
 // Sorts the entries [b, e) of a row outright by low x (then slot).
 void Grid::sort_row(List &list, size_t b, size_t e) {
     Entry *E = list.entries.data();
-    double *A[6] = {list.bl.data(), list.bhx.data(), list.bly.data(), list.bhy.data(), list.blz.data(), list.bhz.data()};
-    const double *L = A[0];
+    float *A[6] = {list.bl.data(), list.bhx.data(), list.bly.data(), list.bhy.data(), list.blz.data(), list.bhz.data()};
+    const float *L = A[0];
     std::vector<uint32_t> order(e - b);
     for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
     std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
         return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && E[b + p].slot < E[b + q].slot);
     });
-    std::vector<double> t(order.size());
+    std::vector<float> t(order.size());
     for (int a = 0; a < 6; ++a) {
         for (size_t k = 0; k < order.size(); ++k) t[k] = A[a][b + order[k]];
         std::copy(t.begin(), t.end(), A[a] + b);
@@ -618,7 +652,7 @@ void Grid::sort_row(List &list, size_t b, size_t e) {
     for (size_t k = 0; k < order.size(); ++k) te[k] = E[b + order[k]];
     std::copy(te.begin(), te.end(), E + b);
     for (size_t k = b; k < e; ++k) list.bslot[k] = E[k].slot;
-    double most = -INFINITY;
+    float most = -INFINITY;
     for (size_t k = b; k < e; ++k) list.breach[k] = most = std::max(most, list.bhx[k]);
 }
 
@@ -640,44 +674,38 @@ inline CellKey row_step(int dz, int dy) {
 
 // One box against kBlock = 4 consecutive boxes of a row: bit k of the
 // result is set when box k overlaps it (closed intervals on every axis).
-// SSE2 on x86-64 (two lanes twice), vector extensions elsewhere (NEON on
-// arm64). No window test: the windows only prune (every pair a sweep may
+// SSE2 on x86-64, vector extensions elsewhere (NEON on arm64). No window test: the windows only prune (every pair a sweep may
 // test is one it owns, see sweep_residents), so they bound where a scan
 // starts and stops, no more.
 #if defined(__SSE2__)
 struct Lanes {
-    __m128d lx, hx, ly, hy, lz, hz;
+    __m128 lx, hx, ly, hy, lz, hz;
     Lanes(const Grid::BoxArrays &A, size_t i)
-        : lx(_mm_set1_pd(A.l[i])), hx(_mm_set1_pd(A.hx[i])), ly(_mm_set1_pd(A.ly[i])), hy(_mm_set1_pd(A.hy[i])),
-          lz(_mm_set1_pd(A.lz[i])), hz(_mm_set1_pd(A.hz[i])) {}
-    unsigned two(const Grid::BoxArrays &B, size_t j) const {
-        const __m128d in_x = _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(B.l + j), hx), _mm_cmple_pd(lx, _mm_loadu_pd(B.hx + j)));
-        const __m128d in_y = _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(B.ly + j), hy), _mm_cmple_pd(ly, _mm_loadu_pd(B.hy + j)));
-        const __m128d in_z = _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(B.lz + j), hz), _mm_cmple_pd(lz, _mm_loadu_pd(B.hz + j)));
-        return unsigned(_mm_movemask_pd(_mm_and_pd(in_x, _mm_and_pd(in_y, in_z))));
+        : lx(_mm_set1_ps(A.l[i])), hx(_mm_set1_ps(A.hx[i])), ly(_mm_set1_ps(A.ly[i])), hy(_mm_set1_ps(A.hy[i])),
+          lz(_mm_set1_ps(A.lz[i])), hz(_mm_set1_ps(A.hz[i])) {}
+    unsigned test(const Grid::BoxArrays &B, size_t j) const {
+        const __m128 in_x = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(B.l + j), hx), _mm_cmple_ps(lx, _mm_loadu_ps(B.hx + j)));
+        const __m128 in_y = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(B.ly + j), hy), _mm_cmple_ps(ly, _mm_loadu_ps(B.hy + j)));
+        const __m128 in_z = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(B.lz + j), hz), _mm_cmple_ps(lz, _mm_loadu_ps(B.hz + j)));
+        return unsigned(_mm_movemask_ps(_mm_and_ps(in_x, _mm_and_ps(in_y, in_z))));
     }
-    unsigned test(const Grid::BoxArrays &B, size_t j) const { return two(B, j) | two(B, j + 2) << 2; }
 };
 #else
-typedef double V2 __attribute__((vector_size(16)));
-typedef int64_t M2 __attribute__((vector_size(16)));
-inline V2 load2(const double *p) {
-    V2 v;
+typedef float V4 __attribute__((vector_size(16)));
+typedef int32_t M4 __attribute__((vector_size(16)));
+inline V4 load4(const float *p) {
+    V4 v;
     std::memcpy(&v, p, sizeof v);
     return v;
 }
 struct Lanes {
-    double lx, hx, ly, hy, lz, hz;
+    float lx, hx, ly, hy, lz, hz;
     Lanes(const Grid::BoxArrays &A, size_t i)
         : lx(A.l[i]), hx(A.hx[i]), ly(A.ly[i]), hy(A.hy[i]), lz(A.lz[i]), hz(A.hz[i]) {}
     unsigned test(const Grid::BoxArrays &B, size_t j) const {
-        unsigned hits = 0;
-        for (int h = 0; h < kBlock; h += 2) {
-            const M2 in = (load2(B.l + j + h) <= hx) & (lx <= load2(B.hx + j + h)) & (load2(B.ly + j + h) <= hy) &
-                          (ly <= load2(B.hy + j + h)) & (load2(B.lz + j + h) <= hz) & (lz <= load2(B.hz + j + h));
-            hits |= unsigned((in[0] & 1) | (in[1] & 2)) << h;
-        }
-        return hits;
+        const M4 in = (load4(B.l + j) <= hx) & (lx <= load4(B.hx + j)) & (load4(B.ly + j) <= hy) &
+                      (ly <= load4(B.hy + j)) & (load4(B.lz + j) <= hz) & (lz <= load4(B.hz + j));
+        return unsigned((in[0] & 1) | (in[1] & 2) | (in[2] & 4) | (in[3] & 8));
     }
 };
 #endif
@@ -698,7 +726,7 @@ inline bool boxes_meet(const double *a, const double *b) {
 // masked. Each block's four pairs are written and only the hits counted:
 // a branch per hit mispredicted often enough that this took the broad
 // phase from 63 to 59 ms (tetra 750k, 1 thread).
-inline void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t e, double right, uint32_t slot,
+inline void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t e, float right, uint32_t slot,
                  PairBuffer &out) {
     const uint64_t a = uint64_t(slot) << 32;  // (either order: see find_pairs)
     for (;; j += kBlock) {
@@ -719,7 +747,8 @@ inline void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t 
 // body of this level has its point p in its row and its box within w / 2 of
 // p (the level's cells fit it, see Grid::update), so a body of row y - 1 has
 // its box below the row's lower face plus w / 2, and the box [lo, hi] meets
-// it only if lo_y is below that too. Compared in row units, where v - c is
+// it only if lo_y is below that too (for the float box, which holds the
+// box: float-only overlaps may be skipped). Compared in row units, where v - c is
 // within 2^-53 of exact, and inflated past that. In a row at the edge of the
 // key range (far keys saturate: the row holds bodies that are not in it)
 // every box reaches every row.
@@ -759,7 +788,7 @@ class RowReach {
 inline void sweep_rows(const Grid::BoxArrays &A, const RowReach &row_reach, size_t ib, size_t ie,
                        const Grid::BoxArrays &B, const size_t *jb, const size_t *je, const uint8_t *need,
                        int rows, PairBuffer &out) {
-    const double *BL = B.l, *BP = B.reach;
+    const float *BL = B.l, *BP = B.reach;
     unsigned allowed[16];  // rows a box with these reach bits may meet
     for (unsigned f = 0; f < 16; ++f) {
         allowed[f] = 0;
@@ -774,7 +803,7 @@ inline void sweep_rows(const Grid::BoxArrays &A, const RowReach &row_reach, size
     for (size_t i = ib; i < ie && live; ++i) {
         unsigned mask = allowed[row_reach.bits(A.ly[i], A.hy[i], A.lz[i], A.hz[i])] & live;
         if (!mask) continue;
-        const double floor = A.l[i], right = A.hx[i];
+        const float floor = A.l[i], right = A.hx[i];
         const Lanes lanes(A, i);
         do {
             const int r = __builtin_ctz(mask);
@@ -824,7 +853,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end,
     for (size_t row = begin; row < end; ++row) {
         const size_t b = start[row], e = start[row + 1];
         for (size_t i = b; i + 1 < e; ++i) {
-            const double right = S.hx[i];
+            const float right = S.hx[i];
             if (S.l[i + 1] <= right) scan(Lanes(S, i), S, i + 1, e, right, S.slot[i], out);
         }
         size_t jb[4], je[4];
@@ -879,7 +908,8 @@ void Grid::query_levels(const double *lo, const double *hi, uint32_t slot, size_
         // A resident j meeting the box has its point p_j within w / 2 of
         // its box, so within w / 2 of [lo, hi], and its low x at least lo_x
         // less w (its box is at most w wide). Widened past the rounding of
-        // these bounds, which grows with the coordinates.
+        // these bounds, which grows with the coordinates, and past the
+        // float rounding of the list's low x (at most |x| 2^-23 below).
         const double w = cell_width(lv.exponent);
         auto wide = [&](double v, double d) { return v + d * (1 + 1e-9) + (d < 0 ? -1 : 1) * std::fabs(v) * 0x1p-50; };
         const int e = lv.exponent + kRowShift;
@@ -891,7 +921,7 @@ void Grid::query_levels(const double *lo, const double *hi, uint32_t slot, size_
                 if (box_meets(lo, hi, S, j)) out.push_back(pair_key(slot, S.slot[j]));
             continue;
         }
-        const double left = wide(lo[0], -w);
+        const double left = wide(lo[0], -w) - (std::fabs(lo[0]) + w) * 0x1p-22 - 0x1p-140;
         for (uint64_t z = lz; z <= hz; ++z) {
             for (uint64_t y = ly; y <= hy; ++y) {
                 const size_t k = first_row(R.row_keys, row_key(z, y));
@@ -1030,7 +1060,7 @@ size_t Grid::memory_bytes() const {
     for (const Level &lv : levels_)
         for (const List *list : {&lv.residents, &lv.guests})
             bytes += (list->entries.capacity() + list->spare.capacity()) * sizeof(Entry) +
-                     list->bl.capacity() * 7 * sizeof(double) + list->bslot.capacity() * sizeof(uint32_t) +
+                     list->bl.capacity() * 7 * sizeof(float) + list->bslot.capacity() * sizeof(uint32_t) +
                      (list->row_keys.capacity() * sizeof(CellKey) + list->row_start.capacity() * sizeof(uint32_t));
     return bytes;
 }

@@ -22,7 +22,10 @@
 // Within a level the grid is sparse in y and z and swept along x: a body is
 // keyed by its row, the (z, y) cell of p for cells two widths high and deep,
 // and each level keeps its residents and its guests as arrays of (row key,
-// body) sorted by key and, within a row, by the box's low x. Within its row
+// body) sorted by key and, within a row, by the box's low x, beside the
+// boxes rounded outward to float (supersets, so every pair of overlapping
+// boxes still overlaps, and the rows and windows derived from a float box
+// only widen; half the bytes of doubles, four boxes per SSE compare). Within its row
 // a body meets the later bodies up to its high x (sweep and prune); in the
 // 3x3 rows around it, only those its box comes within w / 2 of, within a
 // window along x from the first entry whose row's largest high x so far
@@ -144,8 +147,11 @@ class Grid {
 
     // Appends to out[thread] every pair (a << 32 | b) of bodies whose boxes
     // overlap (closed intervals on every axis), once, in either order (the
-    // sweeps' hot loop does not order them: its consumers do). out must have
-    // one buffer per thread. boxes: as given to the last update.
+    // sweeps' hot loop does not order them: its consumers do), and possibly
+    // pairs whose boxes overlap only once each bound is rounded outward to
+    // float (the lists' precision; never a pair whose float boxes are
+    // apart). out must have one buffer per thread. boxes: as given to the
+    // last update.
     void find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &out) const;
 
     // The slots of every body in the grid, each once, in sweep order: the
@@ -188,8 +194,8 @@ class Grid {
     };
   public:
     struct BoxArrays {
-        const double *l, *hx, *ly, *hy, *lz, *hz;  // box: l is the low x (sweep order)
-        const double *reach;  // largest high x so far in the row
+        const float *l, *hx, *ly, *hy, *lz, *hz;  // box: l is the low x (sweep order)
+        const float *reach;  // largest high x so far in the row
         const uint32_t *slot;  // the entry's body
     };
 
@@ -197,13 +203,13 @@ class Grid {
     struct List {
         std::vector<Entry> entries;   // sorted by (key, low x)
         std::vector<Entry> spare;     // what update_lists writes the next entries into
-        // Boxes of entries, same order, as arrays (padded at the end), the
-        // largest high x of the entries of the row up to each (a floor for
-        // the sweeps that does not depend on the largest box), and the
-        // entries' slots again (what a sweep reports: 4 bytes an entry beside
+        // Boxes of entries rounded outward to float, same order, as arrays
+        // (padded at the end), the largest high x of the entries of the row
+        // up to each (a floor for the sweeps that does not depend on the
+        // largest box), and the entries' slots again (what a sweep reports: 4 bytes an entry beside
         // the boxes it reads, where the 20-byte entries took a cache miss
         // per pair).
-        std::vector<double> bl, bhx, bly, bhy, blz, bhz, breach;
+        std::vector<float> bl, bhx, bly, bhy, blz, bhz, breach;
         std::vector<uint32_t> bslot;
         // The occupied rows: distinct keys in order, and where each row's
         // entries start (one more than rows, ending with entries.size()).

@@ -2,7 +2,8 @@
  * force: every pair of bodies whose boxes overlap (closed intervals on every
  * axis; a body (x, y, z, r) is the box [x + lo, x + hi] per axis with lo, hi
  * = -r, r rounded outward to float, as the hook builds it) must be reported,
- * and nothing else. Scenes aim at the grid's shortcuts: the dense coarse
+ * once, and nothing whose boxes do not overlap once rounded outward to float
+ * (as the grid's lists hold them). Scenes aim at the grid's shortcuts: the dense coarse
  * levels where the reach filter skips neighbouring rows, boxes touching
  * exactly across cell faces, positions on cell faces, far-out coordinates,
  * incremental updates after motion, several thread counts, with and without
@@ -21,10 +22,6 @@
 #include "../src/testing.h"
 #include "test_rng.h"
 
-static int cmp_u64(const void *a, const void *b) {
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
 
 /* r rounded outward to float: the nearest float, one step out if inside. */
 static double out_lo(double r) {
@@ -52,48 +49,100 @@ static int boxes_overlap(const double *a, const double *b, int *touch) {
     return meet;
 }
 
-/* Brute force over all pairs, sorted. */
-static uint64_t brute(const double *s, uint32_t n, uint64_t **out) {
-    uint64_t cap = 1024, m = 0;
-    uint64_t *p = malloc(cap * sizeof *p);
-    assert_non_null(p);
-    for (uint32_t i = 0; i < n; ++i)
-        for (uint32_t j = i + 1; j < n; ++j) {
-            if (boxes_overlap(s + 4 * (size_t)i, s + 4 * (size_t)j, NULL)) {
-                if (m == cap) {
-                    cap *= 2;
-                    p = realloc(p, cap * sizeof *p);
-                    assert_non_null(p);
-                }
-                p[m++] = ((uint64_t)i << 32) | j;
-            }
-        }
-    qsort(p, m, sizeof *p, cmp_u64);
-    *out = p;
-    return m;
+/* v rounded to a float at most, or at least, v. */
+static double float_down(double v) {
+    float f = (float)v;
+    if ((double)f > v) f = nextafterf(f, -INFINITY);
+    return (double)f;
+}
+static double float_up(double v) {
+    float f = (float)v;
+    if ((double)f < v) f = nextafterf(f, INFINITY);
+    return (double)f;
 }
 
-/* The grid's pairs for `after` (built from `before` first, if given) equal
- * brute force, for 1, 2 and 3 threads. Returns the pair count. */
+/* Whether boxes a and b (low x y z, high x y z) overlap. */
+static int boxes_meet(const double *a, const double *b) {
+    return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
+}
+
+/* Brute force over all pairs, sorted: those whose boxes overlap (*must)
+ * and those whose boxes overlap once each bound is rounded outward to
+ * float, as the grid's lists hold them (*may, a superset). */
+static uint64_t brute(const double *s, uint32_t n, uint64_t **must, uint64_t **may, uint64_t *may_count) {
+    double *box = malloc(12 * sizeof(double) * (n + 1));  /* per body: double box, float box */
+    assert_non_null(box);
+    for (uint32_t i = 0; i < n; ++i) {
+        const double *a = s + 4 * (size_t)i;
+        double *b = box + 12 * (size_t)i;
+        for (int k = 0; k < 3; ++k) {
+            b[k] = a[k] + out_lo(a[3]);
+            b[3 + k] = a[k] + out_hi(a[3]);
+            b[6 + k] = float_down(b[k]);
+            b[9 + k] = float_up(b[3 + k]);
+        }
+    }
+    uint64_t cap[2] = {1024, 1024}, m[2] = {0, 0};
+    uint64_t *p[2] = {malloc(cap[0] * sizeof(uint64_t)), malloc(cap[1] * sizeof(uint64_t))};
+    assert_non_null(p[0]);
+    assert_non_null(p[1]);
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t j = i + 1; j < n; ++j) {
+            const double *a = box + 12 * (size_t)i, *b = box + 12 * (size_t)j;
+            const int in[2] = {boxes_meet(a, b), boxes_meet(a + 6, b + 6)};
+            for (int t = 0; t < 2; ++t) {
+                if (!in[t]) continue;
+                if (m[t] == cap[t]) {
+                    cap[t] *= 2;
+                    p[t] = realloc(p[t], cap[t] * sizeof(uint64_t));
+                    assert_non_null(p[t]);
+                }
+                p[t][m[t]++] = ((uint64_t)i << 32) | j;
+            }
+        }
+    free(box);
+    *must = p[0];
+    *may = p[1];
+    *may_count = m[1];
+    return m[0];
+}
+
+/* The grid's pairs for `after` (built from `before` first, if given), for
+ * 1, 2 and 3 threads: sorted without duplicates, every pair whose boxes
+ * overlap, and none whose float-rounded boxes do not. Returns the count of
+ * pairs whose boxes overlap. */
 static uint64_t check(const double *before, const double *after, uint32_t n, const char *what) {
-    uint64_t *want;
-    const uint64_t m = brute(after, n, &want);
-    uint64_t *got = malloc((m + 16) * sizeof *got);
+    uint64_t *want, *may, may_count;
+    const uint64_t m = brute(after, n, &want, &may, &may_count);
+    uint64_t *got = malloc((may_count + 16) * sizeof *got);
     assert_non_null(got);
     for (int variant = 0; variant < 6; ++variant) {
         const int threads = 1 + variant % 3, coarsen = variant / 3;
-        const int64_t k = hgcdi_grid_pairs(before, after, n, threads, coarsen, got, m + 16);
-        if (k != (int64_t)m || memcmp(got, want, m * sizeof *got) != 0) {
-            uint64_t i = 0;
-            while (i < m && k > (int64_t)i && got[i] == want[i]) ++i;
-            fail_msg("%s, %d threads, coarsen %d: grid %lld pairs, brute force %llu; first difference at "
-                     "%llu: grid %llx, brute %llx", what, threads, coarsen, (long long)k, (unsigned long long)m,
-                     (unsigned long long)i, i < (uint64_t)k ? (unsigned long long)got[i] : 0ull,
-                     i < m ? (unsigned long long)want[i] : 0ull);
+        const int64_t k = hgcdi_grid_pairs(before, after, n, threads, coarsen, got, may_count + 16);
+        if (k < 0 || (uint64_t)k > may_count)
+            fail_msg("%s, %d threads, coarsen %d: grid %lld pairs, brute force at most %llu", what, threads,
+                     coarsen, (long long)k, (unsigned long long)may_count);
+        uint64_t w = 0, v = 0;
+        for (int64_t i = 0; i < k; ++i) {
+            if (i > 0 && got[i] <= got[i - 1])
+                fail_msg("%s, %d threads, coarsen %d: pair %llx reported twice", what, threads, coarsen,
+                         (unsigned long long)got[i]);
+            while (v < may_count && may[v] < got[i]) ++v;
+            if (v == may_count || may[v] != got[i])
+                fail_msg("%s, %d threads, coarsen %d: pair %llx reported, but not even its float boxes "
+                         "overlap", what, threads, coarsen, (unsigned long long)got[i]);
+            if (w < m && want[w] < got[i])
+                fail_msg("%s, %d threads, coarsen %d: pair %llx missed (%lld reported, %llu overlap)", what,
+                         threads, coarsen, (unsigned long long)want[w], (long long)k, (unsigned long long)m);
+            w += w < m && want[w] == got[i];
         }
+        if (w < m)
+            fail_msg("%s, %d threads, coarsen %d: pair %llx missed (%lld reported, %llu overlap)", what, threads,
+                     coarsen, (unsigned long long)want[w], (long long)k, (unsigned long long)m);
     }
     free(got);
     free(want);
+    free(may);
     return m;
 }
 
@@ -253,6 +302,36 @@ static void test_few_large_among_many(void **state) {
     free(b);
 }
 
+/* Far from the origin, where floats are 4 apart (x near 2^25): a few large
+ * boxes (so few that their level queries the finer one by range) each
+ * exactly touch a small box along x, whose low x is not a float. The range
+ * query (the small boxes spread over many rows, so that it visits rows
+ * rather than testing every box) must allow for the lists' boxes rounded
+ * outward below the bound it derives from the query box. */
+static void test_queries_far_out(void **state) {
+    (void)state;
+    enum { small = 8000, large = 8, n = small + 2 * large };
+    static double s[4 * n];
+    const double x0 = 0x1p25;
+    rng r = {53};
+    for (uint32_t i = 0; i < small; ++i) {
+        s[4 * i] = x0 - 300.0 + 600.0 * unif(&r);
+        s[4 * i + 1] = 400.0 * unif(&r);
+        s[4 * i + 2] = 400.0 * unif(&r);
+        s[4 * i + 3] = 0.375;
+    }
+    for (uint32_t k = 0; k < large; ++k) {
+        double *big = s + 4 * (small + 2 * k), *touch = big + 4;
+        big[0] = x0 + 64.0 * k + 7.5; /* low x: x0 + 64 k, a float */
+        touch[0] = x0 + 64.0 * k - 0.375; /* high x the same, low x between floats */
+        big[1] = touch[1] = 10.0 + 2.0 * k;
+        big[2] = touch[2] = 20.0 - 2.0 * k;
+        big[3] = 7.5;
+        touch[3] = 0.375;
+    }
+    check(NULL, s, n, "far-out queries");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_row_sorted_outright),
@@ -261,6 +340,7 @@ int main(void) {
         cmocka_unit_test(test_far_coordinates),
         cmocka_unit_test(test_reach_exactly_to_faces),
         cmocka_unit_test(test_few_large_among_many),
+        cmocka_unit_test(test_queries_far_out),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));

@@ -29,9 +29,10 @@ meson test -C build --print-errorlogs --num-processes "$jobs"
 step "every library source refuses -ffast-math and -Ofast (src/ieee.hpp)"
 bash scripts/check-ieee.sh
 
-step "the tetrahedron-pair tests again with the two-lane kernels (AVX2 machines pick four lanes)"
-HGCD_NARROW_NO_AVX2=1 HGCD_TEST_FILTER='test_tetra*' build/tests/test_world
-HGCD_NARROW_NO_AVX2=1 build/tests/test_threads
+step "the broad phase, tetrahedron-pair and thread tests again without AVX2 (AVX2 machines pick 8-box sweeps and four-lane narrow kernels)"
+HGCD_NO_AVX2=1 build/tests/test_grid
+HGCD_NO_AVX2=1 HGCD_TEST_FILTER='test_tetra*' build/tests/test_world
+HGCD_NO_AVX2=1 build/tests/test_threads
 
 step "tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 [ -f build-asan/build.ninja ] || meson setup build-asan --buildtype=debugoptimized \

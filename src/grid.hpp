@@ -25,12 +25,13 @@
 // body) sorted by key and, within a row, by the box's low x, beside the
 // boxes rounded outward to float (supersets, so every pair of overlapping
 // boxes still overlaps, and the rows and windows derived from a float box
-// only widen; half the bytes of doubles, four boxes per SSE compare). Within its row
-// a body meets the later bodies up to its high x (sweep and prune); in the
-// 3x3 rows around it, only those its box comes within w / 2 of, within a
-// window along x from the first entry whose row's largest high x so far
-// reaches its low x. Rows are found by cursors that only move forward while
-// rows are visited in order, and windows are tested four boxes at a time. No
+// only widen; half the bytes of doubles). Within its row a body meets the
+// later bodies up to its high x (sweep and prune); in the 3x3 rows around
+// it, only those its box comes within w / 2 of, within a window along x
+// from the first entry whose row's largest high x so far reaches its low
+// x. Rows are found by cursors that only move forward while rows are
+// visited in order, and windows are tested four boxes at a time (SSE2,
+// NEON) or eight (AVX2, picked at run time). No
 // hashing, no pointer chasing, and the parallel pair search only reads.
 // Motion updates the arrays incrementally: bodies whose row did not change
 // keep their entries (moves along x never re-key), the rest leave and

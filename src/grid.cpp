@@ -688,6 +688,20 @@ inline CellKey row_step(int dz, int dy) {
 #define HGCD_GRID_AVX2 0
 #endif
 
+// Writes the pairs (a | slot[k]) of a block's hits (bit k of hits) from
+// `to` on and returns their count. All kBlock places are written: a branch
+// per hit mispredicted often enough that this took the broad phase from 63
+// to 59 ms (tetra 750k, 1 thread).
+template <int kBlock>
+HGCD_SWEEP_INLINE size_t write_hits(uint64_t *to, uint64_t a, const uint32_t *slot, unsigned hits) {
+    size_t n = 0;
+    for (int k = 0; k < kBlock; ++k) {
+        to[n] = a | slot[k];
+        n += (hits >> k) & 1;
+    }
+    return n;
+}
+
 #if defined(__SSE2__)
 struct Lanes4 {
     static constexpr int kBlock = 4;
@@ -700,6 +714,9 @@ struct Lanes4 {
         const __m128 in_y = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(B.ly + j), hy), _mm_cmple_ps(ly, _mm_loadu_ps(B.hy + j)));
         const __m128 in_z = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(B.lz + j), hz), _mm_cmple_ps(lz, _mm_loadu_ps(B.hz + j)));
         return unsigned(_mm_movemask_ps(_mm_and_ps(in_x, _mm_and_ps(in_y, in_z))));
+    }
+    HGCD_SWEEP_INLINE static size_t write(uint64_t *to, uint64_t a, const uint32_t *slot, unsigned hits) {
+        return write_hits<kBlock>(to, a, slot, hits);
     }
 };
 #else
@@ -720,6 +737,9 @@ struct Lanes4 {
                       (ly <= load4(B.hy + j)) & (load4(B.lz + j) <= hz) & (lz <= load4(B.hz + j));
         return unsigned((in[0] & 1) | (in[1] & 2) | (in[2] & 4) | (in[3] & 8));
     }
+    static size_t write(uint64_t *to, uint64_t a, const uint32_t *slot, unsigned hits) {
+        return write_hits<kBlock>(to, a, slot, hits);
+    }
 };
 #endif
 
@@ -733,13 +753,30 @@ struct Lanes8;
 #pragma GCC target("avx2")
 static inline void splat8(Lanes8 &lanes, const Grid::BoxArrays &A, size_t i);
 static inline unsigned test8(const Lanes8 &lanes, const Grid::BoxArrays &B, size_t j);
+static inline size_t write8(uint64_t *to, uint64_t a, const uint32_t *slot, unsigned hits);
 #pragma GCC pop_options
 struct Lanes8 {
     static constexpr int kBlock = 8;
     __m256 lx, hx, ly, hy, lz, hz;
     HGCD_SWEEP_INLINE Lanes8(const Grid::BoxArrays &A, size_t i) { splat8(*this, A, i); }
     HGCD_SWEEP_INLINE unsigned test(const Grid::BoxArrays &B, size_t j) const { return test8(*this, B, j); }
+    HGCD_SWEEP_INLINE static size_t write(uint64_t *to, uint64_t a, const uint32_t *slot, unsigned hits) {
+        return write8(to, a, slot, hits);
+    }
 };
+// For each 8-bit set of hits, the lanes of its bits in order (the rest 0):
+// the permutation that packs a block's hits to the front.
+struct PackTable {
+    alignas(32) uint32_t lanes[256][8];
+    constexpr PackTable() : lanes() {
+        for (unsigned m = 0; m < 256; ++m) {
+            unsigned n = 0;
+            for (unsigned k = 0; k < 8; ++k)
+                if (m >> k & 1) lanes[m][n++] = k;
+        }
+    }
+};
+constexpr PackTable kPack;
 #pragma GCC push_options
 #pragma GCC target("avx2")
 static inline void splat8(Lanes8 &lanes, const Grid::BoxArrays &A, size_t i) {
@@ -759,6 +796,19 @@ static inline unsigned test8(const Lanes8 &lanes, const Grid::BoxArrays &B, size
                                       _mm256_cmp_ps(lanes.lz, _mm256_loadu_ps(B.hz + j), _CMP_LE_OQ));
     return unsigned(_mm256_movemask_ps(_mm256_and_ps(in_x, _mm256_and_ps(in_y, in_z))));
 }
+// The hits' slots packed to the front by one permutation, widened to pairs:
+// two stores where write_hits does eight.
+static inline size_t write8(uint64_t *to, uint64_t a, const uint32_t *slot, unsigned hits) {
+    const __m256i packed =
+        _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i *>(slot)),
+                                    _mm256_load_si256(reinterpret_cast<const __m256i *>(kPack.lanes[hits])));
+    const __m256i high = _mm256_set1_epi64x(int64_t(a));
+    _mm256_storeu_si256(reinterpret_cast<__m256i *>(to),
+                        _mm256_or_si256(high, _mm256_cvtepu32_epi64(_mm256_castsi256_si128(packed))));
+    _mm256_storeu_si256(reinterpret_cast<__m256i *>(to + 4),
+                        _mm256_or_si256(high, _mm256_cvtepu32_epi64(_mm256_extracti128_si256(packed, 1))));
+    return size_t(__builtin_popcount(hits));
+}
 #pragma GCC pop_options
 #endif
 
@@ -775,9 +825,7 @@ inline bool boxes_meet(const double *a, const double *b) {
 // The pairs of box `slot` (its lanes) with the entries [j, e) of a list up
 // to the block holding the first whose low x passes `right` (none after it
 // can overlap), a block at a time. Needs j < e; the padding past e is read and
-// masked. Each block's four pairs are written and only the hits counted:
-// a branch per hit mispredicted often enough that this took the broad
-// phase from 63 to 59 ms (tetra 750k, 1 thread).
+// masked.
 template <class Lanes>
 HGCD_SWEEP_INLINE void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t e, float right,
                             uint32_t slot, PairBuffer &out) {
@@ -786,13 +834,7 @@ HGCD_SWEEP_INLINE void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t
     for (;; j += kBlock) {
         unsigned hits = lanes.test(B, j);
         if (j + kBlock > e) hits &= (1u << (e - j)) - 1;
-        uint64_t *to = out.room(kBlock);
-        size_t n = 0;
-        for (int k = 0; k < kBlock; ++k) {
-            to[n] = a | B.slot[j + size_t(k)];
-            n += (hits >> k) & 1;
-        }
-        out.commit(n);
+        out.commit(Lanes::write(out.room(kBlock), a, B.slot + j, hits));
         if (j + kBlock >= e || B.l[j + kBlock - 1] > right) return;
     }
 }
@@ -975,7 +1017,8 @@ __attribute__((target("avx2"), noinline)) void sweep_guest_rows_avx2(const RowsV
 bool sweep_avx2() {
     static const bool avx2 = [] {
         __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0 && !std::getenv("HGCD_NO_AVX2");
+        return __builtin_cpu_supports("avx2") != 0 && __builtin_cpu_supports("popcnt") != 0 &&
+               !std::getenv("HGCD_NO_AVX2");
     }();
     return avx2;
 }

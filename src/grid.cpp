@@ -228,10 +228,13 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
         {
             const int me = omp_get_thread_num();
             uint64_t *hist = histogram.data() + size_t(me) * kExponents;
-            auto &oversize_mine = oversize_local[me];
-            auto &changed_mine = changed_local[me];
-            uint64_t *my_touched = touched_local.data() + size_t(me) * L;
-#pragma omp for schedule(static)
+            // What the thread appends and counts, in its own frame (the
+            // per-thread vectors and counts share cache lines) and handed
+            // over after the loop.
+            std::vector<uint32_t> oversize_mine;
+            std::vector<Moved> changed_mine;
+            std::vector<uint64_t> my_touched(L, 0);
+#pragma omp for schedule(static) nowait
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 int e = INT_MIN;
                 if (live_gen[s]) {
@@ -270,6 +273,9 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
                     old[1] = c[1];
                 }
             }
+            oversize_local[me].swap(oversize_mine);
+            changed_local[me].swap(changed_mine);
+            std::copy(my_touched.begin(), my_touched.end(), touched_local.begin() + std::ptrdiff_t(me * L));
         }
         guard.rethrow();
     }

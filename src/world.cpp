@@ -626,8 +626,14 @@ hgcd_status World::detect_with(bool renumbered) {
             NarrowScratch scratch;
             CcdScratch ccd_scratch;
             ContactScratch contact_scratch;
-            std::vector<uint64_t> &mine = hits[me];
-            std::vector<hgcd_contact> &mine_contacts = hit_contacts[me];
+            // The thread's hits in a vector of its own stack frame while it
+            // pushes (the storage of hits[me], kept across detects): the
+            // vectors of hits share cache lines, and every push writes the
+            // vector's end.
+            std::vector<uint64_t> mine;
+            mine.swap(hits[me]);
+            std::vector<hgcd_contact> mine_contacts;
+            uint64_t my_containment = 0, my_ccd_fallback = 0;
 #pragma omp for schedule(dynamic, 1)
             for (int64_t c = 0; c < int64_t(chunks.size()); ++c) guard.run([&] {
                 const PairBuffer &list = found[chunks[c].list];
@@ -662,21 +668,23 @@ hgcd_status World::detect_with(bool renumbered) {
                                   : Contact::None;
                         if (want_contacts && hit != Contact::None) penetration_contact(cc, &contact);
                     } else if (want_contacts) {
-                        if (ma & mb & kCcdAsked) ++ccd_fallback[me];
+                        if (ma & mb & kCcdAsked) ++my_ccd_fallback;
                         Witness witness;
                         hit = collide(pa, pb, scratch, &witness);
                         if (hit != Contact::None) exact_contact(pa, pb, hit, witness, contact_scratch, &contact);
                     } else {
-                        if (ma & mb & kCcdAsked) ++ccd_fallback[me];
+                        if (ma & mb & kCcdAsked) ++my_ccd_fallback;
                         hit = collide(pa, pb, scratch);
                     }
                     if (hit != Contact::None) {
                         mine.push_back(pair_key(slot_of_[a], slot_of_[b]));
                         if (want_contacts) mine_contacts.push_back(contact);
-                        if (hit == Contact::Containment) ++containment[me];
+                        if (hit == Contact::Containment) ++my_containment;
                     }
                 }
             });
+            containment[me] = my_containment;
+            ccd_fallback[me] = my_ccd_fallback;
             tri_tests[me] = scratch.triangle_tests;
             exact[me] = scratch.exact_tests;
             ccd_tests[me] = ccd_scratch.tests;
@@ -694,6 +702,8 @@ hgcd_status World::detect_with(bool renumbered) {
                 mine_contacts.swap(sorted);
             });
             else guard.run([&] { sort_keys(mine, sort_scratch_[me]); });  // each thread its own share
+            hits[me].swap(mine);
+            hit_contacts[me].swap(mine_contacts);
         }
         guard.rethrow();
         // Merge the sorted shares: the output is in (a, b) order whatever the

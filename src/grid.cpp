@@ -220,7 +220,10 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     std::vector<std::vector<uint32_t>> oversize_local(threads);
     std::vector<uint8_t> flag(incremental ? slot_count : 0, 0);
     std::vector<std::vector<Moved>> changed_local(threads);
-    std::vector<uint64_t> touched_local(size_t(threads) * L, 0);
+    // Per thread, its count of flagged bodies per level, a cache line apart
+    // from the next thread's.
+    const size_t touched_stride = (L + 7) / 8 * 8 + 8;
+    std::vector<uint64_t> touched_local(size_t(threads) * touched_stride, 0);
     uint64_t flagged = 0;
     {
         RegionGuard guard;
@@ -228,12 +231,12 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
         {
             const int me = omp_get_thread_num();
             uint64_t *hist = histogram.data() + size_t(me) * kExponents;
-            // What the thread appends and counts, in its own frame (the
-            // per-thread vectors and counts share cache lines) and handed
-            // over after the loop.
+            // What the thread appends, in vectors of its own frame (the
+            // per-thread vectors share cache lines) handed over after the
+            // loop.
             std::vector<uint32_t> oversize_mine;
             std::vector<Moved> changed_mine;
-            std::vector<uint64_t> my_touched(L, 0);
+            uint64_t *my_touched = touched_local.data() + size_t(me) * touched_stride;
 #pragma omp for schedule(static) nowait
             for (int64_t s = 0; s < int64_t(slot_count); ++s) {
                 int e = INT_MIN;
@@ -275,7 +278,6 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
             }
             oversize_local[me].swap(oversize_mine);
             changed_local[me].swap(changed_mine);
-            std::copy(my_touched.begin(), my_touched.end(), touched_local.begin() + std::ptrdiff_t(me * L));
         }
         guard.rethrow();
     }
@@ -351,7 +353,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     } else {
         std::vector<uint64_t> touched(L, 0);
         for (int t = 0; t < threads; ++t)
-            for (size_t l = 0; l < L; ++l) touched[l] += touched_local[size_t(t) * L + l];
+            for (size_t l = 0; l < L; ++l) touched[l] += touched_local[size_t(t) * touched_stride + l];
         std::vector<Moved> changed;
         for (auto &v : changed_local) changed.insert(changed.end(), v.begin(), v.end());
         uint64_t moved_finer = 0;  // flagged bodies on levels below li
@@ -836,6 +838,7 @@ template <class Lanes>
 HGCD_SWEEP_INLINE void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t e, float right,
                             uint32_t slot, PairBuffer &out) {
     constexpr int kBlock = Lanes::kBlock;
+    static_assert(size_t(kBlock) <= kPad, "a block reads past the end of a list");
     const uint64_t a = uint64_t(slot) << 32;  // (either order: see find_pairs)
     for (;; j += kBlock) {
         unsigned hits = lanes.test(B, j);

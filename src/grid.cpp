@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
@@ -21,14 +22,16 @@ namespace hgcd {
 
 namespace {
 
-// Body s's box [fl(p + low), fl(p + high)] rounded outward to float (the
-// nearest float, one step out where it falls inside): what the lists hold,
+// Body s's box [fl(p + low), fl(p + high)] rounded outward to float as
+// float_at_most and float_at_least do (grid.hpp): what the lists hold,
 // half the bytes of doubles and twice the boxes to a vector compare. SSE2
 // converts two at a time in whole registers: scalar cvtsd2ss keeps the rest
 // of its destination register, which chained every conversion of a gather
 // (update 22 -> 39 ms, tetra 750k). Rounded down as integers: a float's
-// bits step down by 1 when it is positive and up by 1 when negative (-0
-// included), so the highs are rounded down negated.
+// bits step down by 1 when it is positive and up by 1 when negative, so the
+// highs are rounded down negated; magnitudes below FLT_MIN (tested on the
+// double, which reads a subnormal as 0 under DAZ: still below) go to 0 or,
+// by the sign bit, -FLT_MIN.
 inline void float_box(const Boxes &boxes, uint32_t s, float *lo, float *hi) {
     double dlo[3], dhi[3];
     boxes.at(s, dlo, dhi);
@@ -39,7 +42,13 @@ inline void float_box(const Boxes &boxes, uint32_t s, float *lo, float *hi) {
             _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmpgt_pd(_mm_cvtps_pd(f), x)), _MM_SHUFFLE(3, 3, 2, 0));
         const __m128i bits = _mm_castps_si128(f);
         const __m128i step = _mm_and_si128(_mm_or_si128(_mm_srai_epi32(bits, 31), _mm_set1_epi32(1)), above);
-        return _mm_castsi128_ps(_mm_sub_epi32(bits, step));
+        const __m128i down = _mm_sub_epi32(bits, step);
+        const __m128d magnitude = _mm_andnot_pd(_mm_set1_pd(-0.0), x);
+        const __m128i tiny = _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(magnitude, _mm_set1_pd(FLT_MIN))),
+                                               _MM_SHUFFLE(3, 3, 2, 0));
+        const __m128i negative = _mm_shuffle_epi32(_mm_srai_epi32(_mm_castpd_si128(x), 31), _MM_SHUFFLE(3, 3, 3, 1));
+        const __m128i floor = _mm_and_si128(negative, _mm_castps_si128(_mm_set1_ps(-FLT_MIN)));
+        return _mm_castsi128_ps(_mm_or_si128(_mm_andnot_si128(tiny, down), _mm_and_si128(tiny, floor)));
     };
     alignas(16) float t[12];
     _mm_store_ps(t, down2(_mm_set_pd(dlo[1], dlo[0])));

@@ -41,6 +41,7 @@
 // renumber()), so the update's reads run nearly in sequence.
 #pragma once
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -52,15 +53,18 @@ namespace hgcd {
 using CellKey = unsigned __int128;
 
 // x rounded to a float at most x, or at least x (the nearest float, moved
-// one step out when it falls on the wrong side): how offsets are stored.
+// one step out when it falls on the wrong side): how offsets and the grid's
+// boxes are stored. A magnitude below FLT_MIN goes to 0 or -FLT_MIN (at
+// most), 0 or FLT_MIN (at least) instead: no subnormal float is ever
+// stored or produced, so the bounds hold in a process that flushes
+// subnormals to zero (FTZ/DAZ, which a host linked with -ffast-math turns
+// on), where a stored subnormal would read as 0, on the wrong side.
 inline float float_at_most(double x) {
+    if (std::fabs(x) < double(FLT_MIN)) return std::signbit(x) ? -FLT_MIN : 0.0f;
     const float f = float(x);
     return double(f) > x ? std::nextafter(f, -INFINITY) : f;
 }
-inline float float_at_least(double x) {
-    const float f = float(x);
-    return double(f) < x ? std::nextafter(f, INFINITY) : f;
-}
+inline float float_at_least(double x) { return -float_at_most(-x); }
 
 // The bodies as the grid reads them: body s has reference point
 // p = pos[3 s + (0, 1, 2)] and offsets off[6 s + (0..5)] (low x y z,

@@ -8,6 +8,7 @@
  * exactly across cell faces, positions on cell faces, far-out coordinates,
  * incremental updates after motion, several thread counts, with and without
  * the coarsening of close levels (GridLimits::coarsen). */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -18,22 +19,28 @@
 #include <string.h>
 
 #include <cmocka.h>
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 
 #include "../src/testing.h"
 #include "test_rng.h"
 
 
-/* r rounded outward to float: the nearest float, one step out if inside. */
-static double out_lo(double r) {
-    float f = (float)-r;
-    if ((double)f > -r) f = nextafterf(f, -INFINITY);
+/* v rounded to a float at most, or at least, v (the nearest float, one
+ * step out if on the wrong side; magnitudes below FLT_MIN to 0 or
+ * -FLT_MIN, 0 or FLT_MIN: grid.hpp's float_at_most and float_at_least). */
+static double float_down(double v) {
+    if (fabs(v) < FLT_MIN) return signbit(v) ? -FLT_MIN : 0.0;
+    float f = (float)v;
+    if ((double)f > v) f = nextafterf(f, -INFINITY);
     return (double)f;
 }
-static double out_hi(double r) {
-    float f = (float)r;
-    if ((double)f < r) f = nextafterf(f, INFINITY);
-    return (double)f;
-}
+static double float_up(double v) { return -float_down(-v); }
+
+/* A body's offsets -r and r rounded outward to float, as the hook does. */
+static double out_lo(double r) { return float_down(-r); }
+static double out_hi(double r) { return float_up(r); }
 
 /* Whether the boxes of bodies a and b (4 doubles each) overlap; *touch is
  * set when they do with some face against another exactly. */
@@ -47,18 +54,6 @@ static int boxes_overlap(const double *a, const double *b, int *touch) {
     }
     if (touch) *touch = meet && face;
     return meet;
-}
-
-/* v rounded to a float at most, or at least, v. */
-static double float_down(double v) {
-    float f = (float)v;
-    if ((double)f > v) f = nextafterf(f, -INFINITY);
-    return (double)f;
-}
-static double float_up(double v) {
-    float f = (float)v;
-    if ((double)f < v) f = nextafterf(f, INFINITY);
-    return (double)f;
 }
 
 /* Whether boxes a and b (low x y z, high x y z) overlap. */
@@ -107,18 +102,35 @@ static uint64_t brute(const double *s, uint32_t n, uint64_t **must, uint64_t **m
     return m[0];
 }
 
+/* The hook on 1 thread (the calling thread: a team of one) with subnormals
+ * flushed to zero and read as zero (MXCSR FTZ and DAZ, as a host linked
+ * with -ffast-math runs), where x86-64 has them; without them, as usual. */
+static int64_t grid_pairs_flushing(const double *before, const double *after, uint32_t n, int coarsen,
+                                   uint64_t *out, uint64_t cap) {
+#if defined(__SSE2__)
+    const unsigned saved = _mm_getcsr();
+    _mm_setcsr(saved | 0x8040u); /* FTZ (bit 15), DAZ (bit 6) */
+    const int64_t k = hgcdi_grid_pairs(before, after, n, 1, coarsen, out, cap);
+    _mm_setcsr(saved);
+    return k;
+#else
+    return hgcdi_grid_pairs(before, after, n, 1, coarsen, out, cap);
+#endif
+}
+
 /* The grid's pairs for `after` (built from `before` first, if given), for
  * 1, 2 and 3 threads: sorted without duplicates, every pair whose boxes
  * overlap, and none whose float-rounded boxes do not. Returns the count of
  * pairs whose boxes overlap. */
-static uint64_t check(const double *before, const double *after, uint32_t n, const char *what) {
+static uint64_t check_in(const double *before, const double *after, uint32_t n, const char *what, int ftz) {
     uint64_t *want, *may, may_count;
     const uint64_t m = brute(after, n, &want, &may, &may_count);
     uint64_t *got = malloc((may_count + 16) * sizeof *got);
     assert_non_null(got);
     for (int variant = 0; variant < 6; ++variant) {
-        const int threads = 1 + variant % 3, coarsen = variant / 3;
-        const int64_t k = hgcdi_grid_pairs(before, after, n, threads, coarsen, got, may_count + 16);
+        const int threads = ftz ? 1 : 1 + variant % 3, coarsen = variant / 3;
+        const int64_t k = ftz ? grid_pairs_flushing(before, after, n, coarsen, got, may_count + 16)
+                              : hgcdi_grid_pairs(before, after, n, threads, coarsen, got, may_count + 16);
         if (k < 0 || (uint64_t)k > may_count)
             fail_msg("%s, %d threads, coarsen %d: grid %lld pairs, brute force at most %llu", what, threads,
                      coarsen, (long long)k, (unsigned long long)may_count);
@@ -144,6 +156,10 @@ static uint64_t check(const double *before, const double *after, uint32_t n, con
     free(want);
     free(may);
     return m;
+}
+
+static uint64_t check(const double *before, const double *after, uint32_t n, const char *what) {
+    return check_in(before, after, n, what, 0);
 }
 
 static void test_row_sorted_outright(void **state) {
@@ -332,6 +348,25 @@ static void test_queries_far_out(void **state) {
     check(NULL, s, n, "far-out queries");
 }
 
+/* Bodies of sizes around FLT_MIN near the origin, whose bounds fall in
+ * float's subnormal range, a few of them oversize (a half side that is a
+ * power of two leaves no slack in its level), with subnormals flushed to
+ * zero: the grid stores no subnormal bound, so every overlap is still
+ * found (before, a bound that the rounding stepped to the smallest
+ * subnormal read as 0, on the wrong side, and pairs were lost). */
+static void test_tiny_with_flush_to_zero(void **state) {
+    (void)state;
+    enum { n = 1500 };
+    static double s[4 * n];
+    rng r = {61};
+    for (uint32_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) s[4 * i + k] = FLT_MIN * (16.0 * unif(&r) - 8.0);
+        s[4 * i + 3] = i % 100 == 0 ? 4.0 * FLT_MIN : FLT_MIN * (0.02 + 2.0 * unif(&r));
+    }
+    check_in(NULL, s, n, "tiny, flushing", 1);
+    check(NULL, s, n, "tiny");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_row_sorted_outright),
@@ -341,6 +376,7 @@ int main(void) {
         cmocka_unit_test(test_reach_exactly_to_faces),
         cmocka_unit_test(test_few_large_among_many),
         cmocka_unit_test(test_queries_far_out),
+        cmocka_unit_test(test_tiny_with_flush_to_zero),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));

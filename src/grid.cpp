@@ -6,10 +6,10 @@
 #include <cfloat>
 #include <climits>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
+#include "cpu.hpp"
 #include "ieee.hpp"
 #include "parallel.hpp"
 #include "permute.hpp"
@@ -387,20 +387,19 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int16_t own = level_[s];
         if (own < 0) continue;
-        double lo[3], hi[3];
-        boxes.at(s, lo, hi);
-        keyed[2 * size_t(own)].push_back({key_of(s, own), s, float(lo[0])});
+        float lo[3], hi[3];  // (the low x the lists will hold)
+        float_box(boxes, s, lo, hi);
+        keyed[2 * size_t(own)].push_back({key_of(s, own), s, lo[0]});
         for (size_t li = size_t(own) + 1; li < levels_.size(); ++li)
-            if (!levels_[li].down) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, float(lo[0])});
+            if (!levels_[li].down) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, lo[0]});
     }
     const int64_t lists = int64_t(2 * levels_.size());
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t k = 0; k < lists; ++k) guard.run([&] {
         List &list = list_at(size_t(k));
-        // Rows sorted by low x (a float copy: no random reads in the
-        // comparisons; gather's insertion sort settles the few pairs that
-        // rounding to float leaves out of order).
+        // Rows sorted by low x (the lists' float copy: no random reads in
+        // the comparisons, and gather finds the order made).
         std::vector<Keyed> &in = keyed[size_t(k)];
         std::sort(in.begin(), in.end(), ByRowX<Keyed>());
         list.entries.resize(in.size());
@@ -439,9 +438,9 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
         std::vector<Keyed> &add = adds[k];
         for (const Moved &m : changed)
             if (belongs(level_[m.slot])) {
-                double lo[3], hi[3];
-                boxes.at(m.slot, lo, hi);
-                add.push_back({key_of(m.slot, li), m.slot, float(lo[0])});
+                float lo[3], hi[3];  // (the low x the lists hold)
+                float_box(boxes, m.slot, lo, hi);
+                add.push_back({key_of(m.slot, li), m.slot, lo[0]});
             }
         std::sort(add.begin(), add.end(), ByRowX<Keyed>());
         // Parts: rows [cut[p], cut[p + 1]) of the list as it is.
@@ -1029,17 +1028,6 @@ __attribute__((target("avx2"), noinline)) void sweep_guest_rows_avx2(const RowsV
                                                                      PairBuffer &out) {
     sweep_guest_rows<Lanes8>(G, R, exponent, begin, end, out);
 }
-// HGCD_NO_AVX2 (any value) keeps the four-lane sweeps (and narrow.cpp's
-// two-lane kernels) on AVX2 machines too, so that the tests cover both
-// (scripts/run-tests.sh).
-bool sweep_avx2() {
-    static const bool avx2 = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0 && __builtin_cpu_supports("popcnt") != 0 &&
-               !std::getenv("HGCD_NO_AVX2");
-    }();
-    return avx2;
-}
 #endif
 
 }  // namespace
@@ -1048,7 +1036,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end, PairBuffer
     const List &L = lv.residents;
     const RowsView R{L.row_keys, L.row_start.data(), L.arrays()};
 #if HGCD_GRID_AVX2
-    if (sweep_avx2()) return sweep_resident_rows_avx2(R, lv.exponent, begin, end, out);
+    if (use_avx2()) return sweep_resident_rows_avx2(R, lv.exponent, begin, end, out);
 #endif
     sweep_resident_rows<Lanes4>(R, lv.exponent, begin, end, out);
 }
@@ -1057,7 +1045,7 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end, PairBuffer &o
     const RowsView G{lv.guests.row_keys, lv.guests.row_start.data(), lv.guests.arrays()};
     const RowsView R{lv.residents.row_keys, lv.residents.row_start.data(), lv.residents.arrays()};
 #if HGCD_GRID_AVX2
-    if (sweep_avx2()) return sweep_guest_rows_avx2(G, R, lv.exponent, begin, end, out);
+    if (use_avx2()) return sweep_guest_rows_avx2(G, R, lv.exponent, begin, end, out);
 #endif
     sweep_guest_rows<Lanes4>(G, R, lv.exponent, begin, end, out);
 }

@@ -190,8 +190,9 @@ class Grid {
         uint32_t slot;
     };
     static_assert(sizeof(Entry) == 20, "Entry layout");
-    // An entry with its low x rounded to float, where entries are sorted
-    // before they have box arrays (a list built, entries entering one).
+    // An entry with its low x as the lists hold it (float_box), where
+    // entries are sorted before they have box arrays (a list built,
+    // entries entering one).
     struct __attribute__((packed, aligned(8))) Keyed {
         CellKey key;
         uint32_t slot;

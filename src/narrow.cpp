@@ -10,6 +10,7 @@
 #endif
 
 #include "bvh.hpp"
+#include "cpu.hpp"
 #include "geometry.hpp"
 #include "ieee.hpp"
 #include "transform.hpp"
@@ -1169,13 +1170,7 @@ __attribute__((target("avx2"))) Contact collide_tetra_avx2(const BodyPose &a, co
 
 Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
 #if HGCD_TET_AVX2
-    // HGCD_NO_AVX2 (any value) keeps the two-lane kernels on AVX2 machines
-    // too, so that the tests cover both (scripts/run-tests.sh).
-    static const bool avx2 = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0 && !std::getenv("HGCD_NO_AVX2");
-    }();
-    if (avx2) return collide_tetra_avx2(a, b, scratch);
+    if (use_avx2()) return collide_tetra_avx2(a, b, scratch);
 #endif
     return collide_tetra_v2(a, b, scratch);
 }

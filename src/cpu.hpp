@@ -1,0 +1,23 @@
+// Whether the AVX2 kernels (grid.cpp's 8-box sweeps, narrow.cpp's four-lane
+// tetrahedron test) may run: the CPU has AVX2 and POPCNT, and HGCD_NO_AVX2
+// is not set (any value keeps the SSE2 kernels on AVX2 machines too, so
+// that the tests cover both: scripts/run-tests.sh). Decided once.
+#pragma once
+#include <cstdlib>
+
+namespace hgcd {
+
+inline bool use_avx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool avx2 = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0 && __builtin_cpu_supports("popcnt") != 0 &&
+               !std::getenv("HGCD_NO_AVX2");
+    }();
+    return avx2;
+#else
+    return false;
+#endif
+}
+
+}  // namespace hgcd

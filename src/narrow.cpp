@@ -1166,6 +1166,294 @@ __attribute__((target("avx2"))) Contact collide_tetra_avx2(const BodyPose &a, co
                                                            NarrowScratch &scratch) {
     return collide_tetra_with<KernelsV4>(a, b, scratch);
 }
+
+// Four pairs at a time, one per lane (collide_tetra_batch). Every lane does
+// the one-pair test's operations in its order (tet_axis_separates,
+// KernelsV4's world, planes and sides), so its values have the same bits and
+// its certified decisions are the same; only the order of the decisions
+// differs, and certified decisions cannot disagree. Pairs are first
+// filtered by the axis along the line of centres, four at a time; the
+// survivors, four at a time, get both bodies' world vertices, planes and the
+// signs of each body's vertices against the other's faces, all branch-free
+// (on scene tetra 41% of the pairs that reach the faces need both bodies'
+// faces in the one-pair test, so a group of four nearly always needs them).
+// A lane left open (no face separates, no vertex is surely inside) takes the
+// one-pair test's edge axis and exact path; a lane whose own tetrahedron's
+// orientation is not certified (flat or nearly), the whole one-pair test.
+struct Side4 {
+    V4 c[3];     // position
+    V4 m[9];     // rotation
+    V4 l[3][4];  // scaled local vertices, l[axis][vertex]
+    V4 reach;    // scale * tetra_reach
+};
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+static inline void transpose4(V4 &r0, V4 &r1, V4 &r2, V4 &r3) {
+    const __m256d t0 = _mm256_unpacklo_pd((__m256d)r0, (__m256d)r1);
+    const __m256d t1 = _mm256_unpackhi_pd((__m256d)r0, (__m256d)r1);
+    const __m256d t2 = _mm256_unpacklo_pd((__m256d)r2, (__m256d)r3);
+    const __m256d t3 = _mm256_unpackhi_pd((__m256d)r2, (__m256d)r3);
+    r0 = (V4)_mm256_permute2f128_pd(t0, t2, 0x20);
+    r1 = (V4)_mm256_permute2f128_pd(t1, t3, 0x20);
+    r2 = (V4)_mm256_permute2f128_pd(t0, t2, 0x31);
+    r3 = (V4)_mm256_permute2f128_pd(t1, t3, 0x31);
+}
+static inline unsigned lanes_of(const M4 &m) { return unsigned(_mm256_movemask_pd((__m256d)m)); }
+static inline V4 min4(const V4 &a, const V4 &b) { return (V4)_mm256_min_pd((__m256d)a, (__m256d)b); }
+static inline V4 max4(const V4 &a, const V4 &b) { return (V4)_mm256_max_pd((__m256d)a, (__m256d)b); }
+static inline V4 abs4(const V4 &a) { return (V4)((M4)a & (M4{} + INT64_MAX)); }
+
+// The bodies of one side of four pairs. A Placement is read as two 32-byte
+// halves: (x y z qx) and (qy qz qw scale).
+static inline void load_side(const Placement *const *p, const Mesh *const *mesh, Side4 &s) {
+    V4 r[4], h[4];
+    for (int k = 0; k < 4; ++k) {  // (memcpy here went through the stack: a store forwarding stall)
+        const double *half = reinterpret_cast<const double *>(p[k]);
+        r[k] = (V4)_mm256_loadu_pd(half);
+        h[k] = (V4)_mm256_loadu_pd(half + 4);
+    }
+    transpose4(r[0], r[1], r[2], r[3]);
+    transpose4(h[0], h[1], h[2], h[3]);
+    s.c[0] = r[0];
+    s.c[1] = r[1];
+    s.c[2] = r[2];
+    const V4 scale = h[3];
+    rotation_entries(r[3], h[0], h[1], h[2], s.m);
+    const Mesh *m0 = mesh[0];
+    if (mesh[1] == m0 && mesh[2] == m0 && mesh[3] == m0) {  // (shared shapes: the usual case)
+        for (int a = 0; a < 3; ++a)
+            for (int v = 0; v < 4; ++v) s.l[a][v] = scale * m0->tetra_local[4 * a + v];
+        s.reach = scale * m0->tetra_reach;
+    } else {
+        for (int a = 0; a < 3; ++a) {
+            V4 t[4];
+            for (int k = 0; k < 4; ++k) t[k] = (V4)_mm256_loadu_pd(mesh[k]->tetra_local + 4 * a);
+            transpose4(t[0], t[1], t[2], t[3]);
+            for (int v = 0; v < 4; ++v) s.l[a][v] = scale * t[v];
+        }
+        s.reach = scale * V4{mesh[0]->tetra_reach, mesh[1]->tetra_reach, mesh[2]->tetra_reach, mesh[3]->tetra_reach};
+    }
+}
+
+// Lanes whose pair tet_axis_separates rejects (the same operations).
+static inline unsigned axis_separated4(const Side4 &A, const Side4 &B) {
+    const V4 u0 = B.c[0] - A.c[0], u1 = B.c[1] - A.c[1], u2 = B.c[2] - A.c[2];
+    V4 ha, hb;
+    {
+        V4 da[3], db[3];
+        for (int j = 0; j < 3; ++j) {
+            da[j] = ((A.m[j] * u0 + A.m[3 + j] * u1) + A.m[6 + j] * u2);
+            db[j] = -1.0 * ((B.m[j] * u0 + B.m[3 + j] * u1) + B.m[6 + j] * u2);
+        }
+        V4 pa[4], pb[4];
+        for (int v = 0; v < 4; ++v) {
+            pa[v] = (A.l[0][v] * da[0] + A.l[1][v] * da[1]) + A.l[2][v] * da[2];
+            pb[v] = (B.l[0][v] * db[0] + B.l[1][v] * db[1]) + B.l[2][v] * db[2];
+        }
+        ha = max4(max4(pa[0], pa[1]), max4(pa[2], pa[3]));
+        hb = max4(max4(pb[0], pb[1]), max4(pb[2], pb[3]));
+    }
+    const V4 uu = (u0 * u0 + u1 * u1) + u2 * u2;
+    const V4 gap = uu - (ha + hb);
+    const V4 reach = 2.0 * (A.reach + B.reach);
+    const V4 cu = ((abs4(A.c[0]) + abs4(B.c[0]) + reach) * abs4(u0) + (abs4(A.c[1]) + abs4(B.c[1]) + reach) * abs4(u1)) +
+                  (abs4(A.c[2]) + abs4(B.c[2]) + reach) * abs4(u2);
+    const V4 margin = 0x1p-48 * (uu + cu) + 0x1p-960;
+    return lanes_of((gap > 0.0) & (gap > margin));
+}
+
+// World vertices w[axis][vertex] and box of one side (KernelsV4::world).
+static inline void world4(const Side4 &s, V4 (*w)[4], V4 *lo, V4 *hi) {
+    for (int a = 0; a < 3; ++a) {
+        for (int v = 0; v < 4; ++v)
+            w[a][v] = s.c[a] + ((s.m[3 * a] * s.l[0][v] + s.m[3 * a + 1] * s.l[1][v]) + s.m[3 * a + 2] * s.l[2][v]);
+        lo[a] = min4(min4(w[a][0], w[a][1]), min4(w[a][2], w[a][3]));
+        hi[a] = max4(max4(w[a][0], w[a][1]), max4(w[a][2], w[a][3]));
+    }
+}
+
+// The certified signs of o's vertices against the faces of w (lanes of
+// tet_face, as bit sets: bit v of pos[f] / neg[f] per lane) and the sign of
+// w's own orientation: inner_pos / inner_neg lanes (neither: uncertain).
+struct Sides4 {
+    M4 pos[4], neg[4];
+    unsigned inner_pos, inner_neg;
+};
+static inline void sides4(V4 (*w)[4], V4 (*o)[4], const V4 &ex, const V4 &ey, const V4 &ez, Sides4 &s) {
+    M4 ip = M4{}, in = M4{};
+    for (int f = 0; f < 4; ++f) {
+        const int i0 = kFace[f][0], i1 = kFace[f][1], i2 = kFace[f][2];
+        const V4 t0x = w[0][i0], t0y = w[1][i0], t0z = w[2][i0];
+        const V4 e1x = w[0][i1] - t0x, e1y = w[1][i1] - t0y, e1z = w[2][i1] - t0z;
+        const V4 e2x = w[0][i2] - t0x, e2y = w[1][i2] - t0y, e2z = w[2][i2] - t0z;
+        const V4 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, g = e1y * e2x;
+        const V4 nx = a - b, ny = c - d, nz = e - g;
+        const V4 bound = 0x1p-50 * ((ex * (abs4(a) + abs4(b)) + ey * (abs4(c) + abs4(d))) + ez * (abs4(e) + abs4(g))) +
+                         0x1p-960;
+        const V4 minus = -bound;
+        const V4 own = ((w[0][f] - t0x) * nx + (w[1][f] - t0y) * ny) + (w[2][f] - t0z) * nz;  // -orient3d
+        ip |= own < minus;
+        in |= bound < own;
+        M4 pos = M4{}, neg = M4{};
+        for (int v = 0; v < 4; ++v) {
+            const V4 dd = ((o[0][v] - t0x) * nx + (o[1][v] - t0y) * ny) + (o[2][v] - t0z) * nz;
+            pos |= (dd < minus) & int64_t(1 << v);
+            neg |= (bound < dd) & int64_t(1 << v);
+        }
+        s.pos[f] = pos;
+        s.neg[f] = neg;
+    }
+    s.inner_pos = lanes_of(ip);
+    s.inner_neg = lanes_of(in) & ~s.inner_pos;
+}
+
+// From the signs (tet_verdict and TetOuter for a certain inner sign): lanes
+// surely apart, surely Containment, surely Surface.
+static inline void decide4(const Sides4 &s, unsigned &apart, unsigned &contained, unsigned &surface) {
+    const M4 all = M4{} + 0xF;
+    const M4 positive = M4{} - M4{int64_t(s.inner_pos & 1), int64_t(s.inner_pos >> 1 & 1),
+                                  int64_t(s.inner_pos >> 2 & 1), int64_t(s.inner_pos >> 3 & 1)};
+    M4 sep = M4{}, inside = all, any_out = M4{};
+    for (int f = 0; f < 4; ++f) {
+        const M4 out = (positive & s.neg[f]) | (~positive & s.pos[f]);
+        const M4 in = (positive & s.pos[f]) | (~positive & s.neg[f]);
+        sep |= out == all;
+        inside &= in;
+        any_out |= out;
+    }
+    apart = lanes_of(sep);
+    contained = lanes_of(inside == all);
+    surface = lanes_of((inside != 0) & (any_out != 0));
+}
+#pragma GCC pop_options
+
+// Lane k of four-lane world vertices as a TetWorld, and of signs as TetSides.
+inline void lane_world(const V4 (*w)[4], const V4 *lo, const V4 *hi, int k, TetWorld &t) {
+    for (int h = 0; h < 2; ++h) {
+        t.x[h] = V2{w[0][2 * h][k], w[0][2 * h + 1][k]};
+        t.y[h] = V2{w[1][2 * h][k], w[1][2 * h + 1][k]};
+        t.z[h] = V2{w[2][2 * h][k], w[2][2 * h + 1][k]};
+    }
+    for (int a = 0; a < 3; ++a) {
+        t.lo[a] = lo[a][k];
+        t.hi[a] = hi[a][k];
+    }
+}
+inline void lane_sides(const Sides4 &s, int k, TetSides &t) {
+    for (int f = 0; f < 4; ++f) {
+        t.pos[f] = unsigned(s.pos[f][k]);
+        t.neg[f] = unsigned(s.neg[f][k]);
+    }
+    t.inner = (s.inner_pos >> k & 1) ? 1 : -1;
+}
+
+// Up to four pairs (idx[0, count) of pairs; count >= 1) past the axis test.
+__attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, const uint32_t *idx, int count,
+                                                   Contact *out, NarrowScratch &scratch) {
+    const Placement *pa[4], *pb[4];
+    const Mesh *ma[4], *mb[4];
+    for (int k = 0; k < 4; ++k) {
+        const TetraPair &p = pairs[idx[k < count ? k : 0]];
+        pa[k] = p.a;
+        pb[k] = p.b;
+        ma[k] = p.mesh_a;
+        mb[k] = p.mesh_b;
+    }
+    const unsigned valid = (1u << count) - 1;
+    Side4 A, B;
+    load_side(pa, ma, A);
+    load_side(pb, mb, B);
+    V4 wa[3][4], wb[3][4], la[3], ha[3], lb[3], hb[3];
+    world4(A, wa, la, ha);
+    world4(B, wb, lb, hb);
+    // The exact vertex boxes (the one-pair test's prefilter).
+    const unsigned boxed = ~lanes_of((ha[0] < lb[0]) | (hb[0] < la[0]) | (ha[1] < lb[1]) | (hb[1] < la[1]) |
+                                     (ha[2] < lb[2]) | (hb[2] < la[2])) & valid;
+    for (int k = 0; k < count; ++k) out[idx[k]] = Contact::None;
+    if (!boxed) return;
+    scratch.exact_tests += unsigned(__builtin_popcount(boxed));
+    const V4 ex = max4(ha[0], hb[0]) - min4(la[0], lb[0]);
+    const V4 ey = max4(ha[1], hb[1]) - min4(la[1], lb[1]);
+    const V4 ez = max4(ha[2], hb[2]) - min4(la[2], lb[2]);
+    Sides4 sab, sba;  // b's vertices against a's faces, and a's against b's
+    sides4(wa, wb, ex, ey, ez, sab);
+    sides4(wb, wa, ex, ey, ez, sba);
+    unsigned apart_a, in_a, surf_a, apart_b, in_b, surf_b;
+    decide4(sab, apart_a, in_a, surf_a);
+    decide4(sba, apart_b, in_b, surf_b);
+    const unsigned oriented = (sab.inner_pos | sab.inner_neg) & (sba.inner_pos | sba.inner_neg);
+    const unsigned apart = (apart_a | apart_b) & oriented & boxed;
+    const unsigned contained = (in_a | in_b) & oriented & boxed & ~apart;
+    const unsigned surface = (surf_a | surf_b) & oriented & boxed & ~apart & ~contained;
+    unsigned open = boxed & ~apart & ~contained & ~surface;
+    for (int k = 0; k < count; ++k)
+        if (contained >> k & 1)
+            out[idx[k]] = Contact::Containment;
+        else if (surface >> k & 1)
+            out[idx[k]] = Contact::Surface;
+    if (!open) return;
+    const V4 size_a = ((ha[0] - la[0]) + (ha[1] - la[1])) + (ha[2] - la[2]);
+    const V4 size_b = ((hb[0] - lb[0]) + (hb[1] - lb[1])) + (hb[2] - lb[2]);
+    const unsigned b_larger = lanes_of(size_b > size_a);
+    do {
+        const int k = __builtin_ctz(open);
+        open &= open - 1;
+        const TetraPair &p = pairs[idx[k]];
+        if (!(oriented >> k & 1)) {  // a tetrahedron flat or nearly: the whole one-pair test
+            const BodyPose a{p.mesh_a, p.a->position, p.a->orientation, p.a->scale};
+            const BodyPose b{p.mesh_b, p.b->position, p.b->orientation, p.b->scale};
+            --scratch.exact_tests;  // (counted again there)
+            out[idx[k]] = collide_tetra_avx2(a, b, scratch);
+            continue;
+        }
+        TetWorld ta, tb;
+        TetSides s_ab, s_ba;
+        lane_world(wa, la, ha, k, ta);
+        lane_world(wb, lb, hb, k, tb);
+        lane_sides(sab, k, s_ab);
+        lane_sides(sba, k, s_ba);
+        const bool swap = b_larger >> k & 1;  // the larger body's faces are u (as the one-pair test)
+        const TetWorld &u = swap ? tb : ta, &v = swap ? ta : tb;
+        TetSides &suv = swap ? s_ba : s_ab, &svu = swap ? s_ab : s_ba;
+        const double *cu = swap ? p.b->position : p.a->position, *cv = swap ? p.a->position : p.b->position;
+        out[idx[k]] = tet_edges_separate_avx2(u, v, cu, cv, ex[k], ey[k], ez[k])
+                          ? Contact::None
+                          : collide_tetra_exact(u, v, suv, svu, scratch);
+    } while (open);
+}
+
+__attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *pairs, size_t n, Contact *out,
+                                                             NarrowScratch &scratch) {
+    constexpr size_t kStage = 256;  // pairs per round of the two stages
+    uint32_t left[kStage];
+    for (size_t begin = 0; begin < n; begin += kStage) {
+        const size_t end = std::min(n, begin + kStage);
+        size_t kept = 0;
+        for (size_t k = begin; k < end; k += 4) {
+            const Placement *pa[4], *pb[4];
+            const Mesh *ma[4], *mb[4];
+            for (size_t l = 0; l < 4; ++l) {
+                const TetraPair &p = pairs[k + l < end ? k + l : k];
+                pa[l] = p.a;
+                pb[l] = p.b;
+                ma[l] = p.mesh_a;
+                mb[l] = p.mesh_b;
+            }
+            Side4 A, B;
+            load_side(pa, ma, A);
+            load_side(pb, mb, B);
+            const unsigned apart = axis_separated4(A, B);
+            for (size_t l = 0; l < 4 && k + l < end; ++l) {
+                out[k + l] = Contact::None;
+                left[kept] = uint32_t(k + l);
+                kept += ~apart >> l & 1;
+            }
+        }
+        for (size_t g = 0; g < kept; g += 4)
+            collide_tetra4(pairs, left + g, int(std::min<size_t>(4, kept - g)), out, scratch);
+    }
+}
 #endif
 
 Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
@@ -1240,6 +1528,18 @@ __attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPo
 }
 
 }  // namespace
+
+void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch) {
+#if HGCD_TET_AVX2
+    if (use_avx2()) return collide_tetra_batch_avx2(pairs, n, out, scratch);
+#endif
+    for (size_t k = 0; k < n; ++k) {
+        const TetraPair &p = pairs[k];
+        const BodyPose a{p.mesh_a, p.a->position, p.a->orientation, p.a->scale};
+        const BodyPose b{p.mesh_b, p.b->position, p.b->orientation, p.b->scale};
+        out[k] = collide_tetra(a, b, scratch);
+    }
+}
 
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
     // (A tetrahedron has no tree; a witness asks for the general path's

@@ -1,5 +1,6 @@
 // Narrow phase: the exact collision test of two bodies.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -16,6 +17,21 @@ struct BodyPose {
 };
 
 enum class Contact { None, Surface, Containment };
+
+// A body's pose as the world stores it, in one cache line: what the narrow
+// phase reads per body (collide_tetra_batch loads it in 32-byte halves).
+struct alignas(64) Placement {
+    double position[3];
+    double orientation[4];  // x y z w
+    double scale;
+};
+static_assert(sizeof(Placement) == 64, "Placement layout");
+
+// A pair of bodies whose meshes are both tetrahedra (Mesh::tetra).
+struct TetraPair {
+    const Mesh *mesh_a, *mesh_b;
+    const Placement *a, *b;
+};
 
 // What collide() found, for callers that ask (the contacts of hgcd.h). A path
 // that does not record it leaves recorded false.
@@ -67,6 +83,15 @@ struct NarrowScratch {
 // counts pairs whose conservative root boxes overlap.
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
                 Witness *witness = nullptr);
+
+// collide() of every pair of tetrahedra pairs[0, n) into out[0, n), the
+// same verdicts and counts in scratch. With AVX2 (use_avx2) four pairs at a
+// time, one per lane: the separating axis along the line of centres for all
+// pairs, then, for those it leaves, world vertices, boxes, face planes and
+// the certified signs of both bodies, each lane in the operations of the
+// one-pair test; a lane those leave open goes on with the one-pair test's
+// later steps. Elsewhere one pair at a time.
+void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
 
 // World-space vertices of a body into out (3 per vertex) and their box.
 void world_vertices(const BodyPose &body, std::vector<double> &out, double *box);

@@ -29,6 +29,8 @@ constexpr double kUnitTolerance = 1e-6;
 // 1 + 2e-6 (see rotation_stretch), the offsets' rounding to float adds
 // 2^-23 at most; the rest is slack for the rounding of the offsets.
 constexpr double kLevelInflation = 1 + 4e-6;
+// Candidate pairs per unit of the narrow phase's dynamic schedule.
+constexpr size_t kNarrowChunk = 512;
 
 // Sorts pair keys (a << 32 | b) ascending: least significant digit first,
 // on the keys packed as a << w | b (w the bits of the largest b: 40 bits in
@@ -594,8 +596,8 @@ hgcd_status World::detect_with(bool renumbered) {
         size_t total = 0;
         for (int t = 0; t < T; ++t) {
             total += found[t].size();
-            for (size_t b = 0; b < found[t].size(); b += 512)
-                chunks.push_back({uint32_t(t), b, std::min(found[t].size(), b + 512)});
+            for (size_t b = 0; b < found[t].size(); b += kNarrowChunk)
+                chunks.push_back({uint32_t(t), b, std::min(found[t].size(), b + kNarrowChunk)});
         }
         const double t2 = omp_get_wtime();
 
@@ -634,10 +636,17 @@ hgcd_status World::detect_with(bool renumbered) {
             mine.swap(hits[me]);
             std::vector<hgcd_contact> mine_contacts;
             uint64_t my_containment = 0, my_ccd_fallback = 0;
+            // Pairs of tetrahedra (without contacts or libccd) go to the
+            // batched test a chunk at a time (narrow.hpp).
+            const bool batch = !want_contacts && !any_ccd;
+            TetraPair tetra[kNarrowChunk];
+            uint64_t tetra_key[kNarrowChunk];
+            Contact verdict[kNarrowChunk];
 #pragma omp for schedule(dynamic, 1)
             for (int64_t c = 0; c < int64_t(chunks.size()); ++c) guard.run([&] {
                 const PairBuffer &list = found[chunks[c].list];
                 const size_t end = chunks[c].end;
+                size_t tetras = 0;
                 for (size_t k = chunks[c].begin; k < end; ++k) {
                     if (k + 8 < end) {  // the bodies of a later pair, to hide the latency
                         const uint64_t ahead = list[k + 8];
@@ -654,8 +663,14 @@ hgcd_status World::detect_with(bool renumbered) {
                     uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
                     if ((want_contacts || any_ccd) && slot_of_[a] > slot_of_[b]) std::swap(a, b);
                     const Placement &la = place_[a], &lb = place_[b];
-                    const BodyPose pa{&meshes_[body_mesh_[a]], la.position, la.orientation, la.scale};
-                    const BodyPose pb{&meshes_[body_mesh_[b]], lb.position, lb.orientation, lb.scale};
+                    const Mesh *mesh_a = &meshes_[body_mesh_[a]], *mesh_b = &meshes_[body_mesh_[b]];
+                    if (batch && mesh_a->tetra && mesh_b->tetra) {
+                        tetra[tetras] = TetraPair{mesh_a, mesh_b, &la, &lb};
+                        tetra_key[tetras++] = list[k];
+                        continue;
+                    }
+                    const BodyPose pa{mesh_a, la.position, la.orientation, la.scale};
+                    const BodyPose pb{mesh_b, lb.position, lb.orientation, lb.scale};
                     Contact hit;
                     hgcd_contact contact;
                     const uint8_t ma = any_ccd ? ccd_mode[body_mesh_[a]] : 0;
@@ -681,6 +696,12 @@ hgcd_status World::detect_with(bool renumbered) {
                         if (want_contacts) mine_contacts.push_back(contact);
                         if (hit == Contact::Containment) ++my_containment;
                     }
+                }
+                collide_tetra_batch(tetra, tetras, verdict, scratch);
+                for (size_t k = 0; k < tetras; ++k) {
+                    if (verdict[k] == Contact::None) continue;
+                    mine.push_back(pair_key(slot_of_[tetra_key[k] >> 32], slot_of_[uint32_t(tetra_key[k])]));
+                    if (verdict[k] == Contact::Containment) ++my_containment;
                 }
             });
             containment[me] = my_containment;

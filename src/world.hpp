@@ -9,6 +9,7 @@
 #include "grid.hpp"
 #include "hgcd/hgcd.h"
 #include "mesh.hpp"
+#include "narrow.hpp"
 
 namespace hgcd {
 
@@ -59,7 +60,6 @@ class World {
     hgcd_status check_body(hgcd_body id, const char *what, int64_t *slot) const;
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
-    struct Placement;
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
@@ -109,13 +109,7 @@ class World {
     // Per storage index (structure of arrays):
     std::vector<uint32_t> slot_of_;
     std::vector<uint32_t> stored_gen_;  // live_gen_ of the slot stored here
-    // What the narrow phase reads per body, in one cache line.
-    struct alignas(64) Placement {
-        double position[3];
-        double orientation[4];  // x y z w
-        double scale;
-    };
-    std::vector<Placement> place_;
+    std::vector<Placement> place_;  // (narrow.hpp)
     std::vector<double> velocity_;     // 3
     std::vector<uint32_t> body_mesh_;  // mesh slot
     std::vector<uint64_t> user_data_;

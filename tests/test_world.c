@@ -607,11 +607,12 @@ static void test_tetra_reference_counts(void **state) {
 
 /* The dedicated path for pairs of 4-vertex meshes whose triangles are the 4
  * faces (narrow.cpp, collide_tetra): proper, flat, collinear and repeated-point
- * tetrahedra with faces in several orders and orientations, placed to touch
+ * tetrahedra, and one whose orientation only the exact orient3d tells, with
+ * faces in several orders and orientations, placed to touch
  * exactly (shared vertex, edge and face, coplanar faces, one inside the other,
  * flat inside solid) and then on a 0.5 grid with exact rotations. Pairs and
  * containment counts must equal the oracle's. */
-enum { TV_REGULAR, TV_CORNER, TV_MIRROR, TV_FLAT_QUAD, TV_FLAT_TRI, TV_LINE, TV_BENT, TV_REPEAT, TV_COUNT };
+enum { TV_REGULAR, TV_CORNER, TV_MIRROR, TV_FLAT_QUAD, TV_FLAT_TRI, TV_LINE, TV_BENT, TV_REPEAT, TV_NEAR_FLAT, TV_NEAR_FLAT_MIRROR, TV_COUNT };
 static const double tv_v[TV_COUNT][12] = {
     {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1},
     {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1},
@@ -621,6 +622,8 @@ static const double tv_v[TV_COUNT][12] = {
     {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0},      /* collinear */
     {0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0},      /* three collinear */
     {0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1},      /* a repeated point */
+    {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 1e-200}, /* a proper tetrahedron too flat for the filters' bounds */
+    {0, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 1e-200}, /* the same, the other orientation */
 };
 static const uint32_t tv_t[3][12] = {
     {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2},

@@ -740,12 +740,10 @@ inline int sign_of(const TetSides &s, int f, int v) {
 // Everything the certified signs left open: the same decisions on exact
 // signs, then the exact triangle test on the face pairs whose planes do not
 // already keep them apart.
-__attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact(const TetWorld &ta, const TetWorld &tb,
-                                                      TetSides &sab, TetSides &sba,
-                                                      NarrowScratch &scratch) {
-    double wa[4][3], wb[4][3];
-    tet_aos(ta, wa);
-    tet_aos(tb, wb);
+// (Vertices wa[i] = (x, y, z) of vertex i.)
+__attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact_aos(const double (*wa)[3],
+                                                                         const double (*wb)[3], TetSides &sab,
+                                                                         TetSides &sba, NarrowScratch &scratch) {
     // (The caller took these decisions on the certified signs already.)
     if (tet_resolve(wa, wb, sab) | tet_resolve(wb, wa, sba)) {
         if (tet_separated(sab) || tet_separated(sba)) return Contact::None;
@@ -779,6 +777,14 @@ __attribute__((noinline)) HGCD_TET_CLONES Contact collide_tetra_exact(const TetW
     // vertices strictly inside, which the exact verdicts above would have
     // reported.
     return Contact::None;
+}
+
+inline Contact collide_tetra_exact(const TetWorld &ta, const TetWorld &tb, TetSides &sab, TetSides &sba,
+                                   NarrowScratch &scratch) {
+    double wa[4][3], wb[4][3];
+    tet_aos(ta, wa);
+    tet_aos(tb, wb);
+    return collide_tetra_exact_aos(wa, wb, sab, sba, scratch);
 }
 
 // A separating axis across an edge of each tetrahedron, tried on the pairs
@@ -1328,17 +1334,61 @@ static inline void decide4(const Sides4 &s, unsigned &apart, unsigned &contained
 }
 #pragma GCC pop_options
 
-// Lane k of four-lane world vertices as a TetWorld, and of signs as TetSides.
-inline void lane_world(const V4 (*w)[4], const V4 *lo, const V4 *hi, int k, TetWorld &t) {
-    for (int h = 0; h < 2; ++h) {
-        t.x[h] = V2{w[0][2 * h][k], w[0][2 * h + 1][k]};
-        t.y[h] = V2{w[1][2 * h][k], w[1][2 * h + 1][k]};
-        t.z[h] = V2{w[2][2 * h][k], w[2][2 * h + 1][k]};
+#pragma GCC push_options
+#pragma GCC target("avx2")
+// A vertex and its squared distance to the other body's position, per lane.
+struct Near4 {
+    V4 d, x, y, z;
+};
+static inline V4 pick4(const M4 &take_b, const V4 &a, const V4 &b) {
+    return (V4)_mm256_blendv_pd((__m256d)a, (__m256d)b, (__m256d)take_b);
+}
+static inline Near4 pick4(const M4 &take_b, const Near4 &a, const Near4 &b) {
+    return Near4{pick4(take_b, a.d, b.d), pick4(take_b, a.x, b.x), pick4(take_b, a.y, b.y), pick4(take_b, a.z, b.z)};
+}
+// The two vertices of w nearest c (nearest in first), per lane.
+static inline void nearest4(V4 (*w)[4], const V4 *c, Near4 &first, Near4 &second) {
+    Near4 p[4];
+    for (int v = 0; v < 4; ++v) {
+        const V4 dx = w[0][v] - c[0], dy = w[1][v] - c[1], dz = w[2][v] - c[2];
+        p[v] = Near4{(dx * dx + dy * dy) + dz * dz, w[0][v], w[1][v], w[2][v]};
     }
-    for (int a = 0; a < 3; ++a) {
-        t.lo[a] = lo[a][k];
-        t.hi[a] = hi[a][k];
+    const M4 s01 = p[1].d < p[0].d, s23 = p[3].d < p[2].d;
+    const Near4 l1 = pick4(s01, p[0], p[1]), h1 = pick4(s01, p[1], p[0]);
+    const Near4 l2 = pick4(s23, p[2], p[3]), h2 = pick4(s23, p[3], p[2]);
+    const M4 m = l2.d < l1.d;
+    first = pick4(m, l1, l2);
+    const Near4 a = pick4(m, h1, l1), b = pick4(m, l2, h2);  // the second is the nearer of these
+    second = pick4(b.d < a.d, a, b);
+}
+// Lanes whose pair an axis across an edge of each body proves apart: the
+// axis of tet_edges_separate (EdgeAxis: the edge joining the two vertices of
+// each body nearest the other's position), with a's faces as u, and its
+// certificate (the origin c is a vertex of a, inside the box of extent e).
+static inline unsigned edges_apart4(V4 (*wa)[4], V4 (*wb)[4], const V4 *ca, const V4 *cb, const V4 &ex,
+                                    const V4 &ey, const V4 &ez) {
+    Near4 a0, a1, b0, b1;
+    nearest4(wa, cb, a0, a1);
+    nearest4(wb, ca, b0, b1);
+    const V4 ax = a1.x - a0.x, ay = a1.y - a0.y, az = a1.z - a0.z;
+    const V4 bx = b1.x - b0.x, by = b1.y - b0.y, bz = b1.z - b0.z;
+    const V4 nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    V4 pa[4], pb[4];
+    for (int v = 0; v < 4; ++v) {
+        pa[v] = ((wa[0][v] - a0.x) * nx + (wa[1][v] - a0.y) * ny) + (wa[2][v] - a0.z) * nz;
+        pb[v] = ((wb[0][v] - a0.x) * nx + (wb[1][v] - a0.y) * ny) + (wb[2][v] - a0.z) * nz;
     }
+    const V4 amin = min4(min4(pa[0], pa[1]), min4(pa[2], pa[3])), amax = max4(max4(pa[0], pa[1]), max4(pa[2], pa[3]));
+    const V4 bmin = min4(min4(pb[0], pb[1]), min4(pb[2], pb[3])), bmax = max4(max4(pb[0], pb[1]), max4(pb[2], pb[3]));
+    const V4 margin = 0x1p-46 * ((ex * abs4(nx) + ey * abs4(ny)) + ez * abs4(nz)) + 0x1p-960;
+    return lanes_of((bmin - amax > margin) | (amin - bmax > margin));
+}
+#pragma GCC pop_options
+
+// Lane k of four-lane world vertices as rows (x, y, z), and of signs as TetSides.
+inline void lane_vertices(V4 (*w)[4], int k, double (*out)[3]) {
+    for (int v = 0; v < 4; ++v)
+        for (int a = 0; a < 3; ++a) out[v][a] = w[a][v][k];
 }
 inline void lane_sides(const Sides4 &s, int k, TetSides &t) {
     for (int f = 0; f < 4; ++f) {
@@ -1393,10 +1443,8 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
         else if (surface >> k & 1)
             out[idx[k]] = Contact::Surface;
     if (!open) return;
-    const V4 size_a = ((ha[0] - la[0]) + (ha[1] - la[1])) + (ha[2] - la[2]);
-    const V4 size_b = ((hb[0] - lb[0]) + (hb[1] - lb[1])) + (hb[2] - lb[2]);
-    const unsigned b_larger = lanes_of(size_b > size_a);
-    do {
+    open &= ~edges_apart4(wa, wb, A.c, B.c, ex, ey, ez);
+    while (open) {
         const int k = __builtin_ctz(open);
         open &= open - 1;
         const TetraPair &p = pairs[idx[k]];
@@ -1407,20 +1455,14 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
             out[idx[k]] = collide_tetra_avx2(a, b, scratch);
             continue;
         }
-        TetWorld ta, tb;
+        double va[4][3], vb[4][3];
         TetSides s_ab, s_ba;
-        lane_world(wa, la, ha, k, ta);
-        lane_world(wb, lb, hb, k, tb);
+        lane_vertices(wa, k, va);
+        lane_vertices(wb, k, vb);
         lane_sides(sab, k, s_ab);
         lane_sides(sba, k, s_ba);
-        const bool swap = b_larger >> k & 1;  // the larger body's faces are u (as the one-pair test)
-        const TetWorld &u = swap ? tb : ta, &v = swap ? ta : tb;
-        TetSides &suv = swap ? s_ba : s_ab, &svu = swap ? s_ab : s_ba;
-        const double *cu = swap ? p.b->position : p.a->position, *cv = swap ? p.a->position : p.b->position;
-        out[idx[k]] = tet_edges_separate_avx2(u, v, cu, cv, ex[k], ey[k], ez[k])
-                          ? Contact::None
-                          : collide_tetra_exact(u, v, suv, svu, scratch);
-    } while (open);
+        out[idx[k]] = collide_tetra_exact_aos(va, vb, s_ab, s_ba, scratch);
+    }
 }
 
 __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *pairs, size_t n, Contact *out,

@@ -1363,20 +1363,23 @@ static inline void nearest4(V4 (*w)[4], const V4 *c, Near4 &first, Near4 &second
 }
 // Lanes whose pair an axis across an edge of each body proves apart: the
 // axis of tet_edges_separate (EdgeAxis: the edge joining the two vertices of
-// each body nearest the other's position), with a's faces as u, and its
-// certificate (the origin c is a vertex of a, inside the box of extent e).
-static inline unsigned edges_apart4(V4 (*wa)[4], V4 (*wb)[4], const V4 *ca, const V4 *cb, const V4 &ex,
-                                    const V4 &ey, const V4 &ez) {
+// each body nearest the other's position), its origin the vertex of u (b
+// where b_is_u, else a) that the one-pair test takes, so the same bits.
+static inline unsigned edges_apart4(V4 (*wa)[4], V4 (*wb)[4], const V4 *ca, const V4 *cb, const M4 &b_is_u,
+                                    const V4 &ex, const V4 &ey, const V4 &ez) {
     Near4 a0, a1, b0, b1;
     nearest4(wa, cb, a0, a1);
     nearest4(wb, ca, b0, b1);
     const V4 ax = a1.x - a0.x, ay = a1.y - a0.y, az = a1.z - a0.z;
     const V4 bx = b1.x - b0.x, by = b1.y - b0.y, bz = b1.z - b0.z;
+    // (u x v is exactly -(v x u): the lanes with b as u only flip the
+    // projections' signs, which the test below does not see.)
     const V4 nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    const V4 cx = pick4(b_is_u, a0.x, b0.x), cy = pick4(b_is_u, a0.y, b0.y), cz = pick4(b_is_u, a0.z, b0.z);
     V4 pa[4], pb[4];
     for (int v = 0; v < 4; ++v) {
-        pa[v] = ((wa[0][v] - a0.x) * nx + (wa[1][v] - a0.y) * ny) + (wa[2][v] - a0.z) * nz;
-        pb[v] = ((wb[0][v] - a0.x) * nx + (wb[1][v] - a0.y) * ny) + (wb[2][v] - a0.z) * nz;
+        pa[v] = ((wa[0][v] - cx) * nx + (wa[1][v] - cy) * ny) + (wa[2][v] - cz) * nz;
+        pb[v] = ((wb[0][v] - cx) * nx + (wb[1][v] - cy) * ny) + (wb[2][v] - cz) * nz;
     }
     const V4 amin = min4(min4(pa[0], pa[1]), min4(pa[2], pa[3])), amax = max4(max4(pa[0], pa[1]), max4(pa[2], pa[3]));
     const V4 bmin = min4(min4(pb[0], pb[1]), min4(pb[2], pb[3])), bmax = max4(max4(pb[0], pb[1]), max4(pb[2], pb[3]));
@@ -1443,7 +1446,11 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
         else if (surface >> k & 1)
             out[idx[k]] = Contact::Surface;
     if (!open) return;
-    open &= ~edges_apart4(wa, wb, A.c, B.c, ex, ey, ez);
+    // The one-pair test's u: the body of the larger box (the same sums).
+    const V4 size_a = ((ha[0] - la[0]) + (ha[1] - la[1])) + (ha[2] - la[2]);
+    const V4 size_b = ((hb[0] - lb[0]) + (hb[1] - lb[1])) + (hb[2] - lb[2]);
+    const M4 b_is_u = size_b > size_a;
+    open &= ~edges_apart4(wa, wb, A.c, B.c, b_is_u, ex, ey, ez);
     while (open) {
         const int k = __builtin_ctz(open);
         open &= open - 1;
@@ -1461,7 +1468,9 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
         lane_vertices(wb, k, vb);
         lane_sides(sab, k, s_ab);
         lane_sides(sba, k, s_ba);
-        out[idx[k]] = collide_tetra_exact_aos(va, vb, s_ab, s_ba, scratch);
+        // In the one-pair test's order (which face pairs it tries first).
+        out[idx[k]] = b_is_u[k] ? collide_tetra_exact_aos(vb, va, s_ba, s_ab, scratch)
+                                : collide_tetra_exact_aos(va, vb, s_ab, s_ba, scratch);
     }
 }
 

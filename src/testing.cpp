@@ -5,10 +5,13 @@
 
 #include <algorithm>
 #include <climits>
+#include <string>
 #include <vector>
 
 #include "geometry.hpp"
 #include "grid.hpp"
+#include "mesh.hpp"
+#include "narrow.hpp"
 #include "ieee.hpp"
 
 extern "C" {
@@ -105,6 +108,50 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
     } catch (...) {
         return -1;
     }
+}
+
+int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
+                                const double *poses, uint32_t pair_count, uint64_t *counts) {
+    static const uint32_t faces[12] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+    std::vector<hgcd::Mesh> mesh(mesh_count);
+    for (uint32_t m = 0; m < mesh_count; ++m) {
+        std::string error;
+        if (!hgcd::build_mesh(meshes + 12 * size_t(m), 4, faces, 4, &mesh[m], &error) || !mesh[m].tetra) return -1;
+    }
+    std::vector<hgcd::Placement> place(2 * size_t(pair_count));
+    std::vector<hgcd::TetraPair> pairs(pair_count);
+    for (uint32_t k = 0; k < pair_count; ++k) {
+        for (int side = 0; side < 2; ++side) {
+            hgcd::Placement &pl = place[2 * size_t(k) + side];
+            const double *pose = poses + 16 * size_t(k) + 8 * side;
+            for (int c = 0; c < 3; ++c) pl.position[c] = pose[c];
+            for (int c = 0; c < 4; ++c) pl.orientation[c] = pose[3 + c];
+            pl.scale = pose[7];
+        }
+        pairs[k] = hgcd::TetraPair{&mesh[pair_mesh[2 * size_t(k)]], &mesh[pair_mesh[2 * size_t(k) + 1]],
+                                   &place[2 * size_t(k)], &place[2 * size_t(k) + 1]};
+    }
+    hgcd::NarrowScratch one, batch;
+    std::vector<hgcd::Contact> verdict(pair_count);
+    hgcd::collide_tetra_batch(pairs.data(), pair_count, verdict.data(), batch);
+    int64_t differ = 0;
+    uint64_t hits = 0, contained = 0;
+    for (uint32_t k = 0; k < pair_count; ++k) {
+        const hgcd::TetraPair &p = pairs[k];
+        const hgcd::BodyPose a{p.mesh_a, p.a->position, p.a->orientation, p.a->scale};
+        const hgcd::BodyPose b{p.mesh_b, p.b->position, p.b->orientation, p.b->scale};
+        const hgcd::Contact c = hgcd::collide(a, b, one);
+        differ += c != verdict[k];
+        hits += c != hgcd::Contact::None;
+        contained += c == hgcd::Contact::Containment;
+    }
+    counts[0] = one.exact_tests;
+    counts[1] = batch.exact_tests;
+    counts[2] = one.triangle_tests;
+    counts[3] = batch.triangle_tests;
+    counts[4] = hits;
+    counts[5] = contained;
+    return differ;
 }
 
 }  // extern "C"

@@ -46,6 +46,18 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
                          int threads, int coarsen, uint64_t *out, uint64_t cap);
 
+/* The narrow phase's batched tetrahedron test (narrow.cpp,
+ * collide_tetra_batch) against the one-pair test (collide) on pair_count
+ * pairs: meshes holds 12 doubles per mesh (4 vertices x y z, the 4 faces
+ * made of them), pair_mesh the two mesh indices of each pair, poses 16
+ * doubles per pair (per body: position, quaternion x y z w, scale). counts
+ * (6) receives exact_tests of the one-pair test and of the batch,
+ * triangle_tests of each, the one-pair test's colliding and containment
+ * pairs. Returns how many pairs got another verdict, or -1 when a mesh is
+ * refused or not a tetrahedron. */
+int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
+                                const double *poses, uint32_t pair_count, uint64_t *counts);
+
 #ifdef __cplusplus
 }
 #endif

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <climits>
 #include <cmath>
+#include <memory>
 #include <new>
 
 #include "ccd_narrow.hpp"
@@ -621,6 +622,9 @@ hgcd_status World::detect_with(bool renumbered) {
         std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // parallel to hits (contacts on)
         std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0), ccd_tests(T, 0),
             ccd_fallback(T, 0);
+        std::unique_ptr<TetraPair[]> batch_pairs(new TetraPair[size_t(T) * kNarrowChunk]);
+        std::unique_ptr<uint64_t[]> batch_keys(new uint64_t[size_t(T) * kNarrowChunk]);
+        std::unique_ptr<Contact[]> batch_verdicts(new Contact[size_t(T) * kNarrowChunk]);
         RegionGuard guard;
 #pragma omp parallel num_threads(T)
         {
@@ -638,10 +642,12 @@ hgcd_status World::detect_with(bool renumbered) {
             uint64_t my_containment = 0, my_ccd_fallback = 0;
             // Pairs of tetrahedra (without contacts or libccd) go to the
             // batched test a chunk at a time (narrow.hpp).
+            // (On the heap, from before the region: 22 kB a thread that
+            // would otherwise sit on the caller's stack on thread 0.)
             const bool batch = !want_contacts && !any_ccd;
-            TetraPair tetra[kNarrowChunk];
-            uint64_t tetra_key[kNarrowChunk];
-            Contact verdict[kNarrowChunk];
+            TetraPair *tetra = batch_pairs.get() + size_t(me) * kNarrowChunk;
+            uint64_t *tetra_key = batch_keys.get() + size_t(me) * kNarrowChunk;
+            Contact *verdict = batch_verdicts.get() + size_t(me) * kNarrowChunk;
 #pragma omp for schedule(dynamic, 1)
             for (int64_t c = 0; c < int64_t(chunks.size()); ++c) guard.run([&] {
                 const PairBuffer &list = found[chunks[c].list];

@@ -1017,6 +1017,9 @@ typedef int64_t M4 __attribute__((vector_size(32)));
 static inline unsigned less_avx2(const V4 &a, const V4 &b) {
     return unsigned(_mm256_movemask_pd(_mm256_cmp_pd((__m256d)a, (__m256d)b, _CMP_LT_OQ)));
 }
+// (An out-parameter: the kernels that call it have no target of their own,
+// and a vector return would change the ABI there; the batched test's
+// helpers below, all of the AVX2 target, return theirs.)
 static inline void max_avx2(V4 &out, const V4 &a, const V4 &b) { out = (V4)_mm256_max_pd((__m256d)a, (__m256d)b); }
 #pragma GCC pop_options
 
@@ -1242,6 +1245,15 @@ static inline void load_side(const Placement *const *p, const Mesh *const *mesh,
     }
 }
 
+// Both sides of the pairs p[0..3].
+static inline void load_pairs(const TetraPair *const *p, Side4 &A, Side4 &B) {
+    const Placement *pa[4] = {p[0]->a, p[1]->a, p[2]->a, p[3]->a}, *pb[4] = {p[0]->b, p[1]->b, p[2]->b, p[3]->b};
+    const Mesh *ma[4] = {p[0]->mesh_a, p[1]->mesh_a, p[2]->mesh_a, p[3]->mesh_a};
+    const Mesh *mb[4] = {p[0]->mesh_b, p[1]->mesh_b, p[2]->mesh_b, p[3]->mesh_b};
+    load_side(pa, ma, A);
+    load_side(pb, mb, B);
+}
+
 // Lanes whose pair tet_axis_separates rejects (the same operations).
 static inline unsigned axis_separated4(const Side4 &A, const Side4 &B) {
     const V4 u0 = B.c[0] - A.c[0], u1 = B.c[1] - A.c[1], u2 = B.c[2] - A.c[2];
@@ -1404,19 +1416,11 @@ inline void lane_sides(const Sides4 &s, int k, TetSides &t) {
 // Up to four pairs (idx[0, count) of pairs; count >= 1) past the axis test.
 __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, const uint32_t *idx, int count,
                                                    Contact *out, NarrowScratch &scratch) {
-    const Placement *pa[4], *pb[4];
-    const Mesh *ma[4], *mb[4];
-    for (int k = 0; k < 4; ++k) {
-        const TetraPair &p = pairs[idx[k < count ? k : 0]];
-        pa[k] = p.a;
-        pb[k] = p.b;
-        ma[k] = p.mesh_a;
-        mb[k] = p.mesh_b;
-    }
+    const TetraPair *group[4];
+    for (int k = 0; k < 4; ++k) group[k] = &pairs[idx[k < count ? k : 0]];
     const unsigned valid = (1u << count) - 1;
     Side4 A, B;
-    load_side(pa, ma, A);
-    load_side(pb, mb, B);
+    load_pairs(group, A, B);
     V4 wa[3][4], wb[3][4], la[3], ha[3], lb[3], hb[3];
     world4(A, wa, la, ha);
     world4(B, wb, lb, hb);
@@ -1456,10 +1460,8 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
         open &= open - 1;
         const TetraPair &p = pairs[idx[k]];
         if (!(oriented >> k & 1)) {  // a tetrahedron flat or nearly: the whole one-pair test
-            const BodyPose a{p.mesh_a, p.a->position, p.a->orientation, p.a->scale};
-            const BodyPose b{p.mesh_b, p.b->position, p.b->orientation, p.b->scale};
             --scratch.exact_tests;  // (counted again there)
-            out[idx[k]] = collide_tetra_avx2(a, b, scratch);
+            out[idx[k]] = collide_tetra_avx2(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), scratch);
             continue;
         }
         double va[4][3], vb[4][3];
@@ -1482,18 +1484,10 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
         const size_t end = std::min(n, begin + kStage);
         size_t kept = 0;
         for (size_t k = begin; k < end; k += 4) {
-            const Placement *pa[4], *pb[4];
-            const Mesh *ma[4], *mb[4];
-            for (size_t l = 0; l < 4; ++l) {
-                const TetraPair &p = pairs[k + l < end ? k + l : k];
-                pa[l] = p.a;
-                pb[l] = p.b;
-                ma[l] = p.mesh_a;
-                mb[l] = p.mesh_b;
-            }
+            const TetraPair *group[4];
+            for (size_t l = 0; l < 4; ++l) group[l] = &pairs[k + l < end ? k + l : k];
             Side4 A, B;
-            load_side(pa, ma, A);
-            load_side(pb, mb, B);
+            load_pairs(group, A, B);
             const unsigned apart = axis_separated4(A, B);
             for (size_t l = 0; l < 4 && k + l < end; ++l) {
                 out[k + l] = Contact::None;
@@ -1586,9 +1580,7 @@ void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowS
 #endif
     for (size_t k = 0; k < n; ++k) {
         const TetraPair &p = pairs[k];
-        const BodyPose a{p.mesh_a, p.a->position, p.a->orientation, p.a->scale};
-        const BodyPose b{p.mesh_b, p.b->position, p.b->orientation, p.b->scale};
-        out[k] = collide_tetra(a, b, scratch);
+        out[k] = collide_tetra(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), scratch);
     }
 }
 

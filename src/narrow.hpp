@@ -27,6 +27,11 @@ struct alignas(64) Placement {
 };
 static_assert(sizeof(Placement) == 64, "Placement layout");
 
+// The pose of a body of mesh m stored as p (p must outlive it).
+inline BodyPose pose_of(const Mesh *m, const Placement &p) {
+    return BodyPose{m, p.position, p.orientation, p.scale};
+}
+
 // A pair of bodies whose meshes are both tetrahedra (Mesh::tetra).
 struct TetraPair {
     const Mesh *mesh_a, *mesh_b;

@@ -138,9 +138,7 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
     uint64_t hits = 0, contained = 0;
     for (uint32_t k = 0; k < pair_count; ++k) {
         const hgcd::TetraPair &p = pairs[k];
-        const hgcd::BodyPose a{p.mesh_a, p.a->position, p.a->orientation, p.a->scale};
-        const hgcd::BodyPose b{p.mesh_b, p.b->position, p.b->orientation, p.b->scale};
-        const hgcd::Contact c = hgcd::collide(a, b, one);
+        const hgcd::Contact c = hgcd::collide(hgcd::pose_of(p.mesh_a, *p.a), hgcd::pose_of(p.mesh_b, *p.b), one);
         differ += c != verdict[k];
         hits += c != hgcd::Contact::None;
         contained += c == hgcd::Contact::Containment;

@@ -675,8 +675,7 @@ hgcd_status World::detect_with(bool renumbered) {
                         tetra_key[tetras++] = list[k];
                         continue;
                     }
-                    const BodyPose pa{mesh_a, la.position, la.orientation, la.scale};
-                    const BodyPose pb{mesh_b, lb.position, lb.orientation, lb.scale};
+                    const BodyPose pa = pose_of(mesh_a, la), pb = pose_of(mesh_b, lb);
                     Contact hit;
                     hgcd_contact contact;
                     const uint8_t ma = any_ccd ? ccd_mode[body_mesh_[a]] : 0;

@@ -79,6 +79,8 @@ constexpr size_t kChunk = 1024;
 // lie in [-1074, 1024]; tables over them are indexed by e + kExponentBias.
 constexpr int kExponentBias = 1080;
 constexpr int kExponents = 2110;
+// Slots the census takes at a time (and hands to a SlotPass).
+constexpr int64_t kCensusBlock = 256;
 constexpr size_t kPad = 16;  // readable entries past the end of a list's box arrays (>= a block)
 // Rows are 2^kRowShift cells high and deep.
 constexpr int kRowShift = 1;
@@ -184,7 +186,8 @@ void Grid::cell_at(const double *p, int level_index, int64_t *cell) const {
 }
 
 GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const uint32_t *live_gen,
-                             uint32_t slot_count, const GridLimits &limits, int threads) {
+                             uint32_t slot_count, const GridLimits &limits, int threads,
+                             const SlotPass *before) {
     GridUpdateStats stats;
     level_.resize(slot_count, kNone);
     gen_.resize(slot_count, 0);
@@ -234,6 +237,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     const size_t touched_stride = (L + 7) / 8 * 8 + 8;
     std::vector<uint64_t> touched_local(size_t(threads) * touched_stride, 0);
     uint64_t flagged = 0;
+    const int64_t blocks = (int64_t(slot_count) + kCensusBlock - 1) / kCensusBlock;
     {
         RegionGuard guard;
 #pragma omp parallel num_threads(threads) reduction(+ : flagged)
@@ -247,42 +251,46 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
             std::vector<Moved> changed_mine;
             uint64_t *my_touched = touched_local.data() + size_t(me) * touched_stride;
 #pragma omp for schedule(static) nowait
-            for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-                int e = INT_MIN;
-                if (live_gen[s]) {
-                    if (gen_[s] != live_gen[s] || stale_exponents) {
-                        const double h2 = 2 * r_level[s];
-                        const int e = std::max(ceil_log2(h2), limits.min_exponent);
-                        exponent_[s] = int16_t(e);
-                        // (Rounded down to float; 0 when it is not positive: oversize.)
-                        const double slack = cell_width(e) - h2;
-                        slack_[s] = std::max(float_at_most(slack), 0.0f);
+            for (int64_t block = 0; block < blocks; ++block) {
+                const uint32_t block_end = uint32_t(std::min<int64_t>(slot_count, (block + 1) * kCensusBlock));
+                if (before) before->run(before->context, uint32_t(block * kCensusBlock), block_end);
+                for (int64_t s = block * kCensusBlock; s < int64_t(block_end); ++s) {
+                    int e = INT_MIN;
+                    if (live_gen[s]) {
+                        if (gen_[s] != live_gen[s] || stale_exponents) {
+                            const double h2 = 2 * r_level[s];
+                            const int e = std::max(ceil_log2(h2), limits.min_exponent);
+                            exponent_[s] = int16_t(e);
+                            // (Rounded down to float; 0 when it is not positive: oversize.)
+                            const double slack = cell_width(e) - h2;
+                            slack_[s] = std::max(float_at_most(slack), 0.0f);
+                        }
+                        e = exponent_of(s);
+                        if (e == INT_MAX) guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
+                        else ++hist[e + kExponentBias];
                     }
-                    e = exponent_of(s);
-                    if (e == INT_MAX) guard.run([&] { oversize_mine.push_back(uint32_t(s)); });
-                    else ++hist[e + kExponentBias];
-                }
-                if (!incremental) {
-                    gen_[s] = live_gen[s];
-                    continue;
-                }
-                const int16_t li = level_index(e);
-                int64_t c[2] = {0, 0};
-                if (li >= 0) cell_at(boxes.point(size_t(s)), li, c);
-                int64_t *old = &cell_[2 * s];
-                uint8_t f = 0;
-                if (li != level_[s] || gen_[s] != live_gen[s]) f = 2;
-                else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) f = 1;
-                flag[s] = f;
-                if (f) {  // (most bodies keep their row: their state is not written)
-                    guard.run([&] { changed_mine.push_back(Moved{uint32_t(s), level_[s], {old[0], old[1]}}); });
-                    ++flagged;
-                    if (level_[s] >= 0) ++my_touched[level_[s]];
-                    if (li >= 0) ++my_touched[li];
-                    level_[s] = li;
-                    gen_[s] = live_gen[s];
-                    old[0] = c[0];
-                    old[1] = c[1];
+                    if (!incremental) {
+                        gen_[s] = live_gen[s];
+                        continue;
+                    }
+                    const int16_t li = level_index(e);
+                    int64_t c[2] = {0, 0};
+                    if (li >= 0) cell_at(boxes.point(size_t(s)), li, c);
+                    int64_t *old = &cell_[2 * s];
+                    uint8_t f = 0;
+                    if (li != level_[s] || gen_[s] != live_gen[s]) f = 2;
+                    else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) f = 1;
+                    flag[s] = f;
+                    if (f) {  // (most bodies keep their row: their state is not written)
+                        guard.run([&] { changed_mine.push_back(Moved{uint32_t(s), level_[s], {old[0], old[1]}}); });
+                        ++flagged;
+                        if (level_[s] >= 0) ++my_touched[level_[s]];
+                        if (li >= 0) ++my_touched[li];
+                        level_[s] = li;
+                        gen_[s] = live_gen[s];
+                        old[0] = c[0];
+                        old[1] = c[1];
+                    }
                 }
             }
             oversize_local[me].swap(oversize_mine);

@@ -136,6 +136,14 @@ class alignas(64) PairBuffer {
     size_t size_ = 0, capacity_ = 0;
 };
 
+// Work the grid update's census hands each range of slots [begin, end) to,
+// on the thread that then reads their points, just before it does (see
+// Grid::update). Must not throw.
+struct SlotPass {
+    void (*run)(void *context, uint32_t begin, uint32_t end);
+    void *context;
+};
+
 struct GridUpdateStats {
     uint64_t moved = 0;  // bodies that changed row or membership
     bool rebuilt = false;
@@ -147,8 +155,14 @@ class Grid {
     // the body in slot s, or 0 for an empty slot; r_level[s] bounds the
     // magnitude of its offsets in every orientation (so it picks the body's
     // level once for its life: position- and orientation-independent).
+    // before, if given, runs on every slot range of the census once the
+    // census has begun (all of them, also when the update then fails), and
+    // nowhere else: a world moves its bodies there, so that the census reads
+    // the new points while they are in cache, where a pass of its own read
+    // them back from memory.
     GridUpdateStats update(const Boxes &boxes, const double *r_level, const uint32_t *live_gen,
-                           uint32_t slot_count, const GridLimits &limits, int threads);
+                           uint32_t slot_count, const GridLimits &limits, int threads,
+                           const SlotPass *before = nullptr);
 
     // Appends to out[thread] every pair (a << 32 | b) of bodies whose boxes
     // overlap (closed intervals on every axis), once, in either order (the

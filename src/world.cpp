@@ -563,7 +563,7 @@ double World::estimated_candidates_per_body(int threads) const {
 
 hgcd_status World::detect() { return detect_with(false); }
 
-hgcd_status World::detect_with(bool renumbered) {
+hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     pairs_.clear();
     contacts_.clear();
     contacts_recorded_ = contacts_on_;
@@ -577,7 +577,7 @@ hgcd_status World::detect_with(bool renumbered) {
     try {
         if (!renumbered) renumber_if_disordered();
         const uint32_t stored = uint32_t(stored_gen_.size());
-        const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(), stored, grid_limits(T), T);
+        const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(), stored, grid_limits(T), T, motion);
         grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)
         const double t1 = omp_get_wtime();
 
@@ -908,6 +908,50 @@ bool World::renumber() {
     return true;
 }
 
+namespace {
+
+// One tick's motion, applied a range of slots at a time (a SlotPass).
+struct Motion {
+    bool reflect;
+    double dt, lo[3], hi[3];
+    Placement *place;
+    double *velocity, *point;
+    const uint32_t *live;
+    std::atomic<bool> applied{false};  // some range has moved
+
+    static void run(void *context, uint32_t begin, uint32_t end) {
+        Motion &m = *static_cast<Motion *>(context);
+        if (!m.applied.load(std::memory_order_relaxed)) m.applied.store(true, std::memory_order_relaxed);
+        // Locals, so the compiler need not reload them after each store.
+        const bool reflect = m.reflect;
+        const double dt = m.dt, lo[3] = {m.lo[0], m.lo[1], m.lo[2]}, hi[3] = {m.hi[0], m.hi[1], m.hi[2]};
+        Placement *place = m.place;
+        double *velocity = m.velocity, *point = m.point;
+        for (uint32_t s = begin; s < end; ++s) {
+            if (!m.live[s]) continue;
+            for (int k = 0; k < 3; ++k) {
+                double &c = place[s].position[k];
+                double &v = velocity[3 * size_t(s) + k];
+                double x = c + v * dt;
+                if (reflect) {
+                    if (x < lo[k]) {
+                        x = 2 * lo[k] - x;
+                        v = -v;
+                    } else if (x > hi[k]) {
+                        x = 2 * hi[k] - x;
+                        v = -v;
+                    }
+                    // A move longer than the box is clamped rather than leaving it.
+                    x = std::min(std::max(x, lo[k]), hi[k]);
+                }
+                c = point[3 * size_t(s) + k] = x;
+            }
+        }
+    }
+};
+
+}  // namespace
+
 hgcd_status World::step() {
     const int T = threads();
     const double t0 = omp_get_wtime();
@@ -931,40 +975,33 @@ hgcd_status World::step() {
                                                          " would leave the coordinate range (|x| <= 1e15)");
     }
     renumber_if_disordered();  // (before the motion: it then moves storage in order)
-    // Locals, so the compiler need not reload them after each store.
-    const bool reflect = reflect_;
-    const double lo[3] = {bounds_min_[0], bounds_min_[1], bounds_min_[2]};
-    const double hi[3] = {bounds_max_[0], bounds_max_[1], bounds_max_[2]};
-    Placement *place = place_.data();
-    double *velocity = velocity_.data();
-    const uint32_t *live = stored_gen_.data();
-    // (A body's box is its position plus offsets fixed while its
-    // orientation is: the grid reads it from both, nothing to compute here.)
-#pragma omp parallel for num_threads(T) schedule(static)
-    for (int64_t s = 0; s < n; ++s) {
-        if (!live[s]) continue;
-        for (int k = 0; k < 3; ++k) {
-            double &c = place[s].position[k];
-            double &v = velocity[3 * s + k];
-            double x = c + v * dt;
-            if (reflect) {
-                if (x < lo[k]) {
-                    x = 2 * lo[k] - x;
-                    v = -v;
-                } else if (x > hi[k]) {
-                    x = 2 * hi[k] - x;
-                    v = -v;
-                }
-                // A move longer than the box is clamped rather than leaving it.
-                x = std::min(std::max(x, lo[k]), hi[k]);
-            }
-            c = point_[3 * s + k] = x;
-        }
+    // The moves run inside the grid update's census, a range of slots at a
+    // time right before it reads their points (Grid::update), so those are
+    // read while in cache: tetra 750k, motion + update 32.2 -> 31.1 ms on 1
+    // thread, 18.1 -> 16.9 ms on 2.
+    Motion motion;
+    motion.reflect = reflect_;
+    motion.dt = time_step_;
+    for (int k = 0; k < 3; ++k) {
+        motion.lo[k] = bounds_min_[k];
+        motion.hi[k] = bounds_max_[k];
     }
-    const double motion = omp_get_wtime() - t0;
-    const hgcd_status s = detect_with(true);
-    stats_.motion_seconds = motion;
-    stats_.total_seconds += motion;
+    motion.place = place_.data();
+    motion.velocity = velocity_.data();
+    motion.point = point_.data();
+    motion.live = stored_gen_.data();
+    const SlotPass pass{&Motion::run, &motion};
+    const double motion_seconds = omp_get_wtime() - t0;
+    hgcd_status s;
+    try {
+        s = detect_with(true, &pass);
+    } catch (...) {
+        // Failed before its census began: the motion is still owed.
+        if (!motion.applied.load(std::memory_order_relaxed)) Motion::run(&motion, 0, uint32_t(n));
+        throw;
+    }
+    stats_.motion_seconds = motion_seconds;
+    stats_.total_seconds += motion_seconds;
     return s;
 }
 

@@ -65,8 +65,10 @@ class World {
     void set_box_offsets(size_t s);
     Boxes boxes() const;
     void renumber_if_disordered();
-    // detect(); renumbered: step() has renumbered storage already.
-    hgcd_status detect_with(bool renumbered);
+    // detect(); renumbered: step() has renumbered storage already; motion:
+    // what the grid update's census runs on each range of slots first (see
+    // Grid::update).
+    hgcd_status detect_with(bool renumbered, const SlotPass *motion = nullptr);
     // Moves every body's storage to the grid's sweep order (see at_); false,
     // changing nothing, when there is no memory for it.
     bool renumber();

@@ -441,10 +441,13 @@ typedef struct hgcd_stats {
     /** Colliding pairs, and those of them found by containment alone. */
     uint64_t colliding_pairs;
     uint64_t containment_pairs;
-    /** Wall-clock seconds: moving bodies (step only; now and then it also
-     *  reorders the bodies' storage to follow the grid, which a detect called
-     *  alone counts in the update), updating the grid,
-     *  broad phase, narrow phase (with sorting of the output), total. */
+    /** Wall-clock seconds: what step does before the grid update (checking
+     *  the moves when the world does not reflect, and now and then
+     *  reordering the bodies' storage to follow the grid, which a detect
+     *  called alone counts in the update; step only), updating the grid
+     *  (for step, with the moves themselves: the update's pass over the
+     *  bodies moves each range of them just before it reads them), broad
+     *  phase, narrow phase (with sorting of the output), total. */
     double motion_seconds;
     double update_seconds;
     double broad_seconds;

@@ -856,10 +856,13 @@ pub struct hgcd_stats {
     #[doc = " Colliding pairs, and those of them found by containment alone."]
     pub colliding_pairs: u64,
     pub containment_pairs: u64,
-    #[doc = " Wall-clock seconds: moving bodies (step only; now and then it also"]
-    #[doc = "  reorders the bodies' storage to follow the grid, which a detect called"]
-    #[doc = "  alone counts in the update), updating the grid,"]
-    #[doc = "  broad phase, narrow phase (with sorting of the output), total."]
+    #[doc = " Wall-clock seconds: what step does before the grid update (checking"]
+    #[doc = "  the moves when the world does not reflect, and now and then"]
+    #[doc = "  reordering the bodies' storage to follow the grid, which a detect"]
+    #[doc = "  called alone counts in the update; step only), updating the grid"]
+    #[doc = "  (for step, with the moves themselves: the update's pass over the"]
+    #[doc = "  bodies moves each range of them just before it reads them), broad"]
+    #[doc = "  phase, narrow phase (with sorting of the output), total."]
     pub motion_seconds: f64,
     pub update_seconds: f64,
     pub broad_seconds: f64,

@@ -36,9 +36,11 @@ hgcd_status refuse(hgcd_world *w, hgcd_status status, const char *what, const ch
     }
 }
 
-// Runs f, turning exceptions into statuses (and messages when there is a world).
+// Runs f in IEEE's default floating-point mode, turning exceptions into
+// statuses (and messages when there is a world).
 template <class F>
 hgcd_status guarded(hgcd_world *w, const char *what, F &&f) noexcept {
+    const hgcd::IeeeMode ieee;  // (ieee.hpp)
     try {
         return f();
     } catch (const std::bad_alloc &) {
@@ -105,6 +107,7 @@ hgcd_world_desc hgcd_world_desc_default(void) {
 }
 
 hgcd_status hgcd_world_create(const hgcd_world_desc *desc, hgcd_world **out_world) {
+    const hgcd::IeeeMode ieee;  // (its checks compare doubles)
     if (!out_world) return HGCD_ERROR_NULL_ARGUMENT;
     *out_world = nullptr;
     if (!desc) return HGCD_ERROR_NULL_ARGUMENT;

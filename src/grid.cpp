@@ -242,6 +242,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
         RegionGuard guard;
 #pragma omp parallel num_threads(threads) reduction(+ : flagged)
         {
+            const IeeeMode ieee;
             const int me = omp_get_thread_num();
             uint64_t *hist = histogram.data() + size_t(me) * kExponents;
             // What the thread appends, in vectors of its own frame (the
@@ -358,11 +359,15 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
             levels_[i].exponent = census[i].first;
             levels_[i].down = down[i] != 0;
         }
-#pragma omp parallel for num_threads(threads) schedule(static)
-        for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-            level_[s] = level_index(live_gen[s] ? exponent_of(s) : INT_MIN);
-            gen_[s] = live_gen[s];
-            if (level_[s] >= 0) cell_at(boxes.point(size_t(s)), level_[s], &cell_[2 * s]);
+#pragma omp parallel num_threads(threads)
+        {
+            const IeeeMode ieee;
+#pragma omp for schedule(static)
+            for (int64_t s = 0; s < int64_t(slot_count); ++s) {
+                level_[s] = level_index(live_gen[s] ? exponent_of(s) : INT_MIN);
+                gen_[s] = live_gen[s];
+                if (level_[s] >= 0) cell_at(boxes.point(size_t(s)), level_[s], &cell_[2 * s]);
+            }
         }
         rebuild(boxes, slot_count, threads);
         stats.rebuilt = true;
@@ -405,6 +410,7 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t k = 0; k < lists; ++k) guard.run([&] {
+        const IeeeMode ieee;
         List &list = list_at(size_t(k));
         // Rows sorted by low x (the lists' float copy: no random reads in
         // the comparisons, and gather finds the order made).
@@ -495,6 +501,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     bool out_of_step = false;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) reduction(|| : out_of_step)
     for (int64_t k = 0; k < int64_t(work.size()); ++k) {
+        const IeeeMode ieee;
         const Work &wk = work[k];
         const Entry *E = wk.list->entries.data();
         const float *X = wk.list->bl.data();  // the entries' low x, as of the last gather
@@ -573,6 +580,7 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
+        const IeeeMode ieee;
         List &list = *parts[p].list;
         Entry *E = list.entries.data();
         float *L = list.bl.data(), *HX = list.bhx.data(), *LY = list.bly.data(), *HY = list.bhy.data(),
@@ -1125,6 +1133,7 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t k = 0; k < int64_t(items.size()); ++k) guard.run([&] {
+        const IeeeMode ieee;
         const Item &it = items[k];
         PairBuffer &mine = out[omp_get_thread_num()];
         if (it.kind == 0) {

@@ -84,6 +84,7 @@ hgcd_scene_tetra_desc hgcd_scene_tetra_desc_default(void) {
 int32_t hgcd_scene_tetra_generate(const hgcd_scene_tetra_desc *desc, double *centers,
                                   double *radii, double *scales, double *orientations,
                                   double *velocities) {
+    const hgcd::IeeeMode ieee;  // (SCENES.md's arithmetic is IEEE's)
     const int32_t status = check(desc);
     if (status != HGCD_OK) return status;
     Draw draw(*desc);
@@ -103,6 +104,7 @@ int32_t hgcd_scene_tetra_generate(const hgcd_scene_tetra_desc *desc, double *cen
 
 int32_t hgcd_scene_tetra_populate(hgcd_world *world, const hgcd_scene_tetra_desc *desc,
                                   hgcd_mesh *mesh_out) {
+    const hgcd::IeeeMode ieee;  // (SCENES.md's arithmetic is IEEE's)
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     int32_t status = check(desc);
     if (status != HGCD_OK) return status;
@@ -160,6 +162,7 @@ void hgcd_scene_tetra_unit_mesh(double *vertices, uint32_t *triangles) {
 }
 
 void hgcd_scene_tetra_move(uint64_t n, double side, double *centers, double *velocities) {
+    const hgcd::IeeeMode ieee;  // (SCENES.md's arithmetic is IEEE's)
     if (!centers || !velocities) return;
     for (uint64_t k = 0; k < 3 * n; ++k) {
         double x = centers[k] + velocities[k];

@@ -536,22 +536,26 @@ double World::estimated_candidates_per_body(int threads) const {
     const int64_t n = int64_t(stored_gen_.size());
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double a1 = 0, a2 = 0, a3 = 0, count = 0;
-#pragma omp parallel for num_threads(threads) schedule(static) \
-    reduction(min : lo[:3]) reduction(max : hi[:3]) reduction(+ : a1, a2, a3, count)
-    for (int64_t s = 0; s < n; ++s) {
-        if (!stored_gen_[s]) continue;
-        const double *p = &point_[3 * s];
-        const float *o = &box_off_[6 * s];
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], p[k]);
-            hi[k] = std::max(hi[k], p[k]);
+#pragma omp parallel num_threads(threads) reduction(min : lo[:3]) reduction(max : hi[:3]) \
+    reduction(+ : a1, a2, a3, count)
+    {
+        const IeeeMode ieee;
+#pragma omp for schedule(static)
+        for (int64_t s = 0; s < n; ++s) {
+            if (!stored_gen_[s]) continue;
+            const double *p = &point_[3 * s];
+            const float *o = &box_off_[6 * s];
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], p[k]);
+                hi[k] = std::max(hi[k], p[k]);
+            }
+            // Half the box's mean side.
+            const double a = ((double(o[3]) - o[0]) + (double(o[4]) - o[1]) + (double(o[5]) - o[2])) / 6;
+            a1 += a;
+            a2 += a * a;
+            a3 += a * a * a;
+            count += 1;
         }
-        // Half the box's mean side.
-        const double a = ((double(o[3]) - o[0]) + (double(o[4]) - o[1]) + (double(o[5]) - o[2])) / 6;
-        a1 += a;
-        a2 += a * a;
-        a3 += a * a * a;
-        count += 1;
     }
     const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
     if (count < 2 || !(volume > 0) || !std::isfinite(volume)) return -1;  // no estimate
@@ -628,6 +632,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         RegionGuard guard;
 #pragma omp parallel num_threads(T)
         {
+            const IeeeMode ieee;
             const int me = omp_get_thread_num();
             NarrowScratch scratch;
             CcdScratch ccd_scratch;
@@ -758,6 +763,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         }
 #pragma omp parallel for num_threads(parts) schedule(static, 1)
         for (int p = 0; p < parts; ++p) guard.run([&] {
+            const IeeeMode ieee;
             std::vector<size_t> head(T), end(T);
             for (int t = 0; t < T; ++t) {
                 head[t] = first[size_t(p) * T + t];
@@ -900,6 +906,7 @@ bool World::renumber() {
     RegionGuard guard;
 #pragma omp parallel for num_threads(T) schedule(dynamic, 1)
     for (int task = 0; task < tasks; ++task) guard.run([&] {
+        const IeeeMode ieee;
         if (task == 0) grid_.renumber(old_of_new, new_of_old, done[0]);
         else walk(tasks == 2 ? 7u : 1u << (task - 1), done[task]);
     });
@@ -962,12 +969,17 @@ hgcd_status World::step() {
     // step moves nothing.
     if (!reflect_) {
         int64_t bad = -1;  // the largest slot of a body that would leave
-#pragma omp parallel for num_threads(T) schedule(static) reduction(max : bad)
-        for (int64_t s = 0; s < n; ++s) {
-            if (!stored_gen_[s]) continue;
-            for (int k = 0; k < 3; ++k) {
-                const double x = point_[3 * s + k] + velocity_[3 * s + k] * dt;
-                if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = std::max(bad, int64_t(slot_of_[s]));
+#pragma omp parallel num_threads(T) reduction(max : bad)
+        {
+            const IeeeMode ieee;  // (the moves' own arithmetic)
+#pragma omp for schedule(static)
+            for (int64_t s = 0; s < n; ++s) {
+                if (!stored_gen_[s]) continue;
+                for (int k = 0; k < 3; ++k) {
+                    const double x = point_[3 * s + k] + velocity_[3 * s + k] * dt;
+                    if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate)
+                        bad = std::max(bad, int64_t(slot_of_[s]));
+                }
             }
         }
         if (bad >= 0)

@@ -885,8 +885,147 @@ static void test_tetra_batch_matches_one_pair(void **state) {
     free(poses);
 }
 
+/* The caller's floating-point mode: flush-to-zero and denormals-are-zero (as
+ * -ffast-math's start-up code sets), rounding toward +infinity, and traps on
+ * invalid, divide-by-zero, overflow and underflow. The library works in IEEE's
+ * default mode inside each call and gives the caller's back. */
+#if defined(__x86_64__)
+#include <xmmintrin.h>
+#define HAVE_FP_MODE 1
+typedef unsigned fp_mode;
+static fp_mode fp_get(void) { return _mm_getcsr(); }
+static void fp_set(fp_mode m) { _mm_setcsr(m); }
+static fp_mode fp_hostile(fp_mode m) {
+    /* FTZ (bit 15), DAZ (bit 6), rounding up (bits 13-14 = 10), exceptions
+     * unmasked: invalid (7), divide-by-zero (9), overflow (10), underflow (11). */
+    return ((m | 0x8040u | 0x4000u) & ~0x2000u) & ~(0x0080u | 0x0200u | 0x0400u | 0x0800u);
+}
+#elif defined(__aarch64__)
+#define HAVE_FP_MODE 1
+typedef uint64_t fp_mode;
+static fp_mode fp_get(void) {
+    uint64_t v;
+    __asm__ __volatile__("mrs %0, fpcr" : "=r"(v));
+    return v;
+}
+static void fp_set(fp_mode v) { __asm__ __volatile__("msr fpcr, %0" : : "r"(v)); }
+static fp_mode fp_hostile(fp_mode m) {
+    /* FZ (bit 24), rounding toward +infinity (bits 22-23 = 01), trap enables
+     * for invalid, divide-by-zero, overflow, underflow (bits 8-11; hardware
+     * without trapping ignores them). */
+    return ((m | (1ull << 24) | (1ull << 22)) & ~(1ull << 23)) | (0xFull << 8);
+}
+#else
+#define HAVE_FP_MODE 0
+#endif
+
+
+static void test_caller_fp_mode(void **state) {
+    (void)state;
+#if !HAVE_FP_MODE
+    skip();
+#else
+    enum { N = 48 };
+    static const int kinds[3] = {SHAPE_TETRA, SHAPE_CUBE, SHAPE_TRIANGLE};
+    for (uint32_t threads = 1; threads <= 2; ++threads) {
+        /* Bodies whose world coordinates are subnormal (about 2^-1050: under
+         * DAZ every one of them reads as 0), drawn in the default mode. */
+        rng r = {300 + threads};
+        double p[3 * N], q[4 * N], s[N];
+        const oracle_mesh *m[N];
+        int shape[N];
+        const double unit = ldexp(1.0, -1050);
+        for (int i = 0; i < N; ++i) {
+            random_pose(&r, 6, 0, &p[3 * i], &q[4 * i]);
+            for (int k = 0; k < 3; ++k) p[3 * i + k] *= unit;
+            s[i] = (0.5 + unif(&r)) * unit;
+            shape[i] = kinds[next(&r) % 3];
+            m[i] = &shapes[shape[i]];
+        }
+        const size_t n = oracle_colliding_pairs(N, m, p, q, s, NULL, 0);
+        uint32_t *expect = malloc((2 * n + 2) * sizeof(uint32_t));
+        assert_int_equal(oracle_colliding_pairs(N, m, p, q, s, expect, n), n);
+        assert_true(n > 0 && n < N * (N - 1) / 2 / 2); /* not all pairs, as all coordinates 0 would give */
+
+        hgcd_world_desc wd = hgcd_world_desc_default();
+        wd.thread_count = threads;
+        hgcd_mesh_desc md[3];
+        for (int k = 0; k < 3; ++k) {
+            md[k] = hgcd_mesh_desc_default();
+            md[k].vertices = shapes[kinds[k]].verts;
+            md[k].triangles = shapes[kinds[k]].tris;
+            md[k].vertex_count = shapes[kinds[k]].vertex_count;
+            md[k].triangle_count = shapes[kinds[k]].triangle_count;
+        }
+        hgcd_body_desc bd[N];
+        for (int i = 0; i < N; ++i) {
+            bd[i] = hgcd_body_desc_default();
+            memcpy(bd[i].position, &p[3 * i], sizeof bd[i].position);
+            memcpy(bd[i].orientation, &q[4 * i], sizeof bd[i].orientation);
+            bd[i].scale = s[i];
+        }
+        /* Only library calls, and no arithmetic of the test's own, in the hostile mode. */
+        const fp_mode saved = fp_get();
+        const fp_mode hostile = fp_hostile(saved);
+        fp_set(hostile);
+#ifdef _OPENMP
+        /* The host's own OpenMP region first: the runtime's threads, which
+         * the library's regions reuse, start in the host's mode (this test
+         * runs first in its process, before any thread exists). */
+        int ran = 0;
+#pragma omp parallel num_threads(4) reduction(+ : ran)
+        ran += 1;
+        (void)ran;
+#endif
+        hgcd_world *w = NULL;
+        hgcd_status st = hgcd_world_create(&wd, &w);
+        hgcd_mesh mesh[3];
+        for (int k = 0; k < 3 && st == HGCD_OK; ++k) st = hgcd_mesh_create(w, &md[k], &mesh[k]);
+        for (int i = 0; i < N && st == HGCD_OK; ++i) {
+            hgcd_body b;
+            bd[i].mesh = mesh[shape[i] == SHAPE_TETRA ? 0 : shape[i] == SHAPE_CUBE ? 1 : 2];
+            st = hgcd_body_create(w, &bd[i], &b);
+        }
+        hgcd_status detect = HGCD_ERROR_INTERNAL, step = HGCD_ERROR_INTERNAL;
+        if (st == HGCD_OK) detect = hgcd_world_detect(w);
+        const hgcd_pair *first = NULL;
+        size_t first_count = 0;
+        if (detect == HGCD_OK) hgcd_world_pairs(w, &first, &first_count);
+        hgcd_pair *copy = malloc((first_count + 1) * sizeof *copy);
+        if (first_count) memcpy(copy, first, first_count * sizeof *copy);
+        if (detect == HGCD_OK) step = hgcd_world_step(w); /* (no velocity: the same poses) */
+        const fp_mode during = fp_get();
+        fp_set(saved);
+
+        assert_int_equal(st, HGCD_OK);
+        assert_int_equal(detect, HGCD_OK);
+        assert_int_equal(step, HGCD_OK);
+        assert_true(during == hostile); /* the caller's mode given back */
+        const hgcd_pair *got;
+        size_t count;
+        assert_int_equal(hgcd_world_pairs(w, &got, &count), HGCD_OK);
+        assert_int_equal(first_count, n);
+        assert_int_equal(count, n);
+        for (size_t k = 0; k < n; ++k) {
+            assert_int_equal(copy[k].a.index, expect[2 * k]);
+            assert_int_equal(copy[k].b.index, expect[2 * k + 1]);
+            assert_int_equal(got[k].a.index, expect[2 * k]);
+            assert_int_equal(got[k].b.index, expect[2 * k + 1]);
+        }
+        printf("caller's mode FTZ/DAZ, rounding up, traps on (%u thread%s): %zu of %d pairs of subnormal bodies "
+               "collide, as the oracle says\n",
+               threads, threads > 1 ? "s" : "", n, N * (N - 1) / 2);
+        free(copy);
+        free(expect);
+        hgcd_world_destroy(w);
+    }
+#endif
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
+        /* First: OpenMP's threads then start in the caller's hostile mode. */
+        cmocka_unit_test(test_caller_fp_mode),
         cmocka_unit_test(test_hand_built_pairs),
         cmocka_unit_test(test_random_scenes),
         cmocka_unit_test(test_exact_contacts),

@@ -62,6 +62,17 @@
  * process (omp_set_num_threads and friends) is never changed. The pairs
  * reported never depend on the thread count, bit for bit and in order.
  *
+ * Floating-point mode
+ * -------------------
+ * The caller may run in any floating-point mode: flush-to-zero and
+ * denormals-are-zero (what -ffast-math's start-up code sets), another
+ * rounding direction, exceptions unmasked. Every call, and every parallel
+ * region on every thread, works in IEEE's default mode (subnormals kept,
+ * round to nearest, no traps: MXCSR on x86-64, FPCR on arm64) and restores
+ * the thread's own mode before it returns, so answers are the same in any
+ * mode. (Calls that only copy values out need no arithmetic and do not
+ * switch.)
+ *
  * World-space vertices
  * --------------------
  * For a body at position c with orientation quaternion (x, y, z, w), the

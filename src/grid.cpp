@@ -416,8 +416,18 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
         // the comparisons, and gather finds the order made).
         std::vector<Keyed> &in = keyed[size_t(k)];
         std::sort(in.begin(), in.end(), ByRowX<Keyed>());
-        list.entries.resize(in.size());
-        for (size_t i = 0; i < in.size(); ++i) list.entries[i] = Entry{in[i].key, in[i].slot};
+        list.bslot.resize(in.size());
+        list.row_keys.clear();
+        list.row_start.clear();
+        for (size_t i = 0; i < in.size(); ++i) {
+            list.bslot[i] = in[i].slot;
+            const CellKey key = in[i].key;  // (by value: the member is packed)
+            if (i == 0 || key != list.row_keys.back()) {
+                list.row_keys.push_back(key);
+                list.row_start.push_back(uint32_t(i));
+            }
+        }
+        list.row_start.push_back(uint32_t(in.size()));
         std::vector<Keyed>().swap(in);
     });
     guard.rethrow();
@@ -427,19 +437,20 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
 // at odd k) to the flagged bodies (changed: their slots, levels and rows
 // before this update): their entries leave, and those that belong to a list
 // now enter it at their place by (row, x) (x as of the last gather for the
-// others), so that gather's insertion sort has little left to do. Each list
-// is rewritten into its spare array in parts of whole rows, in parallel:
+// others), so that gather's insertion sort has little left to do; the row
+// index follows (rows emptied go, rows entered come). Each list is
+// rewritten into its spare array in parts of whole rows, in parallel:
 // where each part's output starts follows from the entries it loses, known
 // without reading it (a flagged body's old row names the part its entry is
-// in, by the row index of the last gather), and from the entries that enter
-// in its range of rows. One pass reads and writes each entry once.
+// in, by the row index), and from the entries that enter in its range of
+// rows. One pass reads and writes each slot once.
 void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uint8_t> &flag,
                         const std::vector<Moved> &changed, const Boxes &boxes, int threads) {
     constexpr size_t kPart = 32768;  // entries
     struct Work {
         List *list;
         const std::vector<Keyed> *add;
-        size_t in_b, in_e, add_b, add_e, out_b, out_e;
+        size_t row_b, row_e, add_b, add_e, out_b, out_e;
     };
     std::vector<Work> work;
     std::vector<std::vector<Keyed>> adds(dirty.size());
@@ -472,11 +483,11 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
             ++lost[size_t(std::upper_bound(cut.begin() + 1, cut.end() - 1, r) - (cut.begin() + 1))];
         }
         // (With room to grow: a reallocation would hold three copies at once.)
-        const size_t most = list.entries.size() + add.size();
-        if (list.spare.capacity() < most) {
+        const size_t most = list.count() + add.size();
+        if (list.spare.capacity() < most + kPad) {
             list.spare.clear();
             list.spare.shrink_to_fit();
-            list.spare.reserve(most + most / 16);
+            list.spare.reserve(most + most / 16 + kPad);
         }
         list.spare.resize(most);
         size_t out = 0, a = 0;
@@ -492,66 +503,103 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
             }
             if (lost[p] > in_e - in_b) throw std::logic_error("grid: a part loses more entries than it has");
             const size_t size = in_e - in_b - lost[p] + (a_e - a);
-            work.push_back({&list, &add, in_b, in_e, a, a_e, out, out + size});
+            work.push_back({&list, &add, cut[p], cut[p + 1], a, a_e, out, out + size});
             out += size;
             a = a_e;
         }
         list.spare.resize(out);
     }
+    // Each part's rows as they come out: (key, entries).
+    std::vector<std::vector<std::pair<CellKey, uint32_t>>> part_rows(work.size());
     bool out_of_step = false;
+    RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) reduction(|| : out_of_step)
-    for (int64_t k = 0; k < int64_t(work.size()); ++k) {
+    for (int64_t k = 0; k < int64_t(work.size()); ++k) guard.run([&] {
         const IeeeMode ieee;
         const Work &wk = work[k];
-        const Entry *E = wk.list->entries.data();
-        const float *X = wk.list->bl.data();  // the entries' low x, as of the last gather
+        const List &list = *wk.list;
+        const uint32_t *S = list.bslot.data();
+        const float *X = list.bl.data();  // the entries' low x, as of the last gather
+        const uint32_t *start = list.row_start.data();
         const Keyed *A = wk.add->data();
-        Entry *O = wk.list->spare.data();
-        // Does add a go before entry i?
-        auto before = [&](size_t a, size_t i) {
-            const CellKey ka = A[a].key, ki = E[i].key;
-            const double xa = A[a].x;
-            return ka < ki || (ka == ki && (xa < X[i] || (xa == X[i] && A[a].slot < E[i].slot)));
-        };
-        size_t i = wk.in_b, a = wk.add_b, w = wk.out_b;
-        for (;; ++i) {
-            while (i < wk.in_e && flag[E[i].slot]) ++i;  // (entries of flagged bodies leave)
-            while (a < wk.add_e && (i == wk.in_e || before(a, i)) && w < wk.out_e) {
-                O[w++] = Entry{A[a].key, A[a].slot};
-                ++a;
+        uint32_t *O = wk.list->spare.data();
+        auto &out_rows = part_rows[size_t(k)];
+        size_t a = wk.add_b, w = wk.out_b;
+        bool full = false;  // more entries than the part's room
+        // The entering entries of row key `until` and below that form rows
+        // of their own (rows that were empty).
+        auto new_rows = [&](bool bounded, CellKey until) {
+            while (a < wk.add_e && (!bounded || CellKey(A[a].key) < until) && w < wk.out_e) {
+                const CellKey key = A[a].key;
+                const size_t first = w;
+                while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
+                out_rows.push_back({key, uint32_t(w - first)});
             }
-            if (i == wk.in_e || w == wk.out_e) break;
-            O[w++] = E[i];
+        };
+        for (size_t r = wk.row_b; r < wk.row_e && !full; ++r) {
+            const CellKey key = list.row_keys[r];
+            new_rows(true, key);
+            // The row's entries that stay, merged with those that enter it.
+            const size_t first = w;
+            for (size_t i = start[r]; i < start[r + 1]; ++i) {
+                const uint32_t slot = S[i];
+                if (flag[slot]) continue;  // (entries of flagged bodies leave)
+                const float x = X[i];
+                while (a < wk.add_e && CellKey(A[a].key) == key &&
+                       (A[a].x < x || (A[a].x == x && A[a].slot < slot)) && w < wk.out_e)
+                    O[w++] = A[a++].slot;
+                if (w == wk.out_e) {
+                    full = true;
+                    break;
+                }
+                O[w++] = slot;
+            }
+            while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
+            if (w > first) out_rows.push_back({key, uint32_t(w - first)});
         }
-        out_of_step |= i != wk.in_e || a != wk.add_e || w != wk.out_e;
-    }
+        new_rows(false, 0);
+        out_of_step |= full || a != wk.add_e || w != wk.out_e;
+    });
+    guard.rethrow();
     if (out_of_step) throw std::logic_error("grid: a list update is out of step with its rows");
-    for (size_t k = 0; k < dirty.size(); ++k) {
-        if (!dirty[k]) continue;
-        List &list = list_at(size_t(k));
-        list.entries.swap(list.spare);
+    // The new row index of each list from its parts' rows (consecutive in work, in order).
+    for (size_t k = 0; k < work.size();) {
+        List &list = *work[k].list;
+        list.row_keys.clear();
+        list.row_start.clear();
+        uint32_t at = 0;
+        for (; k < work.size() && work[k].list == &list; ++k)
+            for (const auto &row : part_rows[k]) {
+                if (!list.row_keys.empty() && !(list.row_keys.back() < row.first))
+                    throw std::logic_error("grid: rows out of order after a list update");
+                list.row_keys.push_back(row.first);
+                list.row_start.push_back(at);
+                at += row.second;
+            }
+        list.row_start.push_back(at);
+        list.bslot.swap(list.spare);
     }
 }
 
-// Brings the box arrays and the row index of every list to the current
-// boxes, in parallel over parts of whole rows of all lists together (lists
-// differ in size tenfold, one task per list balanced badly). One pass copies
-// the boxes (reads by slot, nearly in sequence while storage follows the
-// sweep order), indexes the rows and restores each row's order by low x as
-// it goes (insertion sort: between ticks the order barely changes, and what
-// moves is still in cache; a row it would take long over, many bodies
-// entering one row, is sorted outright at its end).
+// Brings the box arrays of every list to the current boxes, in parallel
+// over parts of whole rows of all lists together (lists differ in size
+// tenfold, one task per list balanced badly). One pass copies the boxes
+// (reads by slot, nearly in sequence while storage follows the sweep order)
+// and restores each row's order by low x as it goes (insertion sort: between
+// ticks the order barely changes, and what moves is still in cache; a row it
+// would take long over, many bodies entering one row, is sorted outright at
+// its end).
 uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int threads) {
     constexpr size_t kPart = 16384;
     struct Part {
         List *list;
-        size_t begin, end;
+        size_t row_b, row_e;
         bool residents;
     };
     std::vector<Part> parts;
     for (size_t l = 0; l < lists.size(); ++l) {
         List *list = lists[l];
-        const size_t m = list->entries.size();
+        const size_t m = list->count();
         // Padded so that the sweep may read past the end.
         for (auto *v : {&list->bl, &list->bhx, &list->bly, &list->bhy, &list->blz, &list->bhz, &list->breach}) {
             v->resize(m + kPad);
@@ -559,131 +607,97 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
         }
         list->bslot.resize(m + kPad);
         std::fill(list->bslot.begin() + std::ptrdiff_t(m), list->bslot.end(), 0u);
-        // Parts of about kPart entries, ending where a row ends. (all_lists():
+        // Parts of about kPart entries in whole rows. (all_lists():
         // residents at even positions.)
-        const Entry *E = list->entries.data();
-        for (size_t b = 0; b < m;) {
-            size_t e = std::min(m, b + kPart);
-            while (e < m && CellKey(E[e].key) == CellKey(E[e - 1].key)) ++e;
-            parts.push_back({list, b, e, l % 2 == 0});
-            b = e;
-        }
+        const std::vector<size_t> cut = row_cuts(*list, kPart);
+        for (size_t k = 0; k + 1 < cut.size(); ++k) parts.push_back({list, cut[k], cut[k + 1], l % 2 == 0});
     }
-    // What each part finds: its residents' jumps (disorder()), and the rows
-    // that start in it (key and first entry), joined in order into each
-    // list's row index.
-    struct Found {
-        uint64_t jumps = 0;
-        std::vector<std::pair<CellKey, uint32_t>> rows;
-    };
-    std::vector<Found> found(parts.size());
+    std::vector<uint64_t> jumps_of(parts.size(), 0);  // each part's residents' jumps (disorder())
     RegionGuard guard;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
         const IeeeMode ieee;
         List &list = *parts[p].list;
-        Entry *E = list.entries.data();
         float *L = list.bl.data(), *HX = list.bhx.data(), *LY = list.bly.data(), *HY = list.bhy.data(),
-               *LZ = list.blz.data(), *HZ = list.bhz.data(), *P = list.breach.data();
+              *LZ = list.blz.data(), *HZ = list.bhz.data(), *P = list.breach.data();
         uint32_t *S = list.bslot.data();
-        const size_t b = parts[p].begin, e = parts[p].end;
+        const uint32_t *start = list.row_start.data();
+        const size_t e = start[parts[p].row_e];
         uint64_t jumps = 0;
         const uint32_t counts = parts[p].residents;
-        auto &rows = found[p].rows;
-        size_t row_b = b;  // where the current row starts
-        size_t budget = 0;  // insertion steps left to the current row
-        bool whole = false;  // the current row needs sorting outright
-        uint32_t prev = E[b].slot;
-        for (size_t k = b; k < e; ++k) {
-            const Entry en = E[k];
-            // A resident more than 64 slots from the one before it (its
-            // box is in another stretch of memory).
-            jumps += counts & (uint32_t(en.slot - prev + 64) > 128);
-            prev = en.slot;
-            const CellKey row = en.key;  // by value: the member is packed
-            if (k == b || row != CellKey(E[row_b].key)) {
-                if (whole) sort_row(list, row_b, k);  // (and its largest high x)
-                row_b = k;
-                budget = 64;
-                whole = false;
-                rows.push_back({row, uint32_t(k)});
-            }
-            budget += 8;
-            // The next bodies' points and offsets (storage drifts from this
-            // order between renumberings): ask for them early.
-            if (k + 16 < e) {
-                __builtin_prefetch(boxes.point(E[k + 16].slot));
-                __builtin_prefetch(boxes.off + 6 * size_t(E[k + 16].slot));
-            }
-            float lo[3], hi[3];
-            float_box(boxes, en.slot, lo, hi);
-            size_t j = k;
-            if (!whole)
-                for (; j > row_b && lo[0] < L[j - 1]; --j) {
-                    L[j] = L[j - 1];
-                    HX[j] = HX[j - 1];
-                    LY[j] = LY[j - 1];
-                    HY[j] = HY[j - 1];
-                    LZ[j] = LZ[j - 1];
-                    HZ[j] = HZ[j - 1];
-                    S[j] = S[j - 1];
-                    E[j] = E[j - 1];
-                    if (--budget == 0) {
-                        whole = true;
-                        break;
-                    }
+        uint32_t prev = S[start[parts[p].row_b]];
+        for (size_t r = parts[p].row_b; r < parts[p].row_e; ++r) {
+            const size_t row_b = start[r], row_e = start[r + 1];
+            size_t budget = 64;  // insertion steps left to the row
+            bool whole = false;  // the row needs sorting outright
+            for (size_t k = row_b; k < row_e; ++k) {
+                const uint32_t slot = S[k];
+                // A resident more than 64 slots from the one before it (its
+                // box is in another stretch of memory).
+                jumps += counts & (uint32_t(slot - prev + 64) > 128);
+                prev = slot;
+                budget += 8;
+                // The next bodies' points and offsets (storage drifts from
+                // this order between renumberings): ask for them early.
+                if (k + 16 < e) {
+                    __builtin_prefetch(boxes.point(S[k + 16]));
+                    __builtin_prefetch(boxes.off + 6 * size_t(S[k + 16]));
                 }
-            L[j] = lo[0];
-            HX[j] = hi[0];
-            LY[j] = lo[1];
-            HY[j] = hi[1];
-            LZ[j] = lo[2];
-            HZ[j] = hi[2];
-            S[j] = en.slot;
-            if (j != k) E[j] = en;  // (an entry that stays is not rewritten)
-            // The row's largest high x so far, from where the order changed.
-            for (size_t t = j; t <= k; ++t) P[t] = std::max(t > row_b ? P[t - 1] : -INFINITY, HX[t]);
+                float lo[3], hi[3];
+                float_box(boxes, slot, lo, hi);
+                size_t j = k;
+                if (!whole)
+                    for (; j > row_b && lo[0] < L[j - 1]; --j) {
+                        L[j] = L[j - 1];
+                        HX[j] = HX[j - 1];
+                        LY[j] = LY[j - 1];
+                        HY[j] = HY[j - 1];
+                        LZ[j] = LZ[j - 1];
+                        HZ[j] = HZ[j - 1];
+                        S[j] = S[j - 1];
+                        if (--budget == 0) {
+                            whole = true;
+                            break;
+                        }
+                    }
+                L[j] = lo[0];
+                HX[j] = hi[0];
+                LY[j] = lo[1];
+                HY[j] = hi[1];
+                LZ[j] = lo[2];
+                HZ[j] = hi[2];
+                S[j] = slot;
+                // The row's largest high x so far, from where the order changed.
+                for (size_t t = j; t <= k; ++t) P[t] = std::max(t > row_b ? P[t - 1] : -INFINITY, HX[t]);
+            }
+            if (whole) sort_row(list, row_b, row_e);  // (and its largest high x)
         }
-        if (whole) sort_row(list, row_b, e);
-        found[p].jumps = jumps;
+        jumps_of[size_t(p)] = jumps;
     });
     guard.rethrow();
-    for (List *list : lists) {
-        list->row_keys.clear();
-        list->row_start.clear();
-    }
     uint64_t disorder = 0;
-    for (size_t p = 0; p < parts.size(); ++p) {  // parts of a list are consecutive, in order
-        List &list = *parts[p].list;
-        for (const auto &row : found[p].rows) {
-            list.row_keys.push_back(row.first);
-            list.row_start.push_back(row.second);
-        }
-        disorder += found[p].jumps;
-    }
-    for (List *list : lists) list->row_start.push_back(uint32_t(list->entries.size()));
+    for (const uint64_t j : jumps_of) disorder += j;
     return disorder;
 }
 
 // Sorts the entries [b, e) of a row outright by low x (then slot).
 void Grid::sort_row(List &list, size_t b, size_t e) {
-    Entry *E = list.entries.data();
+    uint32_t *S = list.bslot.data();
     float *A[6] = {list.bl.data(), list.bhx.data(), list.bly.data(), list.bhy.data(), list.blz.data(), list.bhz.data()};
     const float *L = A[0];
     std::vector<uint32_t> order(e - b);
     for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
     std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
-        return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && E[b + p].slot < E[b + q].slot);
+        return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && S[b + p] < S[b + q]);
     });
     std::vector<float> t(order.size());
     for (int a = 0; a < 6; ++a) {
         for (size_t k = 0; k < order.size(); ++k) t[k] = A[a][b + order[k]];
         std::copy(t.begin(), t.end(), A[a] + b);
     }
-    std::vector<Entry> te(order.size());
-    for (size_t k = 0; k < order.size(); ++k) te[k] = E[b + order[k]];
-    std::copy(te.begin(), te.end(), E + b);
-    for (size_t k = b; k < e; ++k) list.bslot[k] = E[k].slot;
+    std::vector<uint32_t> ts(order.size());
+    for (size_t k = 0; k < order.size(); ++k) ts[k] = S[b + order[k]];
+    std::copy(ts.begin(), ts.end(), S + b);
     float most = -INFINITY;
     for (size_t k = b; k < e; ++k) list.breach[k] = most = std::max(most, list.bhx[k]);
 }
@@ -1072,7 +1086,7 @@ void Grid::query_levels(const double *lo, const double *hi, uint32_t slot, size_
         const Level &lv = levels_[li];
         const List &R = lv.residents;
         const BoxArrays S = R.arrays();
-        const size_t m = R.entries.size();
+        const size_t m = R.count();
         if (m == 0) continue;
         // A resident j meeting the box has its point p_j within w / 2 of
         // its box, so within w / 2 of [lo, hi], and its low x at least lo_x
@@ -1121,9 +1135,9 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
         const Level &lv = levels_[li];
         chunk(lv.residents, 0, li);
         if (lv.down) {
-            for (size_t b = 0; b < lv.residents.entries.size(); b += 64)
-                items.push_back({4, li, b, std::min(lv.residents.entries.size(), b + 64)});
-        } else if (!lv.residents.entries.empty()) {
+            for (size_t b = 0; b < lv.residents.count(); b += 64)
+                items.push_back({4, li, b, std::min(lv.residents.count(), b + 64)});
+        } else if (lv.residents.count()) {
             chunk(lv.guests, 1, li);
         }
     }
@@ -1149,7 +1163,7 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
             const BoxArrays S = R.arrays();
             for (size_t j = it.begin; j < it.end; ++j) {
                 const double lo[3] = {S.l[j], S.ly[j], S.lz[j]}, hi[3] = {S.hx[j], S.hy[j], S.hz[j]};
-                query_levels(lo, hi, R.entries[j].slot, it.level, mine);
+                query_levels(lo, hi, S.slot[j], it.level, mine);
             }
         } else {
             const size_t m = oversize_.size();
@@ -1175,7 +1189,8 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
 
 void Grid::order(std::vector<uint32_t> &out) const {
     for (const Level &lv : levels_)
-        for (const Entry &en : lv.residents.entries) out.push_back(en.slot);
+        out.insert(out.end(), lv.residents.bslot.begin(),
+                   lv.residents.bslot.begin() + std::ptrdiff_t(lv.residents.count()));
     out.insert(out.end(), oversize_.begin(), oversize_.end());
 }
 
@@ -1198,7 +1213,7 @@ void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<u
     const size_t n = old_of_new.size();  // (slots made since the last update are not in the grid)
     reserve_slots(n);
     for (List *list : all_lists())
-        for (Entry &en : list->entries) en.slot = new_of_old[en.slot];
+        for (size_t k = 0; k < list->count(); ++k) list->bslot[k] = new_of_old[list->bslot[k]];
     struct Record {
         int64_t cell[2];
         uint32_t gen;
@@ -1229,8 +1244,8 @@ size_t Grid::memory_bytes() const {
                    exponent_.capacity() * sizeof(int16_t) + slack_.capacity() * sizeof(float);
     for (const Level &lv : levels_)
         for (const List *list : {&lv.residents, &lv.guests})
-            bytes += (list->entries.capacity() + list->spare.capacity()) * sizeof(Entry) +
-                     list->bl.capacity() * 7 * sizeof(float) + list->bslot.capacity() * sizeof(uint32_t) +
+            bytes += list->bl.capacity() * 7 * sizeof(float) +
+                     (list->bslot.capacity() + list->spare.capacity()) * sizeof(uint32_t) +
                      (list->row_keys.capacity() * sizeof(CellKey) + list->row_start.capacity() * sizeof(uint32_t));
     return bytes;
 }

@@ -21,8 +21,9 @@
 //
 // Within a level the grid is sparse in y and z and swept along x: a body is
 // keyed by its row, the (z, y) cell of p for cells two widths high and deep,
-// and each level keeps its residents and its guests as arrays of (row key,
-// body) sorted by key and, within a row, by the box's low x, beside the
+// and each level keeps its residents and its guests as arrays of bodies
+// sorted by row and, within a row, by the box's low x, with an index of the
+// occupied rows (their keys and where each starts), beside the
 // boxes rounded outward to float (supersets, so every pair of overlapping
 // boxes still overlaps, and the rows and windows derived from a float box
 // only widen; half the bytes of doubles). Within its row a body meets the
@@ -196,17 +197,10 @@ class Grid {
     size_t memory_bytes() const;
 
   private:
-    // 20 bytes rather than the 32 that __int128's alignment would give: the
-    // key is only ever read and written by value. (Its box is in the list's
-    // box arrays, at the same index.)
-    struct __attribute__((packed, aligned(4))) Entry {
-        CellKey key;
-        uint32_t slot;
-    };
-    static_assert(sizeof(Entry) == 20, "Entry layout");
-    // An entry with its low x as the lists hold it (float_box), where
-    // entries are sorted before they have box arrays (a list built,
-    // entries entering one).
+    // An entry with its row key and its low x as the lists hold it
+    // (float_box), where entries are sorted before they have box arrays (a
+    // list built, entries entering one). Packed: the key is only ever read
+    // and written by value.
     struct __attribute__((packed, aligned(8))) Keyed {
         CellKey key;
         uint32_t slot;
@@ -221,20 +215,23 @@ class Grid {
 
   private:
     struct List {
-        std::vector<Entry> entries;   // sorted by (key, low x)
-        std::vector<Entry> spare;     // what update_lists writes the next entries into
-        // Boxes of entries rounded outward to float, same order, as arrays
-        // (padded at the end), the largest high x of the entries of the row
-        // up to each (a floor for the sweeps that does not depend on the
-        // largest box), and the entries' slots again (what a sweep reports: 4 bytes an entry beside
-        // the boxes it reads, where the 20-byte entries took a cache miss
-        // per pair).
-        std::vector<float> bl, bhx, bly, bhy, blz, bhz, breach;
+        // The entries' bodies (slots), sorted by row and within a row by
+        // (low x, slot), padded at the end: an entry's row is known from
+        // the row index below, so it carries no key (20-byte entries of key
+        // and slot, and a spare copy, took 40 bytes a body and a pass of
+        // their own each tick).
         std::vector<uint32_t> bslot;
+        std::vector<uint32_t> spare;  // what update_lists writes the next slots into
+        // Boxes of entries rounded outward to float, same order, as arrays
+        // (padded at the end), and the largest high x of the entries of the
+        // row up to each (a floor for the sweeps that does not depend on the
+        // largest box).
+        std::vector<float> bl, bhx, bly, bhy, blz, bhz, breach;
         // The occupied rows: distinct keys in order, and where each row's
-        // entries start (one more than rows, ending with entries.size()).
+        // entries start (one more than rows, ending with count()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
+        size_t count() const { return row_start.empty() ? 0 : row_start.back(); }
         BoxArrays arrays() const {
             return BoxArrays{bl.data(),  bhx.data(), bly.data(),    bhy.data(),
                              blz.data(), bhz.data(), breach.data(), bslot.data()};

@@ -949,45 +949,62 @@ HGCD_SWEEP_INLINE size_t floor_entry(const float *BP, size_t j, size_t e, float 
 }
 
 // Every overlapping pair of an entry of row A [ib, ie) with an entry of the
-// rows B[r] = [jb[r], je[r]) (r < rows), all sorted by low x. Each box of A
+// rows B[r] = [jb[r], je[r]) (r < rows), all sorted by low x. A box of A
 // visits only the rows its reach bits allow (need[r] are the bits row r
-// needs) and that still have candidates; in each, it scans from the first
-// entry whose row's largest high x so far reaches its own low x (none before
-// it can overlap it; and the floor only rises as A's low x do) up to its
-// high x. Visiting A's boxes in the outer loop, each with its rows, costs
-// one loop exit per box where one test per (box, row) pair went either way.
+// needs); in each, it scans from the first entry whose row's largest high x
+// so far reaches its own low x (none before it can overlap it; and the
+// floor only rises as A's low x do) up to its high x. Row by row, over the
+// boxes of A that row admits, listed first without branches (a chunk of A
+// at a time, after the chunk's own-row pairs when A is B's own row): a
+// branch per box on whether it visits any row, and one on how many,
+// mispredicted about once a box (tetra 750k, broad phase 38.9 -> 31.7 ms on
+// 1 thread, 20.0 -> 16.5 on 2). Chunks of 32: longer ones separated each
+// box's pairs more and slowed the narrow phase, which reads the bodies of
+// the pairs in their order (256: narrow 53 -> 58 ms).
 template <class Lanes>
 HGCD_SWEEP_INLINE void sweep_rows(const Grid::BoxArrays &A, const RowReach &row_reach, size_t ib, size_t ie,
                                   const Grid::BoxArrays &B, const size_t *jb, const size_t *je,
-                                  const uint8_t *need, int rows, PairBuffer &out) {
+                                  const uint8_t *need, int rows, bool own_row, PairBuffer &out) {
     const float *BL = B.l, *BP = B.reach;
-    unsigned allowed[16];  // rows a box with these reach bits may meet
-    for (unsigned f = 0; f < 16; ++f) {
-        allowed[f] = 0;
-        for (int r = 0; r < rows; ++r) allowed[f] |= unsigned((f & need[r]) == need[r]) << r;
-    }
+    constexpr size_t kChunk = 32;
+    uint8_t bits[kChunk];
+    uint32_t admitted[kChunk];
     size_t lo[9];
     unsigned live = 0;  // rows with candidates left
     for (int r = 0; r < rows; ++r) {
         lo[r] = jb[r];
         live |= unsigned(jb[r] < je[r]) << r;
     }
-    for (size_t i = ib; i < ie && live; ++i) {
-        unsigned mask = allowed[row_reach.bits(A.ly[i], A.hy[i], A.lz[i], A.hz[i])] & live;
-        if (!mask) continue;
-        const float floor = A.l[i], right = A.hx[i];
-        const Lanes lanes(A, i);
-        do {
-            const int r = __builtin_ctz(mask);
-            mask &= mask - 1;
-            const size_t e = je[r];
-            const size_t j = lo[r] = floor_entry<Lanes>(BP, lo[r], e, floor);
-            if (j == e) {
-                live &= ~(1u << r);
-                continue;
+    for (size_t cb = ib; cb < ie && (live || own_row); cb += kChunk) {
+        const size_t ce = std::min(ie, cb + kChunk);
+        if (own_row)  // (the same chunk's own-row pairs first: the narrow phase then finds its bodies in cache)
+            for (size_t i = cb; i < ce && i + 1 < ie; ++i) {
+                const float right = A.hx[i];
+                if (A.l[i + 1] <= right) scan(Lanes(A, i), A, i + 1, ie, right, A.slot[i], out);
             }
-            if (BL[j] <= right) scan(lanes, B, j, e, right, A.slot[i], out);
-        } while (mask);
+        for (size_t i = cb; i < ce; ++i) bits[i - cb] = uint8_t(row_reach.bits(A.ly[i], A.hy[i], A.lz[i], A.hz[i]));
+        for (int r = 0; r < rows; ++r) {
+            if (!(live >> r & 1)) continue;
+            const unsigned want = need[r];
+            size_t n = 0;
+            for (size_t i = cb; i < ce; ++i) {
+                admitted[n] = uint32_t(i);
+                n += (bits[i - cb] & want) == want;
+            }
+            size_t j = lo[r];
+            const size_t e = je[r];
+            for (size_t k = 0; k < n; ++k) {
+                const size_t i = admitted[k];
+                j = floor_entry<Lanes>(BP, j, e, A.l[i]);
+                if (j == e) {
+                    live &= ~(1u << r);
+                    break;
+                }
+                const float right = A.hx[i];
+                if (BL[j] <= right) scan(Lanes(A, i), B, j, e, right, A.slot[i], out);
+            }
+            lo[r] = j;
+        }
     }
 }
 
@@ -1023,10 +1040,6 @@ HGCD_SWEEP_INLINE void sweep_resident_rows(const RowsView &R, int exponent, size
     }
     for (size_t row = begin; row < end; ++row) {
         const size_t b = start[row], e = start[row + 1];
-        for (size_t i = b; i + 1 < e; ++i) {
-            const float right = S.hx[i];
-            if (S.l[i + 1] <= right) scan(Lanes(S, i), S, i + 1, e, right, S.slot[i], out);
-        }
         size_t jb[4], je[4];
         for (int r = 0; r < 4; ++r) {
             const CellKey target = rows[row] + off[r];
@@ -1035,7 +1048,7 @@ HGCD_SWEEP_INLINE void sweep_resident_rows(const RowsView &R, int exponent, size
             jb[r] = found ? start[k] : 0;
             je[r] = found ? start[k + 1] : 0;
         }
-        sweep_rows<Lanes>(S, RowReach(exponent, rows[row]), b, e, S, jb, je, need, 4, out);
+        sweep_rows<Lanes>(S, RowReach(exponent, rows[row]), b, e, S, jb, je, need, 4, true, out);
     }
 }
 
@@ -1064,7 +1077,7 @@ HGCD_SWEEP_INLINE void sweep_guest_rows(const RowsView &G, const RowsView &R, in
             je[r] = found ? start[k + 1] : 0;
         }
         sweep_rows<Lanes>(G.box, RowReach(exponent, grows[row]), gstart[row], gstart[row + 1], R.box, jb, je,
-                          need, 9, out);
+                          need, 9, false, out);
     }
 }
 

@@ -1584,6 +1584,10 @@ void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowS
     if (use_avx2()) return collide_tetra_batch_avx2(pairs, n, out, scratch);
 #endif
     for (size_t k = 0; k < n; ++k) {
+        if (k + 8 < n) {  // (the placements of a later pair: see world.cpp)
+            __builtin_prefetch(pairs[k + 8].a);
+            __builtin_prefetch(pairs[k + 8].b);
+        }
         const TetraPair &p = pairs[k];
         out[k] = collide_tetra(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), scratch);
     }

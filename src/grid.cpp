@@ -283,7 +283,12 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
                     else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) f = 1;
                     flag[s] = f;
                     if (f) {  // (most bodies keep their row: their state is not written)
-                        guard.run([&] { changed_mine.push_back(Moved{uint32_t(s), level_[s], {old[0], old[1]}}); });
+                        float lo[3] = {0, 0, 0}, hi[3];
+                        if (li >= 0) float_box(boxes, uint32_t(s), lo, hi);
+                        guard.run([&] {
+                            changed_mine.push_back(
+                                Moved{uint32_t(s), level_[s], li, lo[0], {old[0], old[1]}, {c[0], c[1]}});
+                        });
                         ++flagged;
                         if (level_[s] >= 0) ++my_touched[level_[s]];
                         if (li >= 0) ++my_touched[li];
@@ -385,7 +390,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
             dirty[2 * li + 1] = moved_finer != 0 && !levels_[li].down;
             moved_finer += touched[li];
         }
-        update_lists(dirty, flag, changed, boxes, threads);
+        update_lists(dirty, flag, changed, threads);
         stats.moved = flagged;
     }
     disorder_ = gather(all_lists(), boxes, threads);
@@ -445,7 +450,7 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
 // in, by the row index), and from the entries that enter in its range of
 // rows. One pass reads and writes each slot once.
 void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uint8_t> &flag,
-                        const std::vector<Moved> &changed, const Boxes &boxes, int threads) {
+                        const std::vector<Moved> &changed, int threads) {
     constexpr size_t kPart = 32768;  // entries
     struct Work {
         List *list;
@@ -462,11 +467,7 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
         auto belongs = [&](int own) { return guests ? own >= 0 && own < li : own == li; };
         std::vector<Keyed> &add = adds[k];
         for (const Moved &m : changed)
-            if (belongs(level_[m.slot])) {
-                float lo[3], hi[3];  // (the low x the lists hold)
-                float_box(boxes, m.slot, lo, hi);
-                add.push_back({key_of(m.slot, li), m.slot, lo[0]});
-            }
+            if (belongs(m.level)) add.push_back({key_at(m.cell, m.level, li), m.slot, m.x});
         std::sort(add.begin(), add.end(), ByRowX<Keyed>());
         // Parts: rows [cut[p], cut[p + 1]) of the list as it is.
         const std::vector<CellKey> &keys = list.row_keys;

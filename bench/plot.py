@@ -221,7 +221,7 @@ def markdown(rows):
     out.append(f"Scene `tetra` (SCENES.md, seed {rows[0].get('seed', 1) if rows else 1}), "
                f"{machine_of(rows)}, commit {commits_of(rows)}; medians over the ticks. "
                "hgcd: broad phase on each body's axis-aligned box of its world vertices, exact narrow phase, tick = motion + grid update + broad + "
-               "narrow. Peers: broad phase only (update + pair search) on each body's axis-aligned box; their pair "
+               "narrow (since commit c4d4251 the motion runs inside the grid update's pass over the bodies). Peers: broad phase only (update + pair search) on each body's axis-aligned box; their pair "
                "counts are checked against a sort-and-sweep of the same boxes.")
     return "\n".join(out)
 

@@ -54,16 +54,19 @@ class IeeeMode {
     static uint64_t standard(uint64_t v) { return (v & ~uint64_t(0x8000 | 0x6000 | 0x0040)) | 0x1F80; }
 #elif defined(__aarch64__)
     // FPCR: flush to zero (bit 24), rounding (bits 22-23, 0: nearest), FZ16
-    // (bit 19), trap enables (bits 8-12 and 15, clear: no trap).
+    // (bit 19), trap enables (bits 8-12 and 15, clear: no trap), and with
+    // FEAT_AFP flush inputs to zero (FIZ, bit 0) and the alternate handling
+    // (AH, bit 1). (The memory clobbers keep the compiler from moving memory
+    // operations across the switch.)
     static uint64_t read() {
         uint64_t v;
-        __asm__ __volatile__("mrs %0, fpcr" : "=r"(v));
+        __asm__ __volatile__("mrs %0, fpcr" : "=r"(v) : : "memory");
         return v;
     }
-    static void write(uint64_t v) { __asm__ __volatile__("msr fpcr, %0" : : "r"(v)); }
+    static void write(uint64_t v) { __asm__ __volatile__("msr fpcr, %0" : : "r"(v) : "memory"); }
     static uint64_t standard(uint64_t v) {
         return v & ~((uint64_t(1) << 24) | (uint64_t(3) << 22) | (uint64_t(1) << 19) | (uint64_t(1) << 15) |
-                     (uint64_t(0x1F) << 8));
+                     (uint64_t(0x1F) << 8) | uint64_t(3));
     }
 #else
     static uint64_t read() { return 0; }

@@ -1484,7 +1484,7 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
         const size_t end = std::min(n, begin + kStage);
         size_t kept = 0;
         for (size_t k = begin; k < end; k += 4) {
-            if (k + 16 < n)  // (the placements four groups ahead: see world.cpp)
+            if (k + 20 <= n)  // (the placements four groups ahead: see world.cpp)
                 for (size_t l = 0; l < 4; ++l) {
                     __builtin_prefetch(pairs[k + 16 + l].a);
                     __builtin_prefetch(pairs[k + 16 + l].b);

@@ -534,30 +534,48 @@ GridLimits World::grid_limits(int threads) {
 
 double World::estimated_candidates_per_body(int threads) const {
     const int64_t n = int64_t(stored_gen_.size());
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double a1 = 0, a2 = 0, a3 = 0, count = 0;
-#pragma omp parallel num_threads(threads) reduction(min : lo[:3]) reduction(max : hi[:3]) \
-    reduction(+ : a1, a2, a3, count)
+    // Per thread, merged here on the calling thread: an OpenMP reduction
+    // would merge the workers' shares after their IeeeMode has ended.
+    struct Sums {
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        double a1 = 0, a2 = 0, a3 = 0, count = 0;
+    };
+    std::vector<Sums> sums(static_cast<size_t>(threads));
+#pragma omp parallel num_threads(threads)
     {
         const IeeeMode ieee;
-#pragma omp for schedule(static)
+        Sums mine;
+#pragma omp for schedule(static) nowait
         for (int64_t s = 0; s < n; ++s) {
             if (!stored_gen_[s]) continue;
             const double *p = &point_[3 * s];
             const float *o = &box_off_[6 * s];
             for (int k = 0; k < 3; ++k) {
-                lo[k] = std::min(lo[k], p[k]);
-                hi[k] = std::max(hi[k], p[k]);
+                mine.lo[k] = std::min(mine.lo[k], p[k]);
+                mine.hi[k] = std::max(mine.hi[k], p[k]);
             }
             // Half the box's mean side.
             const double a = ((double(o[3]) - o[0]) + (double(o[4]) - o[1]) + (double(o[5]) - o[2])) / 6;
-            a1 += a;
-            a2 += a * a;
-            a3 += a * a * a;
-            count += 1;
+            mine.a1 += a;
+            mine.a2 += a * a;
+            mine.a3 += a * a * a;
+            mine.count += 1;
         }
+        sums[size_t(omp_get_thread_num())] = mine;
     }
-    const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    Sums all;
+    for (const Sums &t : sums) {
+        for (int k = 0; k < 3; ++k) {
+            all.lo[k] = std::min(all.lo[k], t.lo[k]);
+            all.hi[k] = std::max(all.hi[k], t.hi[k]);
+        }
+        all.a1 += t.a1;
+        all.a2 += t.a2;
+        all.a3 += t.a3;
+        all.count += t.count;
+    }
+    const double a1 = all.a1, a2 = all.a2, a3 = all.a3, count = all.count;
+    const double volume = (all.hi[0] - all.lo[0]) * (all.hi[1] - all.lo[1]) * (all.hi[2] - all.lo[2]);
     if (count < 2 || !(volume > 0) || !std::isfinite(volume)) return -1;  // no estimate
     // Cubes of half sides a_i, a_j meet when within a_i + a_j on every
     // axis: (n / V) E[8 (a_i + a_j)^3] / 2 pairs per body.
@@ -581,6 +599,9 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     try {
         if (!renumbered) renumber_if_disordered();
         const uint32_t stored = uint32_t(stored_gen_.size());
+        // (On a step that is the world's first detect, grid_limits estimates
+        // the density from the positions before this tick's moves, which run
+        // inside the update: a heuristic, off by one tick's motion.)
         const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(), stored, grid_limits(T), T, motion);
         grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)
         const double t1 = omp_get_wtime();
@@ -712,6 +733,10 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                 }
                 collide_tetra_batch(tetra, tetras, verdict, scratch);
                 for (size_t k = 0; k < tetras; ++k) {
+                    if (k + 8 < tetras) {  // (a later pair's handles: the slots are in no order)
+                        __builtin_prefetch(&slot_of_[tetra_key[k + 8] >> 32]);
+                        __builtin_prefetch(&slot_of_[uint32_t(tetra_key[k + 8])]);
+                    }
                     if (verdict[k] == Contact::None) continue;
                     mine.push_back(pair_key(slot_of_[tetra_key[k] >> 32], slot_of_[uint32_t(tetra_key[k])]));
                     if (verdict[k] == Contact::Containment) ++my_containment;

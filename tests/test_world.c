@@ -850,7 +850,7 @@ static void test_tetra_axis_prefilter(void **state) {
  * rotations (touching exactly) or at random, near the origin and near 1e6. */
 static void test_tetra_batch_matches_one_pair(void **state) {
     (void)state;
-    enum { PAIRS = 40000 };
+    enum { PAIRS = 39998 }; /* (not a multiple of 4: the batch's last group is partial) */
     uint32_t *pair_mesh = malloc(2 * PAIRS * sizeof(uint32_t));
     double *poses = malloc(16 * PAIRS * sizeof(double));
     rng g = {91};
@@ -966,8 +966,8 @@ static void test_caller_fp_mode(void **state) {
         }
         /* Only library calls, and no arithmetic of the test's own, in the hostile mode. */
         const fp_mode saved = fp_get();
-        const fp_mode hostile = fp_hostile(saved);
-        fp_set(hostile);
+        fp_set(fp_hostile(saved));
+        const fp_mode hostile = fp_get(); /* (as the hardware took it: arm64 cores without trapping drop those bits) */
 #ifdef _OPENMP
         /* The host's own OpenMP region first: the runtime's threads, which
          * the library's regions reuse, start in the host's mode (this test

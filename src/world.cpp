@@ -733,10 +733,6 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                 }
                 collide_tetra_batch(tetra, tetras, verdict, scratch);
                 for (size_t k = 0; k < tetras; ++k) {
-                    if (k + 8 < tetras) {  // (a later pair's handles: the slots are in no order)
-                        __builtin_prefetch(&slot_of_[tetra_key[k + 8] >> 32]);
-                        __builtin_prefetch(&slot_of_[uint32_t(tetra_key[k + 8])]);
-                    }
                     if (verdict[k] == Contact::None) continue;
                     mine.push_back(pair_key(slot_of_[tetra_key[k] >> 32], slot_of_[uint32_t(tetra_key[k])]));
                     if (verdict[k] == Contact::Containment) ++my_containment;

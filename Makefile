@@ -20,10 +20,17 @@ INCLUDEDIR ?= $(PREFIX)/include
 BUILD ?= build-make
 
 # -ffp-contract=off: no fused multiply-add, so world vertices are the same
-# bits everywhere (see hgcd.h). Never -ffast-math.
+# bits everywhere (see hgcd.h). HGCD_IEEE_FLAGS come after CXXFLAGS and undo
+# -ffast-math, -Ofast (and its store data races) and their parts: the
+# library's results rest on IEEE arithmetic (src/ieee.hpp) whatever CXXFLAGS
+# say (scripts/check-ieee.sh checks an -Ofast build).
 CXXFLAGS ?= -O2 -g
-HGCD_CXXFLAGS := -std=c++17 -fPIC -fopenmp -ffp-contract=off -fvisibility=hidden \
+HGCD_CXXFLAGS := -std=c++17 -fPIC -fopenmp -fvisibility=hidden \
                  -Wall -Wextra -Iinclude -DHGCD_BUILDING_LIBRARY
+HGCD_IEEE_FLAGS := -fno-fast-math -fno-unsafe-math-optimizations -fno-associative-math \
+                   -fno-reciprocal-math -fsigned-zeros -ftrapping-math -fno-finite-math-only \
+                   -ffp-contract=off \
+                   $(shell $(CXX) -fno-allow-store-data-races -x c++ -fsyntax-only /dev/null 2>/dev/null && echo -fno-allow-store-data-races)
 LDLIBS_LIB := -fopenmp -lm
 
 # Optional narrow phase through libccd (GJK/MPR for convex meshes): used when
@@ -52,7 +59,7 @@ all: lib
 lib: $(STATIC) $(SHARED)
 
 $(BUILD)/%.o: src/%.cpp $(wildcard src/*.hpp src/*.h include/hgcd/*.h) | $(BUILD)
-	$(CXX) $(HGCD_CXXFLAGS) $(CXXFLAGS) -c $< -o $@
+	$(CXX) $(HGCD_CXXFLAGS) $(CXXFLAGS) $(HGCD_IEEE_FLAGS) -c $< -o $@
 
 $(BUILD):
 	mkdir -p $(BUILD)

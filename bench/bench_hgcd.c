@@ -20,9 +20,11 @@
  *   wall_ms           median wall-clock time of hgcd_world_step seen here;
  *   tick_mean_ms, tick_max_ms, update_mean_ms, broad_mean_ms, narrow_mean_ms
  *                     means (and the largest tick) over the ticks: ticks that
- *                     rebuild the skin list cost more than the others;
- *   candidate_pairs, narrow_tests, colliding_pairs, containment_pairs
- *                     of the last tick;
+ *                     renumber the bodies' storage cost more than the others;
+ *   candidate_pairs, narrow_tests, colliding_pairs, containment_pairs,
+ *   triangle_tests    of the last tick;
+ *   pairs_fnv         FNV-1a (64-bit, hex) of the last tick's pairs, indices
+ *                     in order: equal when two builds report the same pairs;
  *   initial_pairs, initial_containment, initial_ms   of the initial detect;
  *   setup_ms          world creation and hgcd_scene_tetra_populate (scene drawn, mesh and bodies made);
  *   peak_rss_mb       getrusage ru_maxrss at the end;
@@ -215,12 +217,26 @@ int main(int argc, char **argv) {
                     tick_total[k], tick_motion[k], tick_update[k], tick_broad[k], tick_narrow[k]);
     }
     const double rss_after = peak_rss_bytes();
+    /* FNV-1a over the last tick's pairs (indices, in order): two builds that
+     * report the same pairs print the same value (scripts/check-ieee.sh). */
+    uint64_t pairs_fnv = 14695981039346656037ull;
+    {
+        const hgcd_pair *pairs = NULL;
+        size_t count = 0;
+        if (failed(hgcd_world_pairs(w, &pairs, &count), w, "world_pairs")) return 1;
+        for (size_t k = 0; k < count; ++k) {
+            const uint32_t ab[2] = {pairs[k].a.index, pairs[k].b.index};
+            const unsigned char *byte = (const unsigned char *)ab;
+            for (size_t i = 0; i < sizeof ab; ++i) pairs_fnv = (pairs_fnv ^ byte[i]) * 1099511628211ull;
+        }
+    }
 
     printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
            "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
-           "\"containment_pairs\":%llu,\"initial_pairs\":%llu,\"initial_containment\":%llu,"
+           "\"containment_pairs\":%llu,\"triangle_tests\":%llu,\"pairs_fnv\":\"%016llx\","
+           "\"initial_pairs\":%llu,\"initial_containment\":%llu,"
            "\"initial_ms\":%.3f,\"setup_ms\":%.3f,\"levels\":%u,\"oversize\":%u,"
            "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,"
            "\"tick_mean_ms\":%.3f,\"tick_max_ms\":%.3f,\"update_mean_ms\":%.3f,\"broad_mean_ms\":%.3f,"
@@ -230,7 +246,8 @@ int main(int argc, char **argv) {
            median(tick_motion, ticks), median(tick_total, ticks), median(tick_wall, ticks),
            (unsigned long long)st.candidate_pairs, (unsigned long long)st.narrow_tests,
            (unsigned long long)st.colliding_pairs, (unsigned long long)st.containment_pairs,
-           (unsigned long long)initial_pairs, (unsigned long long)initial_containment, initial_ms, setup_ms,
+           (unsigned long long)st.triangle_tests, (unsigned long long)pairs_fnv, (unsigned long long)initial_pairs,
+           (unsigned long long)initial_containment, initial_ms, setup_ms,
            st.level_count, st.oversize_count, rss_after / (1024.0 * 1024.0),
            (rss_after - rss_before) / (double)n, mean(tick_total, ticks), maximum(tick_total, ticks),
            mean(tick_update, ticks), mean(tick_broad, ticks), mean(tick_narrow, ticks));

@@ -7,9 +7,12 @@
 // non-finite input (std::isfinite in capi.cpp, world.cpp, mesh.cpp,
 // ccd_narrow.cpp, which -ffinite-math-only may fold to true). -ffast-math
 // (and -Ofast) would let the compiler reorder, contract and drop those
-// roundings and checks, so the reported pairs would depend on the compiler:
-// refuse to build. (-ffp-contract=off, in meson.build and the Makefile,
-// keeps FMA out too.) scripts/check-ieee.sh checks that every source refuses.
+// roundings and checks, so the reported pairs would depend on the compiler.
+// meson.build and the Makefile put flags undoing them (and -ffp-contract=off)
+// after the user's, so a build with CXXFLAGS=-Ofast is still IEEE, and
+// scripts/check-ieee.sh checks that it gives the same results. A build that
+// compiles these sources some other way with -ffast-math or -Ofast stops
+// here; the script checks that every source does.
 #pragma once
 #if defined(__FAST_MATH__) || defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
 #error "hgcd needs IEEE arithmetic: build without -ffast-math / -Ofast"

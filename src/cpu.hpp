@@ -5,10 +5,19 @@
 #pragma once
 #include <cstdlib>
 
+// Whether this build has the AVX2 kernels at all: GCC on x86-64 (they rest
+// on its target attributes and vector extensions; clang and other targets
+// build the SSE2 / NEON kernels only).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define HGCD_AVX2 1
+#else
+#define HGCD_AVX2 0
+#endif
+
 namespace hgcd {
 
 inline bool use_avx2() {
-#if defined(__x86_64__) && defined(__GNUC__)
+#if HGCD_AVX2
     static const bool avx2 = [] {
         __builtin_cpu_init();
         return __builtin_cpu_supports("avx2") != 0 && __builtin_cpu_supports("popcnt") != 0 &&

@@ -64,6 +64,12 @@ inline void float_box(const Boxes &boxes, uint32_t s, float *lo, float *hi) {
 #endif
 }
 
+// float_box's low x alone (float_at_most of the same double), where only
+// that one is needed.
+inline float float_low_x(const Boxes &boxes, uint32_t s) {
+    return float_at_most(boxes.point(s)[0] + double(boxes.off[6 * size_t(s)]));
+}
+
 // Row coordinates (y and z) are kept in 42 bits each so a row key packs into
 // 128 bits. Clamping is monotone and never increases a difference, so two
 // bodies in neighbouring rows stay in neighbouring (or equal) rows: far-away
@@ -283,11 +289,10 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
                     else if (li >= 0 && (c[0] != old[0] || c[1] != old[1])) f = 1;
                     flag[s] = f;
                     if (f) {  // (most bodies keep their row: their state is not written)
-                        float lo[3] = {0, 0, 0}, hi[3];
-                        if (li >= 0) float_box(boxes, uint32_t(s), lo, hi);
+                        const float x = li >= 0 ? float_low_x(boxes, uint32_t(s)) : 0.0f;
                         guard.run([&] {
                             changed_mine.push_back(
-                                Moved{uint32_t(s), level_[s], li, lo[0], {old[0], old[1]}, {c[0], c[1]}});
+                                Moved{uint32_t(s), level_[s], li, x, {old[0], old[1]}, {c[0], c[1]}});
                         });
                         ++flagged;
                         if (level_[s] >= 0) ++my_touched[level_[s]];
@@ -405,42 +410,44 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
     for (uint32_t s = 0; s < slot_count; ++s) {
         const int16_t own = level_[s];
         if (own < 0) continue;
-        float lo[3], hi[3];  // (the low x the lists will hold)
-        float_box(boxes, s, lo, hi);
-        keyed[2 * size_t(own)].push_back({key_of(s, own), s, lo[0]});
+        const float x = float_low_x(boxes, s);  // (the low x the lists will hold)
+        keyed[2 * size_t(own)].push_back({key_of(s, own), s, x});
         for (size_t li = size_t(own) + 1; li < levels_.size(); ++li)
-            if (!levels_[li].down) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, lo[0]});
+            if (!levels_[li].down) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, x});
     }
     const int64_t lists = int64_t(2 * levels_.size());
     RegionGuard guard;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t k = 0; k < lists; ++k) guard.run([&] {
+#pragma omp parallel num_threads(threads)
+    {
         const IeeeMode ieee;
-        List &list = list_at(size_t(k));
-        // Rows sorted by low x (the lists' float copy: no random reads in
-        // the comparisons, and gather finds the order made).
-        std::vector<Keyed> &in = keyed[size_t(k)];
-        std::sort(in.begin(), in.end(), ByRowX<Keyed>());
-        list.bslot.resize(in.size());
-        list.row_keys.clear();
-        list.row_start.clear();
-        for (size_t i = 0; i < in.size(); ++i) {
-            list.bslot[i] = in[i].slot;
-            const CellKey key = in[i].key;  // (by value: the member is packed)
-            if (i == 0 || key != list.row_keys.back()) {
-                list.row_keys.push_back(key);
-                list.row_start.push_back(uint32_t(i));
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t k = 0; k < lists; ++k) guard.run([&] {
+            List &list = list_at(size_t(k));
+            // Rows sorted by low x (the lists' float copy: no random reads in
+            // the comparisons, and gather finds the order made).
+            std::vector<Keyed> &in = keyed[size_t(k)];
+            std::sort(in.begin(), in.end(), ByRowX<Keyed>());
+            list.bslot.resize(in.size());
+            list.row_keys.clear();
+            list.row_start.clear();
+            for (size_t i = 0; i < in.size(); ++i) {
+                list.bslot[i] = in[i].slot;
+                const CellKey key = in[i].key;  // (by value: the member is packed)
+                if (i == 0 || key != list.row_keys.back()) {
+                    list.row_keys.push_back(key);
+                    list.row_start.push_back(uint32_t(i));
+                }
             }
-        }
-        list.row_start.push_back(uint32_t(in.size()));
-        std::vector<Keyed>().swap(in);
-    });
+            list.row_start.push_back(uint32_t(in.size()));
+            std::vector<Keyed>().swap(in);
+        });
+    }
     guard.rethrow();
 }
 
 // Brings the lists marked dirty (residents of level k / 2 at even k, guests
-// at odd k) to the flagged bodies (changed: their slots, levels and rows
-// before this update): their entries leave, and those that belong to a list
+// at odd k) to the flagged bodies (changed: their slots, and their levels,
+// rows and low x before and after this update): their entries leave, and those that belong to a list
 // now enter it at their place by (row, x) (x as of the last gather for the
 // others), so that gather's insertion sort has little left to do; the row
 // index follows (rows emptied go, rows entered come). Each list is
@@ -490,7 +497,6 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
             list.spare.shrink_to_fit();
             list.spare.reserve(most + most / 16 + kPad);
         }
-        list.spare.resize(most);
         size_t out = 0, a = 0;
         for (size_t p = 0; p < parts; ++p) {
             const size_t in_b = rows ? list.row_start[cut[p]] : 0, in_e = rows ? list.row_start[cut[p + 1]] : 0;
@@ -514,53 +520,56 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     std::vector<std::vector<std::pair<CellKey, uint32_t>>> part_rows(work.size());
     bool out_of_step = false;
     RegionGuard guard;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1) reduction(|| : out_of_step)
-    for (int64_t k = 0; k < int64_t(work.size()); ++k) guard.run([&] {
+#pragma omp parallel num_threads(threads)
+    {
         const IeeeMode ieee;
-        const Work &wk = work[k];
-        const List &list = *wk.list;
-        const uint32_t *S = list.bslot.data();
-        const float *X = list.bl.data();  // the entries' low x, as of the last gather
-        const uint32_t *start = list.row_start.data();
-        const Keyed *A = wk.add->data();
-        uint32_t *O = wk.list->spare.data();
-        auto &out_rows = part_rows[size_t(k)];
-        size_t a = wk.add_b, w = wk.out_b;
-        bool full = false;  // more entries than the part's room
-        // The entering entries of row key `until` and below that form rows
-        // of their own (rows that were empty).
-        auto new_rows = [&](bool bounded, CellKey until) {
-            while (a < wk.add_e && (!bounded || CellKey(A[a].key) < until) && w < wk.out_e) {
-                const CellKey key = A[a].key;
-                const size_t first = w;
-                while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
-                out_rows.push_back({key, uint32_t(w - first)});
-            }
-        };
-        for (size_t r = wk.row_b; r < wk.row_e && !full; ++r) {
-            const CellKey key = list.row_keys[r];
-            new_rows(true, key);
-            // The row's entries that stay, merged with those that enter it.
-            const size_t first = w;
-            for (size_t i = start[r]; i < start[r + 1]; ++i) {
-                const uint32_t slot = S[i];
-                if (flag[slot]) continue;  // (entries of flagged bodies leave)
-                const float x = X[i];
-                while (a < wk.add_e && CellKey(A[a].key) == key &&
-                       (A[a].x < x || (A[a].x == x && A[a].slot < slot)) && w < wk.out_e)
-                    O[w++] = A[a++].slot;
-                if (w == wk.out_e) {
-                    full = true;
-                    break;
+#pragma omp for schedule(dynamic, 1) reduction(|| : out_of_step)
+        for (int64_t k = 0; k < int64_t(work.size()); ++k) guard.run([&] {
+            const Work &wk = work[k];
+            const List &list = *wk.list;
+            const uint32_t *S = list.bslot.data();
+            const float *X = list.bl.data();  // the entries' low x, as of the last gather
+            const uint32_t *start = list.row_start.data();
+            const Keyed *A = wk.add->data();
+            uint32_t *O = wk.list->spare.data();
+            auto &out_rows = part_rows[size_t(k)];
+            size_t a = wk.add_b, w = wk.out_b;
+            bool full = false;  // more entries than the part's room
+            // The entering entries of row key `until` and below that form rows
+            // of their own (rows that were empty).
+            auto new_rows = [&](bool bounded, CellKey until) {
+                while (a < wk.add_e && (!bounded || CellKey(A[a].key) < until) && w < wk.out_e) {
+                    const CellKey key = A[a].key;
+                    const size_t first = w;
+                    while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
+                    out_rows.push_back({key, uint32_t(w - first)});
                 }
-                O[w++] = slot;
+            };
+            for (size_t r = wk.row_b; r < wk.row_e && !full; ++r) {
+                const CellKey key = list.row_keys[r];
+                new_rows(true, key);
+                // The row's entries that stay, merged with those that enter it.
+                const size_t first = w;
+                for (size_t i = start[r]; i < start[r + 1]; ++i) {
+                    const uint32_t slot = S[i];
+                    if (flag[slot]) continue;  // (entries of flagged bodies leave)
+                    const float x = X[i];
+                    while (a < wk.add_e && CellKey(A[a].key) == key &&
+                           (A[a].x < x || (A[a].x == x && A[a].slot < slot)) && w < wk.out_e)
+                        O[w++] = A[a++].slot;
+                    if (w == wk.out_e) {
+                        full = true;
+                        break;
+                    }
+                    O[w++] = slot;
+                }
+                while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
+                if (w > first) out_rows.push_back({key, uint32_t(w - first)});
             }
-            while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
-            if (w > first) out_rows.push_back({key, uint32_t(w - first)});
-        }
-        new_rows(false, 0);
-        out_of_step |= full || a != wk.add_e || w != wk.out_e;
-    });
+            new_rows(false, 0);
+            out_of_step |= full || a != wk.add_e || w != wk.out_e;
+        });
+    }
     guard.rethrow();
     if (out_of_step) throw std::logic_error("grid: a list update is out of step with its rows");
     // The new row index of each list from its parts' rows (consecutive in work, in order).
@@ -615,66 +624,69 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
     }
     std::vector<uint64_t> jumps_of(parts.size(), 0);  // each part's residents' jumps (disorder())
     RegionGuard guard;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
+#pragma omp parallel num_threads(threads)
+    {
         const IeeeMode ieee;
-        List &list = *parts[p].list;
-        float *L = list.bl.data(), *HX = list.bhx.data(), *LY = list.bly.data(), *HY = list.bhy.data(),
-              *LZ = list.blz.data(), *HZ = list.bhz.data(), *P = list.breach.data();
-        uint32_t *S = list.bslot.data();
-        const uint32_t *start = list.row_start.data();
-        const size_t e = start[parts[p].row_e];
-        uint64_t jumps = 0;
-        const uint32_t counts = parts[p].residents;
-        uint32_t prev = S[start[parts[p].row_b]];
-        for (size_t r = parts[p].row_b; r < parts[p].row_e; ++r) {
-            const size_t row_b = start[r], row_e = start[r + 1];
-            size_t budget = 64;  // insertion steps left to the row
-            bool whole = false;  // the row needs sorting outright
-            for (size_t k = row_b; k < row_e; ++k) {
-                const uint32_t slot = S[k];
-                // A resident more than 64 slots from the one before it (its
-                // box is in another stretch of memory).
-                jumps += counts & (uint32_t(slot - prev + 64) > 128);
-                prev = slot;
-                budget += 8;
-                // The next bodies' points and offsets (storage drifts from
-                // this order between renumberings): ask for them early.
-                if (k + 16 < e) {
-                    __builtin_prefetch(boxes.point(S[k + 16]));
-                    __builtin_prefetch(boxes.off + 6 * size_t(S[k + 16]));
-                }
-                float lo[3], hi[3];
-                float_box(boxes, slot, lo, hi);
-                size_t j = k;
-                if (!whole)
-                    for (; j > row_b && lo[0] < L[j - 1]; --j) {
-                        L[j] = L[j - 1];
-                        HX[j] = HX[j - 1];
-                        LY[j] = LY[j - 1];
-                        HY[j] = HY[j - 1];
-                        LZ[j] = LZ[j - 1];
-                        HZ[j] = HZ[j - 1];
-                        S[j] = S[j - 1];
-                        if (--budget == 0) {
-                            whole = true;
-                            break;
-                        }
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
+            List &list = *parts[p].list;
+            float *L = list.bl.data(), *HX = list.bhx.data(), *LY = list.bly.data(), *HY = list.bhy.data(),
+                  *LZ = list.blz.data(), *HZ = list.bhz.data(), *P = list.breach.data();
+            uint32_t *S = list.bslot.data();
+            const uint32_t *start = list.row_start.data();
+            const size_t e = start[parts[p].row_e];
+            uint64_t jumps = 0;
+            const uint32_t counts = parts[p].residents;
+            uint32_t prev = S[start[parts[p].row_b]];
+            for (size_t r = parts[p].row_b; r < parts[p].row_e; ++r) {
+                const size_t row_b = start[r], row_e = start[r + 1];
+                size_t budget = 64;  // insertion steps left to the row
+                bool whole = false;  // the row needs sorting outright
+                for (size_t k = row_b; k < row_e; ++k) {
+                    const uint32_t slot = S[k];
+                    // A resident more than 64 slots from the one before it (its
+                    // box is in another stretch of memory).
+                    jumps += counts & (uint32_t(slot - prev + 64) > 128);
+                    prev = slot;
+                    budget += 8;
+                    // The next bodies' points and offsets (storage drifts from
+                    // this order between renumberings): ask for them early.
+                    if (k + 16 < e) {
+                        __builtin_prefetch(boxes.point(S[k + 16]));
+                        __builtin_prefetch(boxes.off + 6 * size_t(S[k + 16]));
                     }
-                L[j] = lo[0];
-                HX[j] = hi[0];
-                LY[j] = lo[1];
-                HY[j] = hi[1];
-                LZ[j] = lo[2];
-                HZ[j] = hi[2];
-                S[j] = slot;
-                // The row's largest high x so far, from where the order changed.
-                for (size_t t = j; t <= k; ++t) P[t] = std::max(t > row_b ? P[t - 1] : -INFINITY, HX[t]);
+                    float lo[3], hi[3];
+                    float_box(boxes, slot, lo, hi);
+                    size_t j = k;
+                    if (!whole)
+                        for (; j > row_b && lo[0] < L[j - 1]; --j) {
+                            L[j] = L[j - 1];
+                            HX[j] = HX[j - 1];
+                            LY[j] = LY[j - 1];
+                            HY[j] = HY[j - 1];
+                            LZ[j] = LZ[j - 1];
+                            HZ[j] = HZ[j - 1];
+                            S[j] = S[j - 1];
+                            if (--budget == 0) {
+                                whole = true;
+                                break;
+                            }
+                        }
+                    L[j] = lo[0];
+                    HX[j] = hi[0];
+                    LY[j] = lo[1];
+                    HY[j] = hi[1];
+                    LZ[j] = lo[2];
+                    HZ[j] = hi[2];
+                    S[j] = slot;
+                    // The row's largest high x so far, from where the order changed.
+                    for (size_t t = j; t <= k; ++t) P[t] = std::max(t > row_b ? P[t - 1] : -INFINITY, HX[t]);
+                }
+                if (whole) sort_row(list, row_b, row_e);  // (and its largest high x)
             }
-            if (whole) sort_row(list, row_b, row_e);  // (and its largest high x)
-        }
-        jumps_of[size_t(p)] = jumps;
-    });
+            jumps_of[size_t(p)] = jumps;
+        });
+    }
     guard.rethrow();
     uint64_t disorder = 0;
     for (const uint64_t j : jumps_of) disorder += j;
@@ -722,17 +734,15 @@ inline CellKey row_step(int dz, int dy) {
 // A sweep's box test: one box against kBlock consecutive boxes of a row;
 // bit k of the result is set when box k overlaps it (closed intervals on
 // every axis). No window test: the windows only prune (every pair a sweep
-// may test is one it owns, see sweep_residents), so they bound where a scan
+// may test is one it owns, see sweep_resident_rows), so they bound where a scan
 // starts and stops, no more. Four boxes at a time with SSE2 on x86-64,
 // vector extensions elsewhere (NEON on arm64); eight with AVX2 where the
 // CPU has it (GCC on x86-64, picked at run time: tetra 750k broad phase
 // 52.9 -> 46.8 ms on 1 thread, both builds VEX-encoded).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if HGCD_AVX2
 #define HGCD_SWEEP_INLINE inline __attribute__((always_inline))
-#define HGCD_GRID_AVX2 1
 #else
 #define HGCD_SWEEP_INLINE inline
-#define HGCD_GRID_AVX2 0
 #endif
 
 // Writes the pairs (a | slot[k]) of a block's hits (bit k of hits) from
@@ -797,7 +807,7 @@ struct Lanes4 {
 };
 #endif
 
-#if HGCD_GRID_AVX2
+#if HGCD_AVX2
 // (Its code is in helpers of the AVX2 target, inlined once the sweep that
 // uses them is expanded inside sweep_*_avx2, as narrow.cpp's AVX2 kernels;
 // vectors pass by reference, as a default-target function may not take
@@ -967,22 +977,23 @@ HGCD_SWEEP_INLINE void sweep_rows(const Grid::BoxArrays &A, const RowReach &row_
                                   const Grid::BoxArrays &B, const size_t *jb, const size_t *je,
                                   const uint8_t *need, int rows, bool own_row, PairBuffer &out) {
     const float *BL = B.l, *BP = B.reach;
-    constexpr size_t kChunk = 32;
-    uint8_t bits[kChunk];
-    uint32_t admitted[kChunk];
+    constexpr size_t kAdmit = 32;  // boxes of A a chunk
+    uint8_t bits[kAdmit];
+    uint32_t admitted[kAdmit];
     size_t lo[9];
     unsigned live = 0;  // rows with candidates left
     for (int r = 0; r < rows; ++r) {
         lo[r] = jb[r];
         live |= unsigned(jb[r] < je[r]) << r;
     }
-    for (size_t cb = ib; cb < ie && (live || own_row); cb += kChunk) {
-        const size_t ce = std::min(ie, cb + kChunk);
+    for (size_t cb = ib; cb < ie && (live || own_row); cb += kAdmit) {
+        const size_t ce = std::min(ie, cb + kAdmit);
         if (own_row)  // (the same chunk's own-row pairs first: the narrow phase then finds its bodies in cache)
             for (size_t i = cb; i < ce && i + 1 < ie; ++i) {
                 const float right = A.hx[i];
                 if (A.l[i + 1] <= right) scan(Lanes(A, i), A, i + 1, ie, right, A.slot[i], out);
             }
+        if (!live) continue;  // (own-row pairs only from here on)
         for (size_t i = cb; i < ce; ++i) bits[i - cb] = uint8_t(row_reach.bits(A.ly[i], A.hy[i], A.lz[i], A.hz[i]));
         for (int r = 0; r < rows; ++r) {
             if (!(live >> r & 1)) continue;
@@ -1082,7 +1093,7 @@ HGCD_SWEEP_INLINE void sweep_guest_rows(const RowsView &G, const RowsView &R, in
     }
 }
 
-#if HGCD_GRID_AVX2
+#if HGCD_AVX2
 __attribute__((target("avx2"), noinline)) void sweep_resident_rows_avx2(const RowsView &R, int exponent,
                                                                         size_t begin, size_t end,
                                                                         PairBuffer &out) {
@@ -1100,7 +1111,7 @@ __attribute__((target("avx2"), noinline)) void sweep_guest_rows_avx2(const RowsV
 void Grid::sweep_residents(const Level &lv, size_t begin, size_t end, PairBuffer &out) const {
     const List &L = lv.residents;
     const RowsView R{L.row_keys, L.row_start.data(), L.arrays()};
-#if HGCD_GRID_AVX2
+#if HGCD_AVX2
     if (use_avx2()) return sweep_resident_rows_avx2(R, lv.exponent, begin, end, out);
 #endif
     sweep_resident_rows<Lanes4>(R, lv.exponent, begin, end, out);
@@ -1109,7 +1120,7 @@ void Grid::sweep_residents(const Level &lv, size_t begin, size_t end, PairBuffer
 void Grid::sweep_guests(const Level &lv, size_t begin, size_t end, PairBuffer &out) const {
     const RowsView G{lv.guests.row_keys, lv.guests.row_start.data(), lv.guests.arrays()};
     const RowsView R{lv.residents.row_keys, lv.residents.row_start.data(), lv.residents.arrays()};
-#if HGCD_GRID_AVX2
+#if HGCD_AVX2
     if (use_avx2()) return sweep_guest_rows_avx2(G, R, lv.exponent, begin, end, out);
 #endif
     sweep_guest_rows<Lanes4>(G, R, lv.exponent, begin, end, out);
@@ -1180,45 +1191,48 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
     if (oversize_.size() > 1) items.push_back({3, 0, 0, 0});
 
     RegionGuard guard;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-    for (int64_t k = 0; k < int64_t(items.size()); ++k) guard.run([&] {
+#pragma omp parallel num_threads(threads)
+    {
         const IeeeMode ieee;
-        const Item &it = items[k];
-        PairBuffer &mine = out[omp_get_thread_num()];
-        if (it.kind == 0) {
-            sweep_residents(levels_[it.level], it.begin, it.end, mine);
-        } else if (it.kind == 1) {
-            sweep_guests(levels_[it.level], it.begin, it.end, mine);
-        } else if (it.kind == 2) {
-            double lo[3], hi[3];
-            boxes.at(oversize_[it.begin], lo, hi);
-            query_levels(lo, hi, oversize_[it.begin], levels_.size(), mine);
-        } else if (it.kind == 4) {
-            const List &R = levels_[it.level].residents;
-            const BoxArrays S = R.arrays();
-            for (size_t j = it.begin; j < it.end; ++j) {
-                const double lo[3] = {S.l[j], S.ly[j], S.lz[j]}, hi[3] = {S.hx[j], S.hy[j], S.hz[j]};
-                query_levels(lo, hi, S.slot[j], it.level, mine);
-            }
-        } else {
-            const size_t m = oversize_.size();
-            std::vector<double> b(6 * m);
-            for (size_t i = 0; i < m; ++i) boxes.at(oversize_[i], &b[6 * i], &b[6 * i + 3]);
-            std::vector<uint32_t> order(m);
-            for (size_t i = 0; i < m; ++i) order[i] = uint32_t(i);
-            std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t c) {
-                return b[6 * a] < b[6 * c] || (b[6 * a] == b[6 * c] && a < c);
-            });
-            for (size_t i = 0; i < m; ++i) {
-                const double *A = &b[6 * order[i]];
-                for (size_t j = i + 1; j < m; ++j) {
-                    const double *B = &b[6 * order[j]];
-                    if (B[0] > A[3]) break;
-                    if (boxes_meet(A, B)) mine.push_back(pair_key(oversize_[order[i]], oversize_[order[j]]));
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t k = 0; k < int64_t(items.size()); ++k) guard.run([&] {
+            const Item &it = items[k];
+            PairBuffer &mine = out[omp_get_thread_num()];
+            if (it.kind == 0) {
+                sweep_residents(levels_[it.level], it.begin, it.end, mine);
+            } else if (it.kind == 1) {
+                sweep_guests(levels_[it.level], it.begin, it.end, mine);
+            } else if (it.kind == 2) {
+                double lo[3], hi[3];
+                boxes.at(oversize_[it.begin], lo, hi);
+                query_levels(lo, hi, oversize_[it.begin], levels_.size(), mine);
+            } else if (it.kind == 4) {
+                const List &R = levels_[it.level].residents;
+                const BoxArrays S = R.arrays();
+                for (size_t j = it.begin; j < it.end; ++j) {
+                    const double lo[3] = {S.l[j], S.ly[j], S.lz[j]}, hi[3] = {S.hx[j], S.hy[j], S.hz[j]};
+                    query_levels(lo, hi, S.slot[j], it.level, mine);
+                }
+            } else {
+                const size_t m = oversize_.size();
+                std::vector<double> b(6 * m);
+                for (size_t i = 0; i < m; ++i) boxes.at(oversize_[i], &b[6 * i], &b[6 * i + 3]);
+                std::vector<uint32_t> order(m);
+                for (size_t i = 0; i < m; ++i) order[i] = uint32_t(i);
+                std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t c) {
+                    return b[6 * a] < b[6 * c] || (b[6 * a] == b[6 * c] && a < c);
+                });
+                for (size_t i = 0; i < m; ++i) {
+                    const double *A = &b[6 * order[i]];
+                    for (size_t j = i + 1; j < m; ++j) {
+                        const double *B = &b[6 * order[j]];
+                        if (B[0] > A[3]) break;
+                        if (boxes_meet(A, B)) mine.push_back(pair_key(oversize_[order[i]], oversize_[order[j]]));
+                    }
                 }
             }
-        }
-    });
+        });
+    }
     guard.rethrow();
 }
 

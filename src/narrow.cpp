@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -34,6 +33,14 @@ void world_vertices(const BodyPose &body, std::vector<double> &out, double *box)
 }
 
 namespace {
+
+// Certifying factors of the filters, one set for every kernel that uses them
+// (each argued where the one-pair code first uses it): the floor added for
+// underflowed products; on the tetra path the face planes' sign bound
+// (plane_pair), the separating axis along the line of centres
+// (tet_axis_margin) and the axis across two edges (EdgeAxis).
+constexpr double kUnderflowFloor = 0x1p-960;
+constexpr double kPlaneBound = 0x1p-50, kCentresMargin = 0x1p-48, kEdgeMargin = 0x1p-46;
 
 inline bool boxes_disjoint(const double *a, const double *b) {
     return a[3] < b[0] || b[3] < a[0] || a[4] < b[1] || b[4] < a[1] || a[5] < b[2] ||
@@ -68,7 +75,7 @@ inline void triangle_box(const double *v, const uint32_t *t, double *box) {
 // the own side is settled by the exact orient3d. So this test never changes
 // an answer.
 bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const double *wb) {
-    constexpr double kBound = 1e-15, kUnderflow = 0x1p-960;
+    constexpr double kBound = 1e-15;
     const double inward = ca.inward_sign;
     for (uint32_t t = 0; t < ca.triangle_count; ++t) {
         const uint32_t *f = &ca.triangles[3 * size_t(t)];
@@ -84,7 +91,7 @@ bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const d
         // inner side, < -bound certainly outside, else uncertain.
         auto side = [&](const double *d, double &bound) {
             const double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-            bound = kBound * (std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz) + kUnderflow;
+            bound = kBound * (std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz) + kUnderflowFloor;
             return -inward * (wx * nx + wy * ny + wz * nz);
         };
         bool separating = true;
@@ -462,14 +469,12 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
 // copies) and a four-lane version for AVX2 (KernelsV4), picked at run time;
 // neither uses FMA, so every lane has the same bits. Clang and other targets
 // (NEON) use the two-lane kernels as written.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if HGCD_AVX2
 #define HGCD_TET_CLONES __attribute__((target_clones("avx", "default")))
 #define HGCD_TET_INLINE inline __attribute__((always_inline))
-#define HGCD_TET_AVX2 1
 #else
 #define HGCD_TET_CLONES
 #define HGCD_TET_INLINE inline
-#define HGCD_TET_AVX2 0
 #endif
 
 // Two doubles per vector (SSE2 or NEON registers as they are; the lanes do
@@ -609,7 +614,7 @@ inline void plane_pair(TetPlanes &p, int h, V2 t0x, V2 t0y, V2 t0z, V2 t1x, V2 t
     p.ny[h] = c - d;
     p.nz[h] = e - f;
     const V2 anx = vabs(a) + vabs(b), any = vabs(c) + vabs(d), anz = vabs(e) + vabs(f);
-    p.bound[h] = 0x1p-50 * ((ex * anx + ey * any) + ez * anz) + 0x1p-960;
+    p.bound[h] = kPlaneBound * ((ex * anx + ey * any) + ez * anz) + kUnderflowFloor;
 }
 
 // Face planes of w, with the certifying bound for points in a box of extent
@@ -845,7 +850,7 @@ struct EdgeAxis {
     // u's projections in [amin, amax], v's in [bmin, bmax]: certainly apart?
     bool apart(double amin, double amax, double bmin, double bmax, double ex, double ey, double ez) const {
         const double margin =
-            0x1p-46 * ((ex * std::fabs(n[0]) + ey * std::fabs(n[1])) + ez * std::fabs(n[2])) + 0x1p-960;
+            kEdgeMargin * ((ex * std::fabs(n[0]) + ey * std::fabs(n[1])) + ez * std::fabs(n[2])) + kUnderflowFloor;
         return (bmin - amax > margin) | (amin - bmax > margin);
     }
 };
@@ -905,7 +910,7 @@ HGCD_TET_INLINE double tet_axis_margin(const BodyPose &a, const BodyPose &b, con
     const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * au[0] +
                        (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * au[1]) +
                       (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * au[2];
-    return 0x1p-48 * (uu + cu) + 0x1p-960;
+    return kCentresMargin * (uu + cu) + kUnderflowFloor;
 }
 
 // The projections of a reach u.c_a + h_a, those of b go down to u.c_b - h_b,
@@ -1003,7 +1008,7 @@ HGCD_TET_CLONES Contact collide_tetra_v2(const BodyPose &a, const BodyPose &b, N
     return collide_tetra_with<KernelsV2>(a, b, scratch);
 }
 
-#if HGCD_TET_AVX2
+#if HGCD_AVX2
 // The same kernels four lanes wide for CPUs with AVX2 (vpermpd for the face
 // shuffles), picked at run time. Each lane does the operations of the V2
 // kernels in the same order, without FMA: the same bits, the same signs. The
@@ -1122,7 +1127,7 @@ struct KernelsV4 {
         const M4 m = M4{} + INT64_MAX;  // clears the sign bit
         const V4 anx = (V4)((M4)a & m) + (V4)((M4)b & m), any = (V4)((M4)c & m) + (V4)((M4)d & m),
                  anz = (V4)((M4)e & m) + (V4)((M4)f & m);
-        store(p.bound, 0x1p-50 * ((ex * anx + ey * any) + ez * anz) + 0x1p-960);
+        store(p.bound, kPlaneBound * ((ex * anx + ey * any) + ez * anz) + kUnderflowFloor);
     }
     template <int F>
     static HGCD_TET_INLINE void face(const TetPlanes &p, const V4 &x, const V4 &y, const V4 &z, TetSides &s) {
@@ -1277,7 +1282,7 @@ static inline unsigned axis_separated4(const Side4 &A, const Side4 &B) {
     const V4 reach = 2.0 * (A.reach + B.reach);
     const V4 cu = ((abs4(A.c[0]) + abs4(B.c[0]) + reach) * abs4(u0) + (abs4(A.c[1]) + abs4(B.c[1]) + reach) * abs4(u1)) +
                   (abs4(A.c[2]) + abs4(B.c[2]) + reach) * abs4(u2);
-    const V4 margin = 0x1p-48 * (uu + cu) + 0x1p-960;
+    const V4 margin = kCentresMargin * (uu + cu) + kUnderflowFloor;
     return lanes_of((gap > 0.0) & (gap > margin));
 }
 
@@ -1307,8 +1312,9 @@ static inline void sides4(V4 (*w)[4], V4 (*o)[4], const V4 &ex, const V4 &ey, co
         const V4 e2x = w[0][i2] - t0x, e2y = w[1][i2] - t0y, e2z = w[2][i2] - t0z;
         const V4 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, g = e1y * e2x;
         const V4 nx = a - b, ny = c - d, nz = e - g;
-        const V4 bound = 0x1p-50 * ((ex * (abs4(a) + abs4(b)) + ey * (abs4(c) + abs4(d))) + ez * (abs4(e) + abs4(g))) +
-                         0x1p-960;
+        const V4 bound =
+            kPlaneBound * ((ex * (abs4(a) + abs4(b)) + ey * (abs4(c) + abs4(d))) + ez * (abs4(e) + abs4(g))) +
+            kUnderflowFloor;
         const V4 minus = -bound;
         const V4 own = ((w[0][f] - t0x) * nx + (w[1][f] - t0y) * ny) + (w[2][f] - t0z) * nz;  // -orient3d
         ip |= own < minus;
@@ -1395,7 +1401,7 @@ static inline unsigned edges_apart4(V4 (*wa)[4], V4 (*wb)[4], const V4 *ca, cons
     }
     const V4 amin = min4(min4(pa[0], pa[1]), min4(pa[2], pa[3])), amax = max4(max4(pa[0], pa[1]), max4(pa[2], pa[3]));
     const V4 bmin = min4(min4(pb[0], pb[1]), min4(pb[2], pb[3])), bmax = max4(max4(pb[0], pb[1]), max4(pb[2], pb[3]));
-    const V4 margin = 0x1p-46 * ((ex * abs4(nx) + ey * abs4(ny)) + ez * abs4(nz)) + 0x1p-960;
+    const V4 margin = kEdgeMargin * ((ex * abs4(nx) + ey * abs4(ny)) + ez * abs4(nz)) + kUnderflowFloor;
     return lanes_of((bmin - amax > margin) | (amin - bmax > margin));
 }
 #pragma GCC pop_options
@@ -1413,7 +1419,8 @@ inline void lane_sides(const Sides4 &s, int k, TetSides &t) {
     t.inner = (s.inner_pos >> k & 1) ? 1 : -1;
 }
 
-// Up to four pairs (idx[0, count) of pairs; count >= 1) past the axis test.
+// Up to four pairs (idx[0, count) of pairs; count >= 1) past the axis test,
+// whose out[] the axis stage has set to None: only contacts are written.
 __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, const uint32_t *idx, int count,
                                                    Contact *out, NarrowScratch &scratch) {
     const TetraPair *group[4];
@@ -1427,7 +1434,6 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
     // The exact vertex boxes (the one-pair test's prefilter).
     const unsigned boxed = ~lanes_of((ha[0] < lb[0]) | (hb[0] < la[0]) | (ha[1] < lb[1]) | (hb[1] < la[1]) |
                                      (ha[2] < lb[2]) | (hb[2] < la[2])) & valid;
-    for (int k = 0; k < count; ++k) out[idx[k]] = Contact::None;
     if (!boxed) return;
     scratch.exact_tests += unsigned(__builtin_popcount(boxed));
     const V4 ex = max4(ha[0], hb[0]) - min4(la[0], lb[0]);
@@ -1507,7 +1513,7 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
 #endif
 
 Contact collide_tetra(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch) {
-#if HGCD_TET_AVX2
+#if HGCD_AVX2
     if (use_avx2()) return collide_tetra_avx2(a, b, scratch);
 #endif
     return collide_tetra_v2(a, b, scratch);
@@ -1580,7 +1586,7 @@ __attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPo
 }  // namespace
 
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch) {
-#if HGCD_TET_AVX2
+#if HGCD_AVX2
     if (use_avx2()) return collide_tetra_batch_avx2(pairs, n, out, scratch);
 #endif
     for (size_t k = 0; k < n; ++k) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry.hpp"
+#include "hgcd/hgcd.h"  // (and hgcd_scene.h)
 #include "grid.hpp"
 #include "mesh.hpp"
 #include "narrow.hpp"
@@ -112,7 +113,8 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
 
 int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
                                 const double *poses, uint32_t pair_count, uint64_t *counts) {
-    static const uint32_t faces[12] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+    uint32_t faces[12];
+    hgcd_scene_tetra_unit_mesh(nullptr, faces);  // (SCENES.md's faces)
     std::vector<hgcd::Mesh> mesh(mesh_count);
     for (uint32_t m = 0; m < mesh_count; ++m) {
         std::string error;

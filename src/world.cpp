@@ -647,9 +647,13 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // parallel to hits (contacts on)
         std::vector<uint64_t> containment(T, 0), tri_tests(T, 0), exact(T, 0), ccd_tests(T, 0),
             ccd_fallback(T, 0);
-        std::unique_ptr<TetraPair[]> batch_pairs(new TetraPair[size_t(T) * kNarrowChunk]);
-        std::unique_ptr<uint64_t[]> batch_keys(new uint64_t[size_t(T) * kNarrowChunk]);
-        std::unique_ptr<Contact[]> batch_verdicts(new Contact[size_t(T) * kNarrowChunk]);
+        // Pairs of tetrahedra (without contacts or libccd) go to the batched
+        // test a chunk at a time (narrow.hpp), through per-thread arrays on
+        // the heap, from before the region (thread 0 runs on the caller's
+        // stack).
+        const bool batch = !want_contacts && !any_ccd;
+        std::unique_ptr<TetraPair[]> batch_pairs(batch ? new TetraPair[size_t(T) * kNarrowChunk] : nullptr);
+        std::unique_ptr<Contact[]> batch_verdicts(batch ? new Contact[size_t(T) * kNarrowChunk] : nullptr);
         RegionGuard guard;
 #pragma omp parallel num_threads(T)
         {
@@ -666,29 +670,27 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
             mine.swap(hits[me]);
             std::vector<hgcd_contact> mine_contacts;
             uint64_t my_containment = 0, my_ccd_fallback = 0;
-            // Pairs of tetrahedra (without contacts or libccd) go to the
-            // batched test a chunk at a time (narrow.hpp).
-            // (On the heap, from before the region: 22 kB a thread that
-            // would otherwise sit on the caller's stack on thread 0.)
-            const bool batch = !want_contacts && !any_ccd;
-            TetraPair *tetra = batch_pairs.get() + size_t(me) * kNarrowChunk;
-            uint64_t *tetra_key = batch_keys.get() + size_t(me) * kNarrowChunk;
-            Contact *verdict = batch_verdicts.get() + size_t(me) * kNarrowChunk;
+            TetraPair *tetra = batch ? batch_pairs.get() + size_t(me) * kNarrowChunk : nullptr;
+            Contact *verdict = batch ? batch_verdicts.get() + size_t(me) * kNarrowChunk : nullptr;
 #pragma omp for schedule(dynamic, 1)
             for (int64_t c = 0; c < int64_t(chunks.size()); ++c) guard.run([&] {
                 const PairBuffer &list = found[chunks[c].list];
                 const size_t end = chunks[c].end;
                 size_t tetras = 0;
                 for (size_t k = chunks[c].begin; k < end; ++k) {
-                    // The meshes of a later pair, to hide the latency. (Its
-                    // placements are asked for by the batched test, which
-                    // reads them: asked for here, 512 pairs before their use,
-                    // they held up this loop; tetra 750k, 2 threads, narrow
-                    // 31.1 -> 29.8 ms.)
+                    // The meshes of a later pair, to hide the latency, and its
+                    // placements unless the batched test will read them (it
+                    // asks for them itself: asked for here, 512 pairs before
+                    // their use, they held up this loop; tetra 750k, 2
+                    // threads, narrow 31.1 -> 29.8 ms).
                     if (k + 8 < end) {
                         const uint64_t ahead = list[k + 8];
                         __builtin_prefetch(&body_mesh_[ahead >> 32]);
                         __builtin_prefetch(&body_mesh_[uint32_t(ahead)]);
+                        if (!batch) {
+                            __builtin_prefetch(&place_[ahead >> 32]);
+                            __builtin_prefetch(&place_[uint32_t(ahead)]);
+                        }
                     }
                     // Storage indices. The exact verdict does not depend on
                     // the order of the two bodies, so only contacts (which
@@ -700,8 +702,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                     const Placement &la = place_[a], &lb = place_[b];
                     const Mesh *mesh_a = &meshes_[body_mesh_[a]], *mesh_b = &meshes_[body_mesh_[b]];
                     if (batch && mesh_a->tetra && mesh_b->tetra) {
-                        tetra[tetras] = TetraPair{mesh_a, mesh_b, &la, &lb};
-                        tetra_key[tetras++] = list[k];
+                        tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb};
                         continue;
                     }
                     const BodyPose pa = pose_of(mesh_a, la), pb = pose_of(mesh_b, lb);
@@ -731,10 +732,10 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                         if (hit == Contact::Containment) ++my_containment;
                     }
                 }
-                collide_tetra_batch(tetra, tetras, verdict, scratch);
+                if (tetras) collide_tetra_batch(tetra, tetras, verdict, scratch);
                 for (size_t k = 0; k < tetras; ++k) {
                     if (verdict[k] == Contact::None) continue;
-                    mine.push_back(pair_key(slot_of_[tetra_key[k] >> 32], slot_of_[uint32_t(tetra_key[k])]));
+                    mine.push_back(pair_key(slot_of_[tetra[k].a - place_.data()], slot_of_[tetra[k].b - place_.data()]));
                     if (verdict[k] == Contact::Containment) ++my_containment;
                 }
             });
@@ -785,31 +786,34 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                 out_at[p] += first[size_t(p) * T + t];
             }
         }
-#pragma omp parallel for num_threads(parts) schedule(static, 1)
-        for (int p = 0; p < parts; ++p) guard.run([&] {
+#pragma omp parallel num_threads(parts)
+        {
             const IeeeMode ieee;
-            std::vector<size_t> head(T), end(T);
-            for (int t = 0; t < T; ++t) {
-                head[t] = first[size_t(p) * T + t];
-                end[t] = first[size_t(p + 1) * T + t];
-            }
-            for (size_t k = out_at[p]; k < out_at[p + 1]; ++k) {
-                int best = -1;
-                for (int t = 0; t < T; ++t)
-                    if (head[t] < end[t] && (best < 0 || hits[t][head[t]] < hits[best][head[best]])) best = t;
-                const size_t at = head[best]++;
-                const uint64_t key = hits[best][at];
-                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
-                // The second slots are in no order: ask for a later pair's
-                // generation early.
-                if (at + 16 < end[best]) __builtin_prefetch(&live_gen_[uint32_t(hits[best][at + 16])]);
-                pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
-                if (want_contacts) {
-                    contacts_[k] = hit_contacts[best][at];
-                    contacts_[k].pair = pairs_[k];
+#pragma omp for schedule(static, 1)
+            for (int p = 0; p < parts; ++p) guard.run([&] {
+                std::vector<size_t> head(T), end(T);
+                for (int t = 0; t < T; ++t) {
+                    head[t] = first[size_t(p) * T + t];
+                    end[t] = first[size_t(p + 1) * T + t];
                 }
-            }
-        });
+                for (size_t k = out_at[p]; k < out_at[p + 1]; ++k) {
+                    int best = -1;
+                    for (int t = 0; t < T; ++t)
+                        if (head[t] < end[t] && (best < 0 || hits[t][head[t]] < hits[best][head[best]])) best = t;
+                    const size_t at = head[best]++;
+                    const uint64_t key = hits[best][at];
+                    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                    // The second slots are in no order: ask for a later pair's
+                    // generation early.
+                    if (at + 16 < end[best]) __builtin_prefetch(&live_gen_[uint32_t(hits[best][at + 16])]);
+                    pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
+                    if (want_contacts) {
+                        contacts_[k] = hit_contacts[best][at];
+                        contacts_[k].pair = pairs_[k];
+                    }
+                }
+            });
+        }
         guard.rethrow();
         const double t3 = omp_get_wtime();
 
@@ -928,12 +932,15 @@ bool World::renumber() {
     const int T = threads();
     const int tasks = T > 1 ? 4 : 2;
     RegionGuard guard;
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
-    for (int task = 0; task < tasks; ++task) guard.run([&] {
+#pragma omp parallel num_threads(T)
+    {
         const IeeeMode ieee;
-        if (task == 0) grid_.renumber(old_of_new, new_of_old, done[0]);
-        else walk(tasks == 2 ? 7u : 1u << (task - 1), done[task]);
-    });
+#pragma omp for schedule(dynamic, 1)
+        for (int task = 0; task < tasks; ++task) guard.run([&] {
+            if (task == 0) grid_.renumber(old_of_new, new_of_old, done[0]);
+            else walk(tasks == 2 ? 7u : 1u << (task - 1), done[task]);
+        });
+    }
     guard.rethrow();
     for (size_t k = 0; k < n; ++k) at_[slot_of_[k]] = uint32_t(k);
     return true;
@@ -1017,7 +1024,7 @@ hgcd_status World::step() {
     // thread, 18.1 -> 16.9 ms on 2.
     Motion motion;
     motion.reflect = reflect_;
-    motion.dt = time_step_;
+    motion.dt = dt;
     for (int k = 0; k < 3; ++k) {
         motion.lo[k] = bounds_min_[k];
         motion.hi[k] = bounds_max_[k];

@@ -7,7 +7,6 @@
 #include <new>
 #include <string>
 #include <type_traits>
-#include <utility>
 #include <vector>
 
 #include "grid.hpp"
@@ -33,10 +32,6 @@ struct UninitAllocator : std::allocator<T> {
     template <class U>
     void construct(U *p) noexcept(std::is_nothrow_default_constructible<U>::value) {
         ::new (static_cast<void *>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U *p, Args &&...args) {
-        ::new (static_cast<void *>(p)) U(std::forward<Args>(args)...);
     }
 };
 

@@ -26,7 +26,6 @@
 #include "../src/testing.h"
 #include "test_rng.h"
 
-
 /* v rounded to a float at most, or at least, v (the nearest float, one
  * step out if on the wrong side; magnitudes below FLT_MIN to 0 or
  * -FLT_MIN, 0 or FLT_MIN: grid.hpp's float_at_most and float_at_least). */

@@ -22,7 +22,8 @@
  *                     means (and the largest tick) over the ticks: ticks that
  *                     renumber the bodies' storage cost more than the others;
  *   candidate_pairs, narrow_tests, colliding_pairs, containment_pairs,
- *   triangle_tests    of the last tick;
+ *   triangle_tests, moved_bodies   of the last tick (moved_bodies: bodies
+ *                     that changed row or level in the grid's update);
  *   pairs_fnv         FNV-1a (64-bit, hex) of the last tick's pairs, indices
  *                     in order: equal when two builds report the same pairs;
  *   initial_pairs, initial_containment, initial_ms   of the initial detect;
@@ -235,7 +236,7 @@ int main(int argc, char **argv) {
            "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
-           "\"containment_pairs\":%llu,\"triangle_tests\":%llu,\"pairs_fnv\":\"%016llx\","
+           "\"containment_pairs\":%llu,\"triangle_tests\":%llu,\"moved_bodies\":%llu,\"pairs_fnv\":\"%016llx\","
            "\"initial_pairs\":%llu,\"initial_containment\":%llu,"
            "\"initial_ms\":%.3f,\"setup_ms\":%.3f,\"levels\":%u,\"oversize\":%u,"
            "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,"
@@ -246,7 +247,7 @@ int main(int argc, char **argv) {
            median(tick_motion, ticks), median(tick_total, ticks), median(tick_wall, ticks),
            (unsigned long long)st.candidate_pairs, (unsigned long long)st.narrow_tests,
            (unsigned long long)st.colliding_pairs, (unsigned long long)st.containment_pairs,
-           (unsigned long long)st.triangle_tests, (unsigned long long)pairs_fnv, (unsigned long long)initial_pairs,
+           (unsigned long long)st.triangle_tests, (unsigned long long)st.moved_bodies, (unsigned long long)pairs_fnv, (unsigned long long)initial_pairs,
            (unsigned long long)initial_containment, initial_ms, setup_ms,
            st.level_count, st.oversize_count, rss_after / (1024.0 * 1024.0),
            (rss_after - rss_before) / (double)n, mean(tick_total, ticks), maximum(tick_total, ticks),

@@ -1258,33 +1258,25 @@ void Grid::reserve_slots(size_t n) {
 }
 
 void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
-                    std::vector<uint64_t> &done) {
+                    void *scratch) {
     const size_t n = old_of_new.size();  // (slots made since the last update are not in the grid)
-    reserve_slots(n);
-    for (List *list : all_lists())
-        for (size_t k = 0; k < list->count(); ++k) list->bslot[k] = new_of_old[list->bslot[k]];
-    struct Record {
-        int64_t cell[2];
-        uint32_t gen;
-        float slack;
-        int16_t level, exponent;
-    };
-    permute_in_place(
-        old_of_new.data(), n, done,
-        [&](size_t k) {
-            return Record{{cell_[2 * k], cell_[2 * k + 1]}, gen_[k], slack_[k], level_[k], exponent_[k]};
-        },
-        [&](size_t k, const Record &r) {
-            cell_[2 * k] = r.cell[0];
-            cell_[2 * k + 1] = r.cell[1];
-            gen_[k] = r.gen;
-            slack_[k] = r.slack;
-            level_[k] = r.level;
-            exponent_[k] = r.exponent;
-        });
-    for (uint32_t &s : oversize_) s = new_of_old[s];
-    std::sort(oversize_.begin(), oversize_.end());
-    disorder_ = 0;
+    for (Level &lv : levels_)
+        for (List *list : {&lv.residents, &lv.guests}) {
+            uint32_t *slot = list->bslot.data();
+#pragma omp for schedule(static)
+            for (int64_t k = 0; k < int64_t(list->count()); ++k) slot[k] = new_of_old[slot[k]];
+        }
+    permute_records<2>(cell_.data(), old_of_new.data(), n, scratch);
+    permute_records<1>(gen_.data(), old_of_new.data(), n, scratch);
+    permute_records<1>(slack_.data(), old_of_new.data(), n, scratch);
+    permute_records<1>(level_.data(), old_of_new.data(), n, scratch);
+    permute_records<1>(exponent_.data(), old_of_new.data(), n, scratch);
+#pragma omp single
+    {
+        for (uint32_t &s : oversize_) s = new_of_old[s];
+        std::sort(oversize_.begin(), oversize_.end());
+        disorder_ = 0;
+    }
 }
 
 size_t Grid::memory_bytes() const {

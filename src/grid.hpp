@@ -179,13 +179,15 @@ class Grid {
     void order(std::vector<uint32_t> &out) const;
     // Grows the per-slot state to n slots (what renumber() needs for a
     // permutation of n; it may throw bad_alloc, renumber() then does not
-    // allocate if done has room for n bits).
+    // allocate).
     void reserve_slots(size_t n);
     // Moves the state of slot old_of_new[k] to slot k (a permutation of at
-    // least the slot_count slots of the last update; new_of_old is its
-    // inverse; done: scratch, see permute_in_place).
+    // least the slot_count slots of the last update, whose slots reserve_slots
+    // made room for; new_of_old is its inverse; scratch: kPermuteScratch
+    // bytes a slot). Called by every thread of an OpenMP region, which share
+    // the work (see permute_part).
     void renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
-                  std::vector<uint64_t> &done);
+                  void *scratch);
     // Residents whose slot, at the last update, was far from the slot of the
     // resident before them in sweep order: how much memory order the sweep
     // order has lost (order() and renumber() restore it).

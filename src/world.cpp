@@ -492,7 +492,7 @@ void World::set_box_offsets(size_t s) {
 
 Boxes World::boxes() const { return Boxes{point_.data(), box_off_.data()}; }
 
-// Storage in the grid's sweep order again once a fifth of it is out of
+// Storage in the grid's sweep order again once two fifths of it are out of
 // order (bodies that changed rows since, or the order of creation the first
 // time); before the motion, so that it moves storage in order. Not right
 // after the grid was rebuilt: its levels may still be settling
@@ -501,11 +501,14 @@ Boxes World::boxes() const { return Boxes{point_.data(), box_off_.data()}; }
 // first ticks then read in sequence too (on tetra at n = 750000, 1 thread,
 // the first two ticks took 525 ms where they took 550: the first tick
 // renumbers, 120 ms, and no tick runs on storage out of order), and a world
-// detected only once never pays for it. Later renumberings cost about 65 ms
-// every ~18 ticks at 750k; when renumbering came, the mean tick over 40
-// ticks went 290 -> 244 ms (thresholds of 5% to 40% all gave 243-246 ms).
+// detected only once never pays for it. Storage in the order of creation
+// costs about 33 ms a tick at tetra 750k (1 thread), while the disorder of
+// moves costs little (the tick before a renumbering is 1-2 ms slower than
+// the one after); a renumbering costs about 60 ms on 1 thread and 33 on 2,
+// so it waits for 40% (every ~40 ticks there; at 20%, every 19 ticks, the
+// mean tick over 120 ticks was 1-2 ms longer, at 60% about the same).
 void World::renumber_if_disordered() {
-    if (!grid_rebuilt_ && grid_.disorder() * 5 > live_bodies_) renumber();
+    if (!grid_rebuilt_ && grid_.disorder() * 5 > 2 * live_bodies_) renumber();
 }
 
 // The grid's limits for this detect. Coarsening (GridLimits::coarsen) is
@@ -850,11 +853,11 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
 bool World::renumber() {
     const size_t n = stored_gen_.size();
     std::vector<uint32_t> old_of_new, new_of_old;
-    std::vector<uint64_t> done[4];  // scratch of each walk below
+    std::unique_ptr<unsigned char[]> scratch;
     try {
         old_of_new.reserve(n);
         new_of_old.resize(n);
-        for (auto &d : done) d.reserve((n + 63) / 64);
+        scratch.reset(new unsigned char[kPermuteScratch * std::max<size_t>(n, 1)]);
         // The grid may need to grow its per-slot arrays (slots made since
         // the last detect); after this nothing below allocates.
         grid_.reserve_slots(n);
@@ -877,72 +880,28 @@ bool World::renumber() {
             new_of_old[i] = uint32_t(old_of_new.size());
             old_of_new.push_back(uint32_t(i));
         }
-    // Walks of the permutation's cycles: the grid's, and the world's arrays
-    // in one walk, or with more threads in three (placements; velocities
-    // and user data; the rest) at once: the first renumbering reads at
-    // random, and more walks keep more reads in flight. At tetra 750k the
-    // first renumbering took 119 ms in two walks and 148 in four on 1
-    // thread, 118 ms in two and 84 to 92 in four on 2 threads.
+    // Every per-storage array, one after the other (placements in halves:
+    // the scratch holds kPermuteScratch bytes a body), all threads on each.
     const uint32_t *perm = old_of_new.data();
-    auto walk = [&](unsigned groups, std::vector<uint64_t> &d) {
-        struct Record {
-            Placement place;
-            double velocity[3];
-            double point[3];
-            uint64_t user_data;
-            float off[6];
-            double r_level;
-            uint32_t mesh, gen, slot;
-        };
-        permute_in_place(
-            perm, n, d,
-            [&](size_t k) {
-                Record r{};
-                if (groups & 1) r.place = place_[k];
-                if (groups & 2) {
-                    for (int c = 0; c < 3; ++c) r.velocity[c] = velocity_[3 * k + c];
-                    for (int c = 0; c < 3; ++c) r.point[c] = point_[3 * k + c];
-                    r.user_data = user_data_[k];
-                }
-                if (groups & 4) {
-                    for (int c = 0; c < 6; ++c) r.off[c] = box_off_[6 * k + c];
-                    r.r_level = r_level_[k];
-                    r.mesh = body_mesh_[k];
-                    r.gen = stored_gen_[k];
-                    r.slot = slot_of_[k];
-                }
-                return r;
-            },
-            [&](size_t k, const Record &r) {
-                if (groups & 1) place_[k] = r.place;
-                if (groups & 2) {
-                    for (int c = 0; c < 3; ++c) velocity_[3 * k + c] = r.velocity[c];
-                    for (int c = 0; c < 3; ++c) point_[3 * k + c] = r.point[c];
-                    user_data_[k] = r.user_data;
-                }
-                if (groups & 4) {
-                    for (int c = 0; c < 6; ++c) box_off_[6 * k + c] = r.off[c];
-                    r_level_[k] = r.r_level;
-                    body_mesh_[k] = r.mesh;
-                    stored_gen_[k] = r.gen;
-                    slot_of_[k] = r.slot;
-                }
-            });
-    };
-    const int T = threads();
-    const int tasks = T > 1 ? 4 : 2;
-    RegionGuard guard;
-#pragma omp parallel num_threads(T)
+    void *tmp = scratch.get();
+#pragma omp parallel num_threads(threads())
     {
-        const IeeeMode ieee;
-#pragma omp for schedule(dynamic, 1)
-        for (int task = 0; task < tasks; ++task) guard.run([&] {
-            if (task == 0) grid_.renumber(old_of_new, new_of_old, done[0]);
-            else walk(tasks == 2 ? 7u : 1u << (task - 1), done[task]);
-        });
+        grid_.renumber(old_of_new, new_of_old, tmp);
+        static_assert(sizeof(Placement) == 2 * kPermuteScratch, "placements move in two halves");
+        permute_part<kPermuteScratch>(place_.data(), sizeof(Placement), perm, n, tmp);
+        permute_part<kPermuteScratch>(reinterpret_cast<unsigned char *>(place_.data()) + kPermuteScratch,
+                                      sizeof(Placement), perm, n, tmp);
+        permute_records<3>(velocity_.data(), perm, n, tmp);
+        permute_records<3>(point_.data(), perm, n, tmp);
+        permute_records<6>(box_off_.data(), perm, n, tmp);
+        permute_records<1>(user_data_.data(), perm, n, tmp);
+        permute_records<1>(r_level_.data(), perm, n, tmp);
+        permute_records<1>(body_mesh_.data(), perm, n, tmp);
+        permute_records<1>(stored_gen_.data(), perm, n, tmp);
+        permute_records<1>(slot_of_.data(), perm, n, tmp);
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < int64_t(n); ++k) at_[slot_of_[k]] = uint32_t(k);
     }
-    guard.rethrow();
-    for (size_t k = 0; k < n; ++k) at_[slot_of_[k]] = uint32_t(k);
     return true;
 }
 

@@ -11,6 +11,10 @@
 #   BENCH_MAX_TICK_SECONDS  a peer slower than this per tick stops after that tick [60]
 #   BENCH_PEER_MAX_SECONDS  a peer run stops before a tick that would pass this [300]
 #   BENCH_RESULTS  output directory               [bench/results]
+#   BENCH_LONG_N, BENCH_LONG_TICKS  a longer hgcd run per thread count,
+#                  recorded as lib "hgcd-long": its mean tick counts the
+#                  renumberings of storage (every ~40 ticks at n = 750000)
+#                  at their real rate, which 9 ticks do not  [750000, 100; 0 ticks: none]
 #
 # Builds with meson in build-bench (release, no tests), appends one JSON line
 # per measurement to $BENCH_RESULTS/<date>-<commit>.jsonl (commit gets a
@@ -80,6 +84,15 @@ for n in $ns; do
             --commit "$commit" --max-tick-seconds "$max_tick" --max-seconds "$peer_max"
     done
 done
+long_n=${BENCH_LONG_N:-750000}
+long_ticks=${BENCH_LONG_TICKS:-100}
+if [ "$long_ticks" -gt 0 ]; then
+    for t in $threads; do
+        echo "-- hgcd-long n=$long_n threads=$t ticks=$long_ticks" >&2
+        run hgcd-long "$long_n" "$t" bash -c '"$@" | sed "s/^{\"lib\":\"hgcd\"/{\"lib\":\"hgcd-long\"/"' _ \
+            "$bench_hgcd" --n "$long_n" --seed "$seed" --threads "$t" --ticks "$long_ticks" --commit "$commit"
+    done
+fi
 echo "== measurements took $(( $(date +%s) - start )) s" >&2
 
 echo >&2

@@ -893,19 +893,26 @@ inline bool boxes_meet(const double *a, const double *b) {
 
 // The pairs of box `slot` (its lanes) with the entries [j, e) of a list up
 // to the block holding the first whose low x passes `right` (none after it
-// can overlap), a block at a time. Needs j < e; the padding past e is read and
+// can overlap), two blocks at a time: a scan takes 1 to 5 blocks (1 to 3 for
+// 86% of them at tetra 750k), and the test for its end, after every block,
+// mispredicted about once a scan; after every second one it costs a block
+// test where one block would do (broad phase 32.3 -> 27.8 ms on 1 thread;
+// three at a time: 30.0). Needs j < e; the padding past e is read and
 // masked.
 template <class Lanes>
 HGCD_SWEEP_INLINE void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t e, float right,
                             uint32_t slot, PairBuffer &out) {
     constexpr int kBlock = Lanes::kBlock;
-    static_assert(size_t(kBlock) <= kPad, "a block reads past the end of a list");
+    static_assert(size_t(2 * kBlock) <= kPad, "a scan reads past the end of a list");
     const uint64_t a = uint64_t(slot) << 32;  // (either order: see find_pairs)
-    for (;; j += kBlock) {
-        unsigned hits = lanes.test(B, j);
+    for (;; j += 2 * kBlock) {
+        unsigned hits = lanes.test(B, j), more = lanes.test(B, j + kBlock);
         if (j + kBlock > e) hits &= (1u << (e - j)) - 1;
-        out.commit(Lanes::write(out.room(kBlock), a, B.slot + j, hits));
-        if (j + kBlock >= e || B.l[j + kBlock - 1] > right) return;
+        if (j + 2 * kBlock > e) more &= j + kBlock < e ? (1u << (e - j - kBlock)) - 1 : 0;
+        uint64_t *to = out.room(2 * kBlock);
+        const size_t n = Lanes::write(to, a, B.slot + j, hits);
+        out.commit(n + Lanes::write(to + n, a, B.slot + j + kBlock, more));
+        if (j + 2 * kBlock >= e || B.l[j + 2 * kBlock - 1] > right) return;
     }
 }
 

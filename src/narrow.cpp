@@ -1450,11 +1450,12 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
     const unsigned contained = (in_a | in_b) & oriented & boxed & ~apart;
     const unsigned surface = (surf_a | surf_b) & oriented & boxed & ~apart & ~contained;
     unsigned open = boxed & ~apart & ~contained & ~surface;
-    for (int k = 0; k < count; ++k)
-        if (contained >> k & 1)
-            out[idx[k]] = Contact::Containment;
-        else if (surface >> k & 1)
-            out[idx[k]] = Contact::Surface;
+    // Every lane's certified verdict, None where there is none yet (open
+    // lanes are written again below): no branch on the verdicts, which are
+    // random.
+    static constexpr Contact kVerdict[4] = {Contact::None, Contact::Containment, Contact::Surface,
+                                            Contact::Containment};
+    for (int k = 0; k < count; ++k) out[idx[k]] = kVerdict[(contained >> k & 1) | (surface >> k & 1) << 1];
     if (!open) return;
     // The one-pair test's u: the body of the larger box (the same sums).
     const V4 size_a = ((ha[0] - la[0]) + (ha[1] - la[1])) + (ha[2] - la[2]);

@@ -675,6 +675,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
             uint64_t my_containment = 0, my_ccd_fallback = 0;
             TetraPair *tetra = batch ? batch_pairs.get() + size_t(me) * kNarrowChunk : nullptr;
             Contact *verdict = batch ? batch_verdicts.get() + size_t(me) * kNarrowChunk : nullptr;
+            uint32_t hit_index[kNarrowChunk];
 #pragma omp for schedule(dynamic, 1)
             for (int64_t c = 0; c < int64_t(chunks.size()); ++c) guard.run([&] {
                 const PairBuffer &list = found[chunks[c].list];
@@ -736,10 +737,17 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                     }
                 }
                 if (tetras) collide_tetra_batch(tetra, tetras, verdict, scratch);
+                // The hits listed first without a branch (a branch per pair on
+                // its verdict mispredicted often: hits are 28% of the pairs).
+                size_t hit_count = 0;
                 for (size_t k = 0; k < tetras; ++k) {
-                    if (verdict[k] == Contact::None) continue;
-                    mine.push_back(pair_key(slot_of_[tetra[k].a - place_.data()], slot_of_[tetra[k].b - place_.data()]));
-                    if (verdict[k] == Contact::Containment) ++my_containment;
+                    hit_index[hit_count] = uint32_t(k);
+                    hit_count += verdict[k] != Contact::None;
+                    my_containment += verdict[k] == Contact::Containment;
+                }
+                for (size_t h = 0; h < hit_count; ++h) {
+                    const TetraPair &p = tetra[hit_index[h]];
+                    mine.push_back(pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]));
                 }
             });
             containment[me] = my_containment;

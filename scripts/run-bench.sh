@@ -14,7 +14,8 @@
 #   BENCH_LONG_N, BENCH_LONG_TICKS  a longer hgcd run per thread count,
 #                  recorded as lib "hgcd-long": its mean tick counts the
 #                  renumberings of storage (every ~40 ticks at n = 750000)
-#                  at their real rate, which 9 ticks do not  [750000, 100; 0 ticks: none]
+#                  at their real rate, which 9 ticks do not  [the largest of
+#                  BENCH_N, 100; 0 ticks: none]
 #
 # Builds with meson in build-bench (release, no tests), appends one JSON line
 # per measurement to $BENCH_RESULTS/<date>-<commit>.jsonl (commit gets a
@@ -84,12 +85,12 @@ for n in $ns; do
             --commit "$commit" --max-tick-seconds "$max_tick" --max-seconds "$peer_max"
     done
 done
-long_n=${BENCH_LONG_N:-750000}
+long_n=${BENCH_LONG_N:-$(printf '%s\n' $ns | sort -n | tail -n 1)}
 long_ticks=${BENCH_LONG_TICKS:-100}
 if [ "$long_ticks" -gt 0 ]; then
     for t in $threads; do
         echo "-- hgcd-long n=$long_n threads=$t ticks=$long_ticks" >&2
-        run hgcd-long "$long_n" "$t" bash -c '"$@" | sed "s/^{\"lib\":\"hgcd\"/{\"lib\":\"hgcd-long\"/"' _ \
+        run hgcd-long "$long_n" "$t" bash -c 'set -o pipefail; "$@" | sed "s/^{\"lib\":\"hgcd\"/{\"lib\":\"hgcd-long\"/"' _ \
             "$bench_hgcd" --n "$long_n" --seed "$seed" --threads "$t" --ticks "$long_ticks" --commit "$commit"
     done
 fi

@@ -191,6 +191,65 @@ void Grid::cell_at(const double *p, int level_index, int64_t *cell) const {
     cell[1] = cell_coord(p[2], e);
 }
 
+#if HGCD_AVX2
+// The census's usual case four bodies at a time (slots s to s + 3): each is
+// live with the generation last seen, its level exponent at most
+// max_exponent and not oversize, on the level of the last update, and its
+// cell there on both axes the one kept, so nothing about it changes. The
+// same tests as the census's own, on the same values: the oversize sum in
+// its order, and x * 2^-e (exact) whose floor, below 2^51 in magnitude, is
+// read from the bits of floor + 1.5 * 2^52. inv[l]: 2^-(exponent + row
+// shift) of level l, 0 where that leaves the normal range (those bodies
+// take the census's own path). e: the four exponents when true.
+__attribute__((target("avx2"))) bool quiet4(size_t s, const double *point, const uint32_t *live_gen,
+                                          const uint32_t *gen, const int16_t *exponent, const float *slack,
+                                          const int16_t *level, const int64_t *cell, const int16_t *level_of,
+                                          const double *inv, int max_exponent, int *e) {
+    const __m128i live = _mm_loadu_si128(reinterpret_cast<const __m128i *>(live_gen + s));
+    const __m128i seen = _mm_loadu_si128(reinterpret_cast<const __m128i *>(gen + s));
+    if (_mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi32(live, _mm_setzero_si128()),
+                                       _mm_xor_si128(_mm_cmpeq_epi32(live, seen), _mm_set1_epi32(-1)))))
+        return false;
+    double scale[4];
+    for (int k = 0; k < 4; ++k) {
+        e[k] = exponent[s + k];
+        if (e[k] > max_exponent) return false;
+        const int16_t li = level_of[e[k] + kExponentBias];
+        if (li < 0 || li != level[s + k] || inv[li] == 0) return false;
+        scale[k] = inv[li];
+    }
+    // Points (x y z) of the four as rows, to columns x, y, z.
+    const double *p = point + 3 * s;
+    const __m256d r0 = _mm256_loadu_pd(p), r1 = _mm256_loadu_pd(p + 4), r2 = _mm256_loadu_pd(p + 8);
+    // r0 = x0 y0 z0 x1, r1 = y1 z1 x2 y2, r2 = z2 x3 y3 z3
+    const __m256d x = _mm256_setr_pd(r0[0], r0[3], r1[2], r2[1]), y = _mm256_setr_pd(r0[1], r1[0], r1[3], r2[2]),
+                  z = _mm256_setr_pd(r0[2], r1[1], r2[0], r2[3]);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_andnot_pd(sign, x), _mm256_andnot_pd(sign, y)),
+                                      _mm256_andnot_pd(sign, z));
+    const __m256d room = _mm256_cvtps_pd(_mm_loadu_ps(slack + s));
+    if (_mm256_movemask_pd(_mm256_cmp_pd(_mm256_mul_pd(_mm256_set1_pd(4e-16), sum), room, _CMP_GT_OQ))) return false;
+    const __m256d inv4 = _mm256_loadu_pd(scale);
+    const __m256d vy = _mm256_mul_pd(y, inv4), vz = _mm256_mul_pd(z, inv4);
+    const __m256d limit = _mm256_set1_pd(0x1p51);
+    if (_mm256_movemask_pd(_mm256_or_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, vy), limit, _CMP_NLT_UQ),
+                                        _mm256_cmp_pd(_mm256_andnot_pd(sign, vz), limit, _CMP_NLT_UQ))))
+        return false;
+    const __m256d magic = _mm256_set1_pd(0x1.8p52);
+    const __m256i cy = _mm256_sub_epi64(_mm256_castpd_si256(_mm256_add_pd(_mm256_floor_pd(vy), magic)),
+                                        _mm256_castpd_si256(magic));
+    const __m256i cz = _mm256_sub_epi64(_mm256_castpd_si256(_mm256_add_pd(_mm256_floor_pd(vz), magic)),
+                                        _mm256_castpd_si256(magic));
+    // Kept cells: y0 z0 y1 z1 | y2 z2 y3 z3.
+    const __m256i k0 = _mm256_loadu_si256(reinterpret_cast<const __m256i *>(cell + 2 * s));
+    const __m256i k1 = _mm256_loadu_si256(reinterpret_cast<const __m256i *>(cell + 2 * s + 4));
+    const __m256i ky = _mm256_permute4x64_epi64(_mm256_unpacklo_epi64(k0, k1), 0xD8);
+    const __m256i kz = _mm256_permute4x64_epi64(_mm256_unpackhi_epi64(k0, k1), 0xD8);
+    const __m256i same = _mm256_and_si256(_mm256_cmpeq_epi64(cy, ky), _mm256_cmpeq_epi64(cz, kz));
+    return _mm256_movemask_pd(_mm256_castsi256_pd(same)) == 0xF;
+}
+#endif
+
 GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const uint32_t *live_gen,
                              uint32_t slot_count, const GridLimits &limits, int threads,
                              const SlotPass *before) {
@@ -244,6 +303,17 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     std::vector<uint64_t> touched_local(size_t(threads) * touched_stride, 0);
     uint64_t flagged = 0;
     const int64_t blocks = (int64_t(slot_count) + kCensusBlock - 1) / kCensusBlock;
+#if HGCD_AVX2
+    // Four bodies at a time where nothing changes for them (quiet4): on an
+    // incremental update whose exponents are not stale. inv: per level,
+    // the scale of its rows (0 where cell_coord takes ldexp).
+    const bool quiet = incremental && !stale_exponents && use_avx2();
+    std::vector<double> inv(L, 0.0);
+    for (size_t l = 0; l < L; ++l) {
+        const int e = levels_[l].exponent + kRowShift;
+        if (e > -1000 && e < 1000) inv[l] = pow2(-e);
+    }
+#endif
     {
         RegionGuard guard;
 #pragma omp parallel num_threads(threads) reduction(+ : flagged)
@@ -262,6 +332,21 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
                 const uint32_t block_end = uint32_t(std::min<int64_t>(slot_count, (block + 1) * kCensusBlock));
                 if (before) before->run(before->context, uint32_t(block * kCensusBlock), block_end);
                 for (int64_t s = block * kCensusBlock; s < int64_t(block_end); ++s) {
+#if HGCD_AVX2
+                    if (quiet && s % 4 == 0 && s + 4 <= int64_t(block_end)) {
+                        int e4[4];
+                        if (quiet4(size_t(s), boxes.pos, live_gen, gen_.data(), exponent_.data(), slack_.data(),
+                                   level_.data(), cell_.data(), level_of_.data(), inv.data(), limits.max_exponent,
+                                   e4)) {
+                            for (int k = 0; k < 4; ++k) {
+                                ++hist[e4[k] + kExponentBias];
+                                flag[size_t(s) + k] = 0;
+                            }
+                            s += 3;
+                            continue;
+                        }
+                    }
+#endif
                     int e = INT_MIN;
                     if (live_gen[s]) {
                         if (gen_[s] != live_gen[s] || stale_exponents) {
@@ -1284,6 +1369,38 @@ void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<u
         std::sort(oversize_.begin(), oversize_.end());
         disorder_ = 0;
     }
+}
+
+bool Grid::same_state(const Grid &o) const {
+    if (levels_.size() != o.levels_.size() || level_.size() != o.level_.size()) return false;
+    for (size_t l = 0; l < levels_.size(); ++l)
+        if (levels_[l].exponent != o.levels_[l].exponent) return false;
+    for (size_t s = 0; s < level_.size(); ++s) {
+        if (level_[s] != o.level_[s]) return false;
+        if (level_[s] >= 0 && (cell_[2 * s] != o.cell_[2 * s] || cell_[2 * s + 1] != o.cell_[2 * s + 1]))
+            return false;
+    }
+    std::vector<uint32_t> a(oversize_), b(o.oversize_);
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    if (a != b) return false;
+    for (size_t l = 0; l < levels_.size(); ++l)
+        for (int g = 0; g < 2; ++g) {
+            // (Whether a level keeps guests has hysteresis: an updated grid
+            // may keep a choice a fresh one would not make.)
+            if (g && levels_[l].down != o.levels_[l].down) continue;
+            const List &x = g ? levels_[l].guests : levels_[l].residents;
+            const List &y = g ? o.levels_[l].guests : o.levels_[l].residents;
+            if (x.row_keys != y.row_keys || x.row_start != y.row_start) return false;
+            for (size_t r = 0; r < x.row_keys.size(); ++r) {
+                std::vector<uint32_t> p(x.bslot.begin() + x.row_start[r], x.bslot.begin() + x.row_start[r + 1]);
+                std::vector<uint32_t> q(y.bslot.begin() + y.row_start[r], y.bslot.begin() + y.row_start[r + 1]);
+                std::sort(p.begin(), p.end());
+                std::sort(q.begin(), q.end());
+                if (p != q) return false;
+            }
+        }
+    return true;
 }
 
 size_t Grid::memory_bytes() const {

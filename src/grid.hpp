@@ -194,6 +194,13 @@ class Grid {
     uint64_t disorder() const { return disorder_; }
 
     uint32_t level_count() const { return uint32_t(levels_.size()); }
+    // Whether this grid holds what `other` holds for the same bodies: the
+    // same levels, each slot on the same level and row, the same oversize
+    // bodies, and each list the same slots in each row (the order within a
+    // row aside: ties in x are ordered by history; guests aside where one
+    // grid's level keeps them and the other's does not, a choice with
+    // hysteresis). For tests: an incremental update against a rebuild.
+    bool same_state(const Grid &other) const;
     uint32_t oversize_count() const { return uint32_t(oversize_.size()); }
     // Approximate heap bytes held.
     size_t memory_bytes() const;

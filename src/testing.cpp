@@ -97,6 +97,12 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
             }
             grid.update(boxes, r_level.data(), gen.data(), n, limits, threads);
         }
+        if (before) {  // the incremental update against a grid built afresh
+            hgcd::Grid fresh;
+            const std::vector<uint32_t> born(n, 1);
+            fresh.update(boxes, r_level.data(), born.data(), n, limits, threads);
+            if (!grid.same_state(fresh)) return -2;
+        }
         std::vector<hgcd::PairBuffer> found(threads);
         grid.find_pairs(boxes, threads, found);
         std::vector<uint64_t> all;

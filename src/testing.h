@@ -42,7 +42,9 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
  * whose r changes is a new body there: sizes are fixed for a body's life,
  * as in a world). Writes every
  * reported pair (i << 32 | j, i < j), sorted, to out (room for cap); returns
- * the count (which may exceed cap), or -1 on an error. */
+ * the count (which may exceed cap), -1 on an error, or -2 when the grid
+ * brought to after incrementally holds other levels, rows, oversize bodies
+ * or list rows than one built from after afresh (Grid::same_state). */
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
                          int threads, int coarsen, uint64_t *out, uint64_t cap);
 

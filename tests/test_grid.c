@@ -366,6 +366,31 @@ static void test_tiny_with_flush_to_zero(void **state) {
     check(NULL, s, n, "tiny");
 }
 
+/* Bodies whose slack (their level's cell width less twice their reach) is
+ * 2^-19, so that 4e-16 |p|_1 passes it, and they become oversize, near
+ * |p|_1 = 4.77e9: moved along x across that (their rows unchanged), among
+ * others that stay. The incremental update must move them out of their
+ * level as a rebuild puts them (the hook compares the two grids), and the
+ * pairs stay right. */
+static void test_oversize_by_motion_along_x(void **state) {
+    (void)state;
+    enum { n = 600 };
+    static double before[4 * n], after[4 * n];
+    rng r = {71};
+    const double threshold = 0x1p-19 / 4e-16;
+    for (uint32_t i = 0; i < n; ++i) {
+        double *b = before + 4 * i, *a = after + 4 * i;
+        const int near = i % 8 < 4; /* (in runs of four slots: the census takes four at a time) */
+        for (int k = 1; k < 3; ++k) a[k] = b[k] = 8.0 * unif(&r);
+        /* |p|_1 about 1.5 below the threshold, then about 1.5 above */
+        b[0] = near ? threshold - 1.5 - (b[1] + b[2]) : threshold - 40.0 + 20.0 * unif(&r);
+        a[0] = b[0] + (near ? 3.0 : 0.25);
+        a[3] = b[3] = near ? 1.0 - 0x1p-20 : (double)(float)(0.3 + unif(&r));
+    }
+    check(before, after, n, "oversize by motion along x");
+    check(after, before, n, "back from oversize along x");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_row_sorted_outright),
@@ -376,6 +401,7 @@ int main(void) {
         cmocka_unit_test(test_few_large_among_many),
         cmocka_unit_test(test_queries_far_out),
         cmocka_unit_test(test_tiny_with_flush_to_zero),
+        cmocka_unit_test(test_oversize_by_motion_along_x),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     if (getenv("HGCD_TEST_SKIP")) cmocka_set_skip_filter(getenv("HGCD_TEST_SKIP"));

@@ -1,8 +1,10 @@
 /* bench_hgcd: scene `tetra` of SCENES.md through the public C API of hgcd.
  *
  *   bench_hgcd [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
- *              [--min-cell-size W] [--side L] [--check]
+ *              [--lib NAME] [--min-cell-size W] [--side L] [--check]
  *
+ * --lib sets the JSON's "lib" field (default hgcd; make bench's 100-tick
+ * runs are hgcd-long).
  * --min-cell-size sets the world descriptor's min_cell_size (default 0: the
  * grid adapts to the body sizes, levels a factor 2 apart). --side sets the
  * scene's cube side L (default 200; SCENES.md's reference counts hold for
@@ -94,7 +96,7 @@ static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
 
 static void usage(const char *argv0) {
     fprintf(stderr,
-            "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
+            "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--lib NAME] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
             "  --threads 0 = all cores; --check compares the initial detect with SCENES.md\n",
             argv0);
 }
@@ -108,7 +110,7 @@ int main(int argc, char **argv) {
     uint64_t n = 100000, seed = 1;
     unsigned threads = 1;
     int ticks = 5, check = 0, per_tick = 0;
-    const char *commit = "unknown";
+    const char *commit = "unknown", *lib = "hgcd";
     double min_cell = 0, side = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -130,6 +132,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--threads")) threads = (unsigned)strtoul(v, NULL, 10);
         else if (!strcmp(a, "--ticks")) ticks = atoi(v);
         else if (!strcmp(a, "--commit")) commit = v;
+        else if (!strcmp(a, "--lib")) lib = v;
         else if (!strcmp(a, "--min-cell-size")) min_cell = strtod(v, NULL);
         else if (!strcmp(a, "--side")) side = strtod(v, NULL);
         else {
@@ -232,7 +235,7 @@ int main(int argc, char **argv) {
         }
     }
 
-    printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
+    printf("{\"lib\":\"%s\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
            "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
@@ -242,7 +245,7 @@ int main(int argc, char **argv) {
            "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,"
            "\"tick_mean_ms\":%.3f,\"tick_max_ms\":%.3f,\"update_mean_ms\":%.3f,\"broad_mean_ms\":%.3f,"
            "\"narrow_mean_ms\":%.3f,",
-           (unsigned long long)n, (unsigned long long)seed, st.thread_count, ticks, commit, hgcd_version_string(),
+           lib, (unsigned long long)n, (unsigned long long)seed, st.thread_count, ticks, commit, hgcd_version_string(),
            min_cell, median(tick_broad, ticks), median(tick_narrow, ticks), median(tick_update, ticks),
            median(tick_motion, ticks), median(tick_total, ticks), median(tick_wall, ticks),
            (unsigned long long)st.candidate_pairs, (unsigned long long)st.narrow_tests,

@@ -90,8 +90,8 @@ long_ticks=${BENCH_LONG_TICKS:-100}
 if [ "$long_ticks" -gt 0 ]; then
     for t in $threads; do
         echo "-- hgcd-long n=$long_n threads=$t ticks=$long_ticks" >&2
-        run hgcd-long "$long_n" "$t" bash -c 'set -o pipefail; "$@" | sed "s/^{\"lib\":\"hgcd\"/{\"lib\":\"hgcd-long\"/"' _ \
-            "$bench_hgcd" --n "$long_n" --seed "$seed" --threads "$t" --ticks "$long_ticks" --commit "$commit"
+        run hgcd-long "$long_n" "$t" "$bench_hgcd" --n "$long_n" --seed "$seed" --threads "$t" \
+            --ticks "$long_ticks" --commit "$commit" --lib hgcd-long
     done
 fi
 echo "== measurements took $(( $(date +%s) - start )) s" >&2

@@ -85,9 +85,12 @@ constexpr size_t kChunk = 1024;
 // lie in [-1074, 1024]; tables over them are indexed by e + kExponentBias.
 constexpr int kExponentBias = 1080;
 constexpr int kExponents = 2110;
+// A body is oversize once kOversizeFactor |p|_1 passes its slack (the
+// census, Grid::update, argues the factor).
+constexpr double kOversizeFactor = 4e-16;
 // Slots the census takes at a time (and hands to a SlotPass).
 constexpr int64_t kCensusBlock = 256;
-constexpr size_t kPad = 16;  // readable entries past the end of a list's box arrays (>= a block)
+constexpr size_t kPad = 16;  // readable entries past the end of a list's box arrays (>= two blocks: scan)
 // Rows are 2^kRowShift cells high and deep.
 constexpr int kRowShift = 1;
 // Reach bits: the neighbouring rows a box can reach (RowReach).
@@ -109,11 +112,15 @@ inline double pow2(int k) {
 // 2^k for any k a level can have (cell widths).
 inline double cell_width(int k) { return k > -1000 && k < 1000 ? pow2(k) : std::ldexp(1.0, k); }
 
+// 2^-e where x * 2^-e by a product stays exact (pow2's range), else 0:
+// cell_coord then scales by ldexp.
+inline double cell_scale(int exponent) { return exponent > -1000 && exponent < 1000 ? pow2(-exponent) : 0.0; }
+
 inline int64_t cell_coord(double x, int exponent) {
     // x * 2^-e is exact (a power-of-two scale) unless it leaves the normal
     // range, where ldexp keeps it exact too.
-    const double v = exponent > -1000 && exponent < 1000 ? x * pow2(-exponent)
-                                                           : std::ldexp(x, -exponent);
+    const double scale = cell_scale(exponent);
+    const double v = scale != 0 ? x * scale : std::ldexp(x, -exponent);
     if (!(v < double(kSaturate))) return kSaturate;
     if (!(v > -double(kSaturate))) return -kSaturate;
     // floor without a libm call (baseline x86-64 has no rounding instruction)
@@ -159,8 +166,8 @@ struct ByRowX {
 };
 
 // Cuts of a list's rows into runs of whole rows holding about `part`
-// entries each: run k is rows [cut[k], cut[k + 1]). (By the row index: the
-// list as of the last gather.)
+// entries each: run k is rows [cut[k], cut[k + 1]). (By the row index, as
+// the last rebuild or update_lists left it.)
 template <class ListT>
 std::vector<size_t> row_cuts(const ListT &list, size_t part) {
     const size_t rows = list.row_keys.size();
@@ -228,7 +235,7 @@ __attribute__((target("avx2"))) bool quiet4(size_t s, const double *point, const
     const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_andnot_pd(sign, x), _mm256_andnot_pd(sign, y)),
                                       _mm256_andnot_pd(sign, z));
     const __m256d room = _mm256_cvtps_pd(_mm_loadu_ps(slack + s));
-    if (_mm256_movemask_pd(_mm256_cmp_pd(_mm256_mul_pd(_mm256_set1_pd(4e-16), sum), room, _CMP_GT_OQ))) return false;
+    if (_mm256_movemask_pd(_mm256_cmp_pd(_mm256_mul_pd(_mm256_set1_pd(kOversizeFactor), sum), room, _CMP_GT_OQ))) return false;
     const __m256d inv4 = _mm256_loadu_pd(scale);
     const __m256d vy = _mm256_mul_pd(y, inv4), vz = _mm256_mul_pd(z, inv4);
     const __m256d limit = _mm256_set1_pd(0x1p51);
@@ -276,7 +283,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     auto exponent_of = [&](int64_t s) {
         const int e = exponent_[s];
         const double *p = boxes.point(size_t(s));
-        return e > limits.max_exponent || 4e-16 * (std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2])) > slack_[s]
+        return e > limits.max_exponent || kOversizeFactor * (std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2])) > slack_[s]
                    ? INT_MAX
                    : e;
     };
@@ -308,11 +315,8 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     // incremental update whose exponents are not stale. inv: per level,
     // the scale of its rows (0 where cell_coord takes ldexp).
     const bool quiet = incremental && !stale_exponents && use_avx2();
-    std::vector<double> inv(L, 0.0);
-    for (size_t l = 0; l < L; ++l) {
-        const int e = levels_[l].exponent + kRowShift;
-        if (e > -1000 && e < 1000) inv[l] = pow2(-e);
-    }
+    std::vector<double> inv(L);
+    for (size_t l = 0; l < L; ++l) inv[l] = cell_scale(levels_[l].exponent + kRowShift);
 #endif
     {
         RegionGuard guard;
@@ -620,8 +624,8 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
             auto &out_rows = part_rows[size_t(k)];
             size_t a = wk.add_b, w = wk.out_b;
             bool full = false;  // more entries than the part's room
-            // The entering entries of row key `until` and below that form rows
-            // of their own (rows that were empty).
+            // The entering entries of row keys below `until` (all, when not
+            // bounded) that form rows of their own (rows that were empty).
             auto new_rows = [&](bool bounded, CellKey until) {
                 while (a < wk.add_e && (!bounded || CellKey(A[a].key) < until) && w < wk.out_e) {
                     const CellKey key = A[a].key;

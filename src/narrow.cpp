@@ -51,6 +51,14 @@ inline void tet_plane_bound(T &bound, const T &ex, const T &ey, const T &ez) {
     bound = kPlaneBound * (8.0 * ((ex * ey) * ez)) + kUnderflowFloor;
 }
 
+// The size of a box (lo, hi: 3 values each) that picks which body's faces
+// the tetra test tries first: the same sums in the one-pair test and the
+// batch, so both try them in the same order (an out-parameter, as above).
+template <class T>
+inline void tet_box_size(T &size, const T *lo, const T *hi) {
+    size = ((hi[0] - lo[0]) + (hi[1] - lo[1])) + (hi[2] - lo[2]);
+}
+
 inline bool boxes_disjoint(const double *a, const double *b) {
     return a[3] < b[0] || b[3] < a[0] || a[4] < b[1] || b[4] < a[1] || a[5] < b[2] ||
            b[5] < a[2];
@@ -523,7 +531,6 @@ inline unsigned less_bits(V2 a, V2 b) {
     return unsigned((m[0] & 1) | (m[1] & 2));
 #endif
 }
-inline V2 vabs(V2 a) { return (V2)((M2)a & (M2{} + INT64_MAX)); }
 template <int L> inline V2 lane(V2 a) { return __builtin_shufflevector(a, a, L, L); }
 
 // Face f misses vertex f. The faces go in pairs (0, 1) and (2, 3), one per
@@ -617,11 +624,12 @@ HGCD_TET_INLINE void tet_world(const BodyPose &b, const TetRotations &r, const T
 }
 
 struct TetPlanes {  // faces (0, 1) in [0], (2, 3) in [1]
-    V2 t0x[2], t0y[2], t0z[2], nx[2], ny[2], nz[2], bound[2];
+    V2 t0x[2], t0y[2], t0z[2], nx[2], ny[2], nz[2];
+    double bound;  // certifies every face's signs (tet_plane_bound)
 };
 
 inline void plane_pair(TetPlanes &p, int h, V2 t0x, V2 t0y, V2 t0z, V2 t1x, V2 t1y, V2 t1z, V2 t2x,
-                       V2 t2y, V2 t2z, double ex, double ey, double ez) {
+                       V2 t2y, V2 t2z) {
     const V2 e1x = t1x - t0x, e1y = t1y - t0y, e1z = t1z - t0z;
     const V2 e2x = t2x - t0x, e2y = t2y - t0y, e2z = t2z - t0z;
     const V2 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, f = e1y * e2x;
@@ -631,23 +639,21 @@ inline void plane_pair(TetPlanes &p, int h, V2 t0x, V2 t0y, V2 t0z, V2 t1x, V2 t
     p.nx[h] = a - b;
     p.ny[h] = c - d;
     p.nz[h] = e - f;
-    double bound;
-    tet_plane_bound(bound, ex, ey, ez);
-    p.bound[h] = V2{} + bound;
 }
 
-// Face planes of w, with the certifying bound for points in a box of extent
-// (ex, ey, ez) that also holds w.
-HGCD_TET_INLINE void tet_planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
+// Face planes of w, with the certifying bound (tet_plane_bound of a box
+// holding both bodies).
+HGCD_TET_INLINE void tet_planes(const TetWorld &w, double bound, TetPlanes &p) {
+    p.bound = bound;
     const V2 *x = w.x, *y = w.y, *z = w.z;
 #define HGCD_SH(v, i, j) __builtin_shufflevector(v[0], v[1], i, j)
     // faces 0 = (1 2 3), 1 = (0 3 2)
     plane_pair(p, 0, HGCD_SH(x, 1, 0), HGCD_SH(y, 1, 0), HGCD_SH(z, 1, 0), x[1], y[1], z[1],
-               HGCD_SH(x, 3, 2), HGCD_SH(y, 3, 2), HGCD_SH(z, 3, 2), ex, ey, ez);
+               HGCD_SH(x, 3, 2), HGCD_SH(y, 3, 2), HGCD_SH(z, 3, 2));
     // faces 2 = (0 1 3), 3 = (0 2 1)
     plane_pair(p, 1, HGCD_SH(x, 0, 0), HGCD_SH(y, 0, 0), HGCD_SH(z, 0, 0), HGCD_SH(x, 1, 2),
                HGCD_SH(y, 1, 2), HGCD_SH(z, 1, 2), HGCD_SH(x, 3, 1), HGCD_SH(y, 3, 1),
-               HGCD_SH(z, 3, 1), ex, ey, ez);
+               HGCD_SH(z, 3, 1));
 #undef HGCD_SH
 }
 
@@ -670,7 +676,7 @@ HGCD_TET_INLINE void tet_face(const TetPlanes &p, const TetWorld &o, TetSides &s
     constexpr int h = F / 2, l = F % 2;
     const V2 t0x = lane<l>(p.t0x[h]), t0y = lane<l>(p.t0y[h]), t0z = lane<l>(p.t0z[h]);
     const V2 nx = lane<l>(p.nx[h]), ny = lane<l>(p.ny[h]), nz = lane<l>(p.nz[h]);
-    const V2 bound = lane<l>(p.bound[h]), minus = -bound;
+    const V2 bound = V2{} + p.bound, minus = -bound;
     const V2 d0 = ((o.x[0] - t0x) * nx + (o.y[0] - t0y) * ny) + (o.z[0] - t0z) * nz;
     const V2 d1 = ((o.x[1] - t0x) * nx + (o.y[1] - t0y) * ny) + (o.z[1] - t0z) * nz;
     s.pos[F] = less_bits(d0, minus) | less_bits(d1, minus) << 2;  // d = -orient3d
@@ -680,12 +686,13 @@ HGCD_TET_INLINE void tet_face(const TetPlanes &p, const TetWorld &o, TetSides &s
 // Sign of orient3d(face f, vertex f), the same for every f: from any
 // certified lane, else exactly.
 HGCD_TET_INLINE int tet_inner_sign(const TetWorld &w, const TetPlanes &p) {
+    const V2 bound = V2{} + p.bound;
     const V2 d0 = plane_eval(p, 0, w.x[0], w.y[0], w.z[0]);  // faces 0, 1 at vertices 0, 1
-    if (less_bits(d0, -p.bound[0])) return 1;
-    if (less_bits(p.bound[0], d0)) return -1;
+    if (less_bits(d0, -bound)) return 1;
+    if (less_bits(bound, d0)) return -1;
     const V2 d1 = plane_eval(p, 1, w.x[1], w.y[1], w.z[1]);  // faces 2, 3 at vertices 2, 3
-    if (less_bits(d1, -p.bound[1])) return 1;
-    if (less_bits(p.bound[1], d1)) return -1;
+    if (less_bits(d1, -bound)) return 1;
+    if (less_bits(bound, d1)) return -1;
     const double v0[3] = {w.x[0][0], w.y[0][0], w.z[0][0]}, v1[3] = {w.x[0][1], w.y[0][1], w.z[0][1]},
                  v2[3] = {w.x[1][0], w.y[1][0], w.z[1][0]}, v3[3] = {w.x[1][1], w.y[1][1], w.z[1][1]};
     return orient3d(v1, v2, v3, v0);  // face 0 and vertex 0
@@ -976,14 +983,17 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
     // tetra, 19% fewer pairs need the second body's faces).
     const TetWorld *u = &ta, *v = &tb;
     const double *cu = a.position, *cv = b.position;
-    if ((tb.hi[0] - tb.lo[0]) + (tb.hi[1] - tb.lo[1]) + (tb.hi[2] - tb.lo[2]) >
-        (ta.hi[0] - ta.lo[0]) + (ta.hi[1] - ta.lo[1]) + (ta.hi[2] - ta.lo[2])) {
+    double size_a, size_b, bound;
+    tet_box_size(size_a, ta.lo, ta.hi);
+    tet_box_size(size_b, tb.lo, tb.hi);
+    tet_plane_bound(bound, ex, ey, ez);
+    if (size_b > size_a) {
         std::swap(u, v);
         std::swap(cu, cv);
     }
     TetPlanes pu, pv;
     TetSides suv, svu;  // v's vertices against u's faces, and u's against v's
-    K::planes(*u, ex, ey, ez, pu);
+    K::planes(*u, bound, pu);
     if (K::sides_separate(*u, pu, *v, suv)) return Contact::None;
     // A vertex of v strictly inside u is a common point: no face of v can
     // separate them, and v's verdict cannot differ (v wholly inside u's
@@ -991,7 +1001,7 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
     const int vu = tet_verdict(suv);
     if (vu == 2) return Contact::Surface;
     if (vu == 1) return Contact::Containment;
-    K::planes(*v, ex, ey, ez, pv);
+    K::planes(*v, bound, pv);
     if (K::sides_separate(*v, pv, *u, svu)) return Contact::None;
     const int vv = tet_verdict(svu);
     if (vv == 2) return Contact::Surface;
@@ -1010,8 +1020,8 @@ struct KernelsV2 {
     static HGCD_TET_INLINE void world(const BodyPose &b, const TetRotations &r, const Local &l, TetWorld &w) {
         tet_world<L>(b, r, l, w);
     }
-    static HGCD_TET_INLINE void planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
-        tet_planes(w, ex, ey, ez, p);
+    static HGCD_TET_INLINE void planes(const TetWorld &w, double bound, TetPlanes &p) {
+        tet_planes(w, bound, p);
     }
     static HGCD_TET_INLINE bool sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o,
                                                TetSides &s) {
@@ -1122,7 +1132,8 @@ struct KernelsV4 {
         store(w.z, c[2] + ((r[6] * lx + r[7] * ly) + r[8] * lz));
         tet_box(w);
     }
-    static HGCD_TET_INLINE void planes(const TetWorld &w, double ex, double ey, double ez, TetPlanes &p) {
+    static HGCD_TET_INLINE void planes(const TetWorld &w, double bound, TetPlanes &p) {
+        p.bound = bound;
         V4 x, y, z;
         load(x, w.x);
         load(y, w.y);
@@ -1143,23 +1154,21 @@ struct KernelsV4 {
         store(p.nx, a - b);
         store(p.ny, c - d);
         store(p.nz, e - f);
-        double bound;
-        tet_plane_bound(bound, ex, ey, ez);
-        store(p.bound, HGCD_SPLAT4(bound));
     }
     template <int F>
     static HGCD_TET_INLINE void face(const TetPlanes &p, const V4 &x, const V4 &y, const V4 &z, TetSides &s) {
         constexpr int h = F / 2, l = F % 2;
         const V4 tx = HGCD_SPLAT4(p.t0x[h][l]), ty = HGCD_SPLAT4(p.t0y[h][l]), tz = HGCD_SPLAT4(p.t0z[h][l]);
         const V4 nx = HGCD_SPLAT4(p.nx[h][l]), ny = HGCD_SPLAT4(p.ny[h][l]), nz = HGCD_SPLAT4(p.nz[h][l]);
-        const V4 bound = HGCD_SPLAT4(p.bound[h][l]), minus = -bound;
+        const V4 bound = HGCD_SPLAT4(p.bound), minus = -bound;
         const V4 d = ((x - tx) * nx + (y - ty) * ny) + (z - tz) * nz;  // -orient3d
         s.pos[F] = less(d, minus);
         s.neg[F] = less(bound, d);
     }
     static HGCD_TET_INLINE bool sides_separate(const TetWorld &w, const TetPlanes &p, const TetWorld &o,
                                                TetSides &s) {
-        V4 x, y, z, tx, ty, tz, nx, ny, nz, bound;
+        V4 x, y, z, tx, ty, tz, nx, ny, nz;
+        const V4 bound = HGCD_SPLAT4(p.bound);
         load(x, w.x);
         load(y, w.y);
         load(z, w.z);
@@ -1169,7 +1178,6 @@ struct KernelsV4 {
         load(nx, p.nx);
         load(ny, p.ny);
         load(nz, p.nz);
-        load(bound, p.bound);
         // Face f at its own vertex f: the tetrahedron's sign (tet_inner_sign).
         const V4 d = ((x - tx) * nx + (y - ty) * ny) + (z - tz) * nz;
         s.inner = less(d, -bound) ? 1 : less(bound, d) ? -1 : tet_inner_sign(w, p);
@@ -1434,8 +1442,9 @@ inline void lane_sides(const Sides4 &s, int k, TetSides &t) {
     t.inner = (s.inner_pos >> k & 1) ? 1 : -1;
 }
 
-// Up to four pairs (idx[0, count) of pairs; count >= 1) past the axis test:
-// writes every one's out[].
+// Up to four pairs (idx[0, count) of pairs; count >= 1) past the axis test,
+// whose out[] the axis stage has set to None: writes the verdict of every
+// pair whose vertex boxes meet.
 __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, const uint32_t *idx, int count,
                                                    Contact *out, NarrowScratch &scratch) {
     const TetraPair *group[4];
@@ -1475,8 +1484,9 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
     for (int k = 0; k < count; ++k) out[idx[k]] = kVerdict[(contained >> k & 1) | (surface >> k & 1) << 1];
     if (!open) return;
     // The one-pair test's u: the body of the larger box (the same sums).
-    const V4 size_a = ((ha[0] - la[0]) + (ha[1] - la[1])) + (ha[2] - la[2]);
-    const V4 size_b = ((hb[0] - lb[0]) + (hb[1] - lb[1])) + (hb[2] - lb[2]);
+    V4 size_a, size_b;
+    tet_box_size(size_a, la, ha);
+    tet_box_size(size_b, lb, hb);
     const M4 b_is_u = size_b > size_a;
     open &= ~edges_apart4(wa, wb, A.c, B.c, b_is_u, ex, ey, ez);
     while (open) {

@@ -27,10 +27,9 @@ BUILD ?= build-make
 CXXFLAGS ?= -O2 -g
 HGCD_CXXFLAGS := -std=c++17 -fPIC -fopenmp -fvisibility=hidden \
                  -Wall -Wextra -Iinclude -DHGCD_BUILDING_LIBRARY
-HGCD_IEEE_FLAGS := -fno-fast-math -fno-unsafe-math-optimizations -fno-associative-math \
-                   -fno-reciprocal-math -fsigned-zeros -ftrapping-math -fno-finite-math-only \
-                   -ffp-contract=off \
-                   $(shell $(CXX) -fno-allow-store-data-races -x c++ -fsyntax-only /dev/null 2>/dev/null && echo -fno-allow-store-data-races)
+# (The list is src/ieee-flags.txt, which meson.build reads too; those the
+# compiler knows.)
+HGCD_IEEE_FLAGS := $(foreach f,$(shell cat src/ieee-flags.txt),$(shell $(CXX) $(f) -x c++ -fsyntax-only /dev/null 2>/dev/null && echo $(f)))
 LDLIBS_LIB := -fopenmp -lm
 
 # Optional narrow phase through libccd (GJK/MPR for convex meshes): used when

@@ -92,6 +92,11 @@ inline uint64_t pair_key(uint32_t a, uint32_t b) {
     return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
 
+// How many of the bodies 0..n-1 get other bits from the gather's
+// four-at-a-time box kernel than from the one-body rounding (float_box), or
+// -1 where that kernel does not run (no AVX2): for tests.
+int64_t float_boxes_mismatches(const Boxes &boxes, uint32_t n);
+
 struct GridLimits {
     int min_exponent;  // INT32_MIN: none
     int max_exponent;  // INT32_MAX: none

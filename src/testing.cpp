@@ -68,6 +68,14 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
                : 0;
 }
 
+int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint32_t n) {
+    try {
+        return hgcd::float_boxes_mismatches(hgcd::Boxes{points, offsets}, n);
+    } catch (...) {
+        return -2;
+    }
+}
+
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, int threads,
                          int coarsen, uint64_t *out, uint64_t cap) {
     try {

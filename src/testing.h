@@ -48,6 +48,13 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
                          int threads, int coarsen, uint64_t *out, uint64_t cap);
 
+/* The grid's box rounding (src/grid.cpp): body i has position
+ * points[3 i .. 3 i + 2] and offsets offsets[6 i .. 6 i + 5] (low x y z,
+ * high x y z). Returns how many of the first n - n % 4 bodies get other
+ * float bits from the gather's four-at-a-time kernel than from the one-body
+ * rounding, or -1 where that kernel does not run (no AVX2). */
+int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint32_t n);
+
 /* The narrow phase's batched tetrahedron test (narrow.cpp,
  * collide_tetra_batch) against the one-pair test (collide) on pair_count
  * pairs: meshes holds 12 doubles per mesh (4 vertices x y z, the 4 faces

@@ -391,8 +391,49 @@ static void test_oversize_by_motion_along_x(void **state) {
     check(after, before, n, "back from oversize along x");
 }
 
+/* The gather's four-at-a-time box rounding against the one-body rounding,
+ * bit for bit: sums that fall exactly on a float, just above and below one
+ * (by a double ulp), at float's halfway points, around FLT_MIN and in the
+ * subnormal range (which no bound may take), at -0.0 and +0.0, far out, and
+ * at random. (On a CPU without AVX2 the kernel does not run: skipped.) */
+static void test_float_boxes_kernel(void **state) {
+    (void)state;
+    enum { n = 4096 };
+    static double p[3 * n];
+    static float o[6 * n];
+    rng r = {83};
+    const double special[] = {0.0, -0.0, 1.0, -1.0, FLT_MIN, -FLT_MIN, FLT_MIN / 2, -FLT_MIN / 2,
+                              1e-45, -1e-45, 1e-300, -1e-300, 0x1p-126 * (1 - 0x1p-30),
+                              1.0 + 0x1p-24, 1.0 + 0x1p-52, 1.0 - 0x1p-53, -(1.0 + 0x1p-24), 3.0e38,
+                              1e15, -1e15, 0.1, -0.1, 0x1.000001p0 + 0x1p-25};
+    const int specials = (int)(sizeof special / sizeof special[0]);
+    for (uint32_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const uint64_t u = next(&r);
+            double v;
+            switch (u % 4) {
+            case 0: v = special[(u >> 8) % (uint64_t)specials]; break;
+            case 1: v = ldexp(unif(&r) - 0.5, (int)((u >> 8) % 300) - 150); break;
+            case 2: v = (double)(float)(100 * unif(&r) - 50) + ldexp((double)((int)((u >> 8) % 5) - 2), -53); break;
+            default: v = 1000.0 * (unif(&r) - 0.5); break;
+            }
+            p[3 * i + k] = v;
+            /* offsets: 0, small, or the negation of the point (sums of 0) */
+            const uint64_t w = next(&r) % 4;
+            const float lo = w == 0 ? 0.0f : w == 1 ? -(float)unif(&r) : w == 2 ? (float)-v : -FLT_MIN;
+            const float hi = w == 0 ? 0.0f : w == 1 ? (float)unif(&r) : w == 2 ? (float)-v : FLT_MIN;
+            o[6 * i + k] = lo;
+            o[6 * i + 3 + k] = hi;
+        }
+    }
+    const int64_t mismatches = hgcdi_float_boxes_check(p, o, n);
+    if (mismatches < 0) skip();
+    assert_int_equal(mismatches, 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_float_boxes_kernel),
         cmocka_unit_test(test_row_sorted_outright),
         cmocka_unit_test(test_dense_mixed_levels),
         cmocka_unit_test(test_touching_on_cell_faces),

@@ -12,6 +12,7 @@
 #include "grid.hpp"
 #include "hgcd/hgcd.h"
 #include "mesh.hpp"
+#include "memory.hpp"
 #include "narrow.hpp"
 
 namespace hgcd {
@@ -127,25 +128,25 @@ class World {
     // grid update and the narrow phase read memory nearly in sequence.
     // Per slot:
     std::vector<uint32_t> body_gen_;   // last generation handed out in the slot
-    std::vector<uint32_t> live_gen_;   // body_gen_ if alive, else 0
+    LargeVector<uint32_t> live_gen_;   // body_gen_ if alive, else 0
     std::vector<uint32_t> at_;         // storage index
     std::vector<uint32_t> body_free_;  // stack of reusable slots
     // Per storage index (structure of arrays):
-    std::vector<uint32_t> slot_of_;
-    std::vector<uint32_t> stored_gen_;  // live_gen_ of the slot stored here
-    std::vector<Placement> place_;  // (narrow.hpp)
-    std::vector<double> velocity_;     // 3
-    std::vector<uint32_t> body_mesh_;  // mesh slot
+    LargeVector<uint32_t> slot_of_;
+    LargeVector<uint32_t> stored_gen_;  // live_gen_ of the slot stored here
+    LargeVector<Placement> place_;  // (narrow.hpp)
+    LargeVector<double> velocity_;     // 3
+    LargeVector<uint32_t> body_mesh_;  // mesh slot
     std::vector<uint64_t> user_data_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
-    std::vector<float> box_off_;
+    LargeVector<float> box_off_;
     // A bound on the magnitude of the offsets in any orientation, that picks
     // the body's grid level: scale (|mesh centre| + mesh radius), inflated.
     std::vector<double> r_level_;
     // The positions again, 3 doubles each: what the grid reads every tick,
     // in a third of the memory of the placements.
-    std::vector<double> point_;
+    LargeVector<double> point_;
     uint32_t live_bodies_ = 0;
 
     Grid grid_;

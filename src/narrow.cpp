@@ -1373,6 +1373,85 @@ static inline void decide4(const Sides4 &s, unsigned &apart, unsigned &contained
     contained = lanes_of(inside == all);
     surface = lanes_of((inside != 0) & (any_out != 0));
 }
+
+// The face planes' signs in float, eight pairs at a time (two groups of
+// four): sides4 and decide4 on float lanes, whose vertices are the double
+// world vertices less the low corner of the box holding both bodies, scaled
+// by a power of two s that brings the box's largest extent below 1, rounded
+// to float. Why a sign is then certain when |d| > bound = 2^-15 P, P =
+// ex ey ez of the scaled extents (each at most 1):
+//  - the scaled double vertices U are exact (a power of two, the difference
+//    within eps_d of the box's extent), and orient3d's sign on them is the
+//    sign on the world vertices;
+//  - the float vertices u differ from U by at most (2^-24 + 2^-52) e_k per
+//    axis k (plus 2^-149 below float's normal range); a difference of two
+//    by twice that. orient3d is a sum of six products of three differences,
+//    one per axis, each difference at most e_k (both points in the box), so
+//    moving every difference so changes it by at most 3 * 6 * 2^-23 P =
+//    36 * 2^-24 P (to first order; the rest is below 2^-40 P);
+//  - evaluated in float the same way as the double filters (geometry.cpp's
+//    plane_sides3), the computed value is within (7 + 56 eps) eps of the
+//    permanent, eps = 2^-24, and the permanent is at most 6 P (1 + 2^-21):
+//    42.01 * 2^-24 P;
+//  - together below 79 * 2^-24 P < 2^-17.6 P, which 2^-15 P exceeds more
+//    than five times over, past its own rounding to float and past the
+//    absolute errors below float's normal range (2^-140 in all), as long as
+//    P >= 2^-115: a pair whose P is smaller (a box nearly flat, or both
+//    bodies nearly one point) takes the whole one-pair test (double).
+// The eight lanes' signs are certified signs as the double ones are; only
+// a few more stay open (then made exact on the exact path).
+typedef float F8 __attribute__((vector_size(32)));
+typedef int32_t I8 __attribute__((vector_size(32)));
+
+struct Sides8 {
+    I8 pos[4], neg[4];
+    unsigned inner_pos, inner_neg;
+};
+static inline unsigned lanes8(const I8 &m) { return unsigned(_mm256_movemask_ps((__m256)m)); }
+static inline void sides8(F8 (*w)[4], F8 (*o)[4], const F8 &bound, Sides8 &s) {
+    I8 ip = I8{}, in = I8{};
+    const F8 minus = -bound;
+    for (int f = 0; f < 4; ++f) {
+        const int i0 = kFace[f][0], i1 = kFace[f][1], i2 = kFace[f][2];
+        const F8 t0x = w[0][i0], t0y = w[1][i0], t0z = w[2][i0];
+        const F8 e1x = w[0][i1] - t0x, e1y = w[1][i1] - t0y, e1z = w[2][i1] - t0z;
+        const F8 e2x = w[0][i2] - t0x, e2y = w[1][i2] - t0y, e2z = w[2][i2] - t0z;
+        const F8 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, g = e1y * e2x;
+        const F8 nx = a - b, ny = c - d, nz = e - g;
+        const F8 own = ((w[0][f] - t0x) * nx + (w[1][f] - t0y) * ny) + (w[2][f] - t0z) * nz;  // -orient3d
+        ip |= own < minus;
+        in |= bound < own;
+        I8 pos = I8{}, neg = I8{};
+        for (int v = 0; v < 4; ++v) {
+            const F8 dd = ((o[0][v] - t0x) * nx + (o[1][v] - t0y) * ny) + (o[2][v] - t0z) * nz;
+            pos |= (dd < minus) & int32_t(1 << v);
+            neg |= (bound < dd) & int32_t(1 << v);
+        }
+        s.pos[f] = pos;
+        s.neg[f] = neg;
+    }
+    s.inner_pos = lanes8(ip);
+    s.inner_neg = lanes8(in) & ~s.inner_pos;
+}
+static inline void decide8(const Sides8 &s, unsigned &apart, unsigned &contained, unsigned &surface) {
+    const I8 all = I8{} + 0xF;
+    const I8 positive = ((I8{} + int32_t(s.inner_pos)) & I8{1, 2, 4, 8, 16, 32, 64, 128}) != 0;
+    I8 sep = I8{}, inside = all, any_out = I8{};
+    for (int f = 0; f < 4; ++f) {
+        const I8 out = (positive & s.neg[f]) | (~positive & s.pos[f]);
+        const I8 in = (positive & s.pos[f]) | (~positive & s.neg[f]);
+        sep |= out == all;
+        inside &= in;
+        any_out |= out;
+    }
+    apart = lanes8(sep);
+    contained = lanes8(inside == all);
+    surface = lanes8((inside != 0) & (any_out != 0));
+}
+// Group g's four doubles as lanes 4 g to 4 g + 3 of eight floats.
+static inline void to_float4(F8 &to, int g, const V4 &v) {
+    _mm_storeu_ps(reinterpret_cast<float *>(&to) + 4 * g, _mm256_cvtpd_ps((__m256d)v));
+}
 #pragma GCC pop_options
 
 #pragma GCC push_options
@@ -1434,7 +1513,7 @@ inline void lane_vertices(V4 (*w)[4], int k, double (*out)[3]) {
     for (int v = 0; v < 4; ++v)
         for (int a = 0; a < 3; ++a) out[v][a] = w[a][v][k];
 }
-inline void lane_sides(const Sides4 &s, int k, TetSides &t) {
+inline void lane_sides(const Sides8 &s, int k, TetSides &t) {
     for (int f = 0; f < 4; ++f) {
         t.pos[f] = unsigned(s.pos[f][k]);
         t.neg[f] = unsigned(s.neg[f][k]);
@@ -1442,36 +1521,57 @@ inline void lane_sides(const Sides4 &s, int k, TetSides &t) {
     t.inner = (s.inner_pos >> k & 1) ? 1 : -1;
 }
 
-// Up to four pairs (idx[0, count) of pairs; count >= 1) past the axis test,
-// whose out[] the axis stage has set to None: writes the verdict of every
-// pair whose vertex boxes meet.
-__attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, const uint32_t *idx, int count,
+// Up to eight pairs (idx[0, count) of pairs; count >= 1) past the axis
+// test, whose out[] the axis stage has set to None: writes the verdict of
+// every pair whose vertex boxes meet. World vertices, boxes, the edge axis
+// and the exact path in double, four pairs a group; the face planes' signs
+// in float, both groups at once (sides8).
+__attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, const uint32_t *idx, int count,
                                                    Contact *out, NarrowScratch &scratch) {
-    const TetraPair *group[4];
-    for (int k = 0; k < 4; ++k) group[k] = &pairs[idx[k < count ? k : 0]];
     const unsigned valid = (1u << count) - 1;
-    Side4 A, B;
-    load_pairs(group, A, B);
-    V4 wa[3][4], wb[3][4], la[3], ha[3], lb[3], hb[3];
-    world4(A, wa, la, ha);
-    world4(B, wb, lb, hb);
-    // The exact vertex boxes (the one-pair test's prefilter).
-    const unsigned boxed = ~lanes_of((ha[0] < lb[0]) | (hb[0] < la[0]) | (ha[1] < lb[1]) | (hb[1] < la[1]) |
-                                     (ha[2] < lb[2]) | (hb[2] < la[2])) & valid;
+    Side4 A[2], B[2];
+    V4 wa[2][3][4], wb[2][3][4], ex[2], ey[2], ez[2];
+    V4 la[2][3], ha[2][3], lb[2][3], hb[2][3];
+    unsigned boxed = 0, small = 0;
+    F8 fa[3][4], fb[3][4], bound8;  // (written a group, four floats, at a time)
+    for (int g = 0; g < 2; ++g) {
+        const TetraPair *group[4];
+        for (int k = 0; k < 4; ++k) group[k] = &pairs[idx[4 * g + k < count ? 4 * g + k : 0]];
+        load_pairs(group, A[g], B[g]);
+        world4(A[g], wa[g], la[g], ha[g]);
+        world4(B[g], wb[g], lb[g], hb[g]);
+        // The exact vertex boxes (the one-pair test's prefilter).
+        boxed |= (~lanes_of((ha[g][0] < lb[g][0]) | (hb[g][0] < la[g][0]) | (ha[g][1] < lb[g][1]) |
+                            (hb[g][1] < la[g][1]) | (ha[g][2] < lb[g][2]) | (hb[g][2] < la[g][2])) & 0xF)
+                 << (4 * g);
+        V4 lo[3];
+        for (int a = 0; a < 3; ++a) lo[a] = min4(la[g][a], lb[g][a]);
+        ex[g] = max4(ha[g][0], hb[g][0]) - lo[0];
+        ey[g] = max4(ha[g][1], hb[g][1]) - lo[1];
+        ez[g] = max4(ha[g][2], hb[g][2]) - lo[2];
+        // s = 2^-(E's exponent + 1), E the largest extent: E s < 1.
+        const M4 field = M4{} + (int64_t(0x7FF) << 52);
+        const V4 big = max4(ex[g], max4(ey[g], ez[g]));
+        const V4 scale = (V4)((M4{} + (int64_t(2045) << 52)) - ((M4)big & field));
+        const V4 p = ((ex[g] * scale) * (ey[g] * scale)) * (ez[g] * scale);
+        small |= lanes_of(p < 0x1p-115) << (4 * g);
+        to_float4(bound8, g, 0x1p-15 * p);
+        for (int a = 0; a < 3; ++a)
+            for (int v = 0; v < 4; ++v) {
+                to_float4(fa[a][v], g, (wa[g][a][v] - lo[a]) * scale);
+                to_float4(fb[a][v], g, (wb[g][a][v] - lo[a]) * scale);
+            }
+    }
+    boxed &= valid;
     if (!boxed) return;
     scratch.exact_tests += unsigned(__builtin_popcount(boxed));
-    const V4 ex = max4(ha[0], hb[0]) - min4(la[0], lb[0]);
-    const V4 ey = max4(ha[1], hb[1]) - min4(la[1], lb[1]);
-    const V4 ez = max4(ha[2], hb[2]) - min4(la[2], lb[2]);
-    Sides4 sab, sba;  // b's vertices against a's faces, and a's against b's
-    V4 bound;
-    tet_plane_bound(bound, ex, ey, ez);
-    sides4(wa, wb, bound, sab);
-    sides4(wb, wa, bound, sba);
+    Sides8 sab, sba;  // b's vertices against a's faces, and a's against b's
+    sides8(fa, fb, bound8, sab);
+    sides8(fb, fa, bound8, sba);
     unsigned apart_a, in_a, surf_a, apart_b, in_b, surf_b;
-    decide4(sab, apart_a, in_a, surf_a);
-    decide4(sba, apart_b, in_b, surf_b);
-    const unsigned oriented = (sab.inner_pos | sab.inner_neg) & (sba.inner_pos | sba.inner_neg);
+    decide8(sab, apart_a, in_a, surf_a);
+    decide8(sba, apart_b, in_b, surf_b);
+    const unsigned oriented = (sab.inner_pos | sab.inner_neg) & (sba.inner_pos | sba.inner_neg) & ~small;
     const unsigned apart = (apart_a | apart_b) & oriented & boxed;
     const unsigned contained = (in_a | in_b) & oriented & boxed & ~apart;
     const unsigned surface = (surf_a | surf_b) & oriented & boxed & ~apart & ~contained;
@@ -1482,31 +1582,35 @@ __attribute__((target("avx2"))) void collide_tetra4(const TetraPair *pairs, cons
     static constexpr Contact kVerdict[4] = {Contact::None, Contact::Containment, Contact::Surface,
                                             Contact::Containment};
     for (int k = 0; k < count; ++k) out[idx[k]] = kVerdict[(contained >> k & 1) | (surface >> k & 1) << 1];
-    if (!open) return;
-    // The one-pair test's u: the body of the larger box (the same sums).
-    V4 size_a, size_b;
-    tet_box_size(size_a, la, ha);
-    tet_box_size(size_b, lb, hb);
-    const M4 b_is_u = size_b > size_a;
-    open &= ~edges_apart4(wa, wb, A.c, B.c, b_is_u, ex, ey, ez);
-    while (open) {
-        const int k = __builtin_ctz(open);
-        open &= open - 1;
-        const TetraPair &p = pairs[idx[k]];
-        if (!(oriented >> k & 1)) {  // a tetrahedron flat or nearly: the whole one-pair test
-            --scratch.exact_tests;  // (counted again there)
-            out[idx[k]] = collide_tetra_avx2(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), scratch);
-            continue;
+    for (int g = 0; g < 2; ++g) {
+        unsigned left = open >> (4 * g) & 0xF;
+        if (!left) continue;
+        // The one-pair test's u: the body of the larger box (the same sums).
+        V4 size_a, size_b;
+        tet_box_size(size_a, la[g], ha[g]);
+        tet_box_size(size_b, lb[g], hb[g]);
+        const M4 b_is_u = size_b > size_a;
+        left &= ~edges_apart4(wa[g], wb[g], A[g].c, B[g].c, b_is_u, ex[g], ey[g], ez[g]);
+        while (left) {
+            const int k = __builtin_ctz(left);
+            left &= left - 1;
+            const int lane = 4 * g + k;
+            const TetraPair &p = pairs[idx[lane]];
+            if (!(oriented >> lane & 1)) {  // a tetrahedron flat or nearly, or a tiny box: the whole one-pair test
+                --scratch.exact_tests;  // (counted again there)
+                out[idx[lane]] = collide_tetra_avx2(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), scratch);
+                continue;
+            }
+            double va[4][3], vb[4][3];
+            TetSides s_ab, s_ba;
+            lane_vertices(wa[g], k, va);
+            lane_vertices(wb[g], k, vb);
+            lane_sides(sab, lane, s_ab);
+            lane_sides(sba, lane, s_ba);
+            // In the one-pair test's order (which face pairs it tries first).
+            out[idx[lane]] = b_is_u[k] ? collide_tetra_exact_aos(vb, va, s_ba, s_ab, scratch)
+                                       : collide_tetra_exact_aos(va, vb, s_ab, s_ba, scratch);
         }
-        double va[4][3], vb[4][3];
-        TetSides s_ab, s_ba;
-        lane_vertices(wa, k, va);
-        lane_vertices(wb, k, vb);
-        lane_sides(sab, k, s_ab);
-        lane_sides(sba, k, s_ba);
-        // In the one-pair test's order (which face pairs it tries first).
-        out[idx[k]] = b_is_u[k] ? collide_tetra_exact_aos(vb, va, s_ba, s_ab, scratch)
-                                : collide_tetra_exact_aos(va, vb, s_ab, s_ba, scratch);
     }
 }
 
@@ -1534,8 +1638,8 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
                 kept += ~apart >> l & 1;
             }
         }
-        for (size_t g = 0; g < kept; g += 4)
-            collide_tetra4(pairs, left + g, int(std::min<size_t>(4, kept - g)), out, scratch);
+        for (size_t g = 0; g < kept; g += 8)
+            collide_tetra8(pairs, left + g, int(std::min<size_t>(8, kept - g)), out, scratch);
     }
 }
 #endif

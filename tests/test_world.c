@@ -885,6 +885,49 @@ static void test_tetra_batch_matches_one_pair(void **state) {
     free(poses);
 }
 
+/* The batched test's float signs (narrow.cpp, sides8) where the box holding
+ * a pair is nearly flat: tetrahedra 1 wide and h high (h = 2^-90 .. 2^-160,
+ * flattened both ways up), laid on one another, shifted by quarters and by
+ * multiples of h / 8 up and down, so that their signs hang on heights that
+ * float holds badly or not at all (below its normal range). Such a pair
+ * must take the double path (its box's scaled volume is below 2^-115):
+ * the batch must still agree with the one-pair test pair by pair. */
+static void test_tetra_batch_nearly_flat(void **state) {
+    (void)state;
+    enum { HEIGHTS = 8, MESHES = 2 * HEIGHTS, PAIRS = 4000 };
+    double meshes[MESHES][12];
+    for (int m = 0; m < MESHES; ++m) {
+        const double h = ldexp(1.0, -90 - 10 * (m / 2)) * (m % 2 ? -1 : 1);
+        const double v[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.25, 0.25, h};
+        memcpy(meshes[m], v, sizeof v);
+    }
+    uint32_t *pair_mesh = malloc(2 * PAIRS * sizeof(uint32_t));
+    double *poses = calloc(16 * PAIRS, sizeof(double));
+    rng g = {97};
+    for (size_t k = 0; k < PAIRS; ++k) {
+        const uint32_t ma = (uint32_t)(next(&g) % MESHES), mb = (uint32_t)(next(&g) % MESHES);
+        pair_mesh[2 * k] = ma;
+        pair_mesh[2 * k + 1] = mb;
+        const double h = fabs(meshes[ma][11]);
+        double *a = poses + 16 * k, *b = a + 8;
+        a[6] = b[6] = 1; /* identity rotations: exact world vertices */
+        a[7] = b[7] = 1;
+        b[0] = 0.25 * (double)(next(&g) % 5) - 0.5;
+        b[1] = 0.25 * (double)(next(&g) % 5) - 0.5;
+        b[2] = h / 8 * (double)((int)(next(&g) % 17) - 8);
+    }
+    uint64_t counts[6];
+    const int64_t differ = hgcdi_tetra_batch_check(&meshes[0][0], MESHES, pair_mesh, poses, PAIRS, counts);
+    printf("nearly flat tetra pairs: %llu of %d collide, the same pair by pair\n", (unsigned long long)counts[4],
+           PAIRS);
+    assert_int_equal(differ, 0);
+    assert_int_equal(counts[1], counts[0]);
+    assert_int_equal(counts[3], counts[2]);
+    assert_true(counts[4] > PAIRS / 10 && counts[4] < PAIRS - PAIRS / 10);
+    free(pair_mesh);
+    free(poses);
+}
+
 /* The caller's floating-point mode: flush-to-zero and denormals-are-zero (as
  * -ffast-math's start-up code sets), rounding toward +infinity, and traps on
  * invalid, divide-by-zero, overflow and underflow. The library works in IEEE's
@@ -1039,6 +1082,7 @@ int main(void) {
         cmocka_unit_test(test_tetra_path_degenerate),
         cmocka_unit_test(test_tetra_axis_prefilter),
         cmocka_unit_test(test_tetra_batch_matches_one_pair),
+        cmocka_unit_test(test_tetra_batch_nearly_flat),
     };
     /* Sanitizer and valgrind runs pick tests by name (cmocka patterns). */
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));

@@ -656,6 +656,10 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         // the heap, from before the region (thread 0 runs on the caller's
         // stack).
         const bool batch = !want_contacts && !any_ccd;
+        // Every live mesh a tetrahedron: every pair goes to the batch, no
+        // mesh need be looked at per pair.
+        bool all_tetra = batch;
+        for (size_t m = 0; m < meshes_.size() && all_tetra; ++m) all_tetra = !mesh_alive_[m] || meshes_[m].tetra;
         std::unique_ptr<TetraPair[]> batch_pairs(batch ? new TetraPair[size_t(T) * kNarrowChunk] : nullptr);
         std::unique_ptr<Contact[]> batch_verdicts(batch ? new Contact[size_t(T) * kNarrowChunk] : nullptr);
         RegionGuard guard;
@@ -682,7 +686,16 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                 const PairBuffer &list = found[chunks[c].list];
                 const size_t end = chunks[c].end;
                 size_t tetras = 0;
-                for (size_t k = chunks[c].begin; k < end; ++k) {
+                if (all_tetra) {
+                    const Mesh *meshes = meshes_.data();
+                    const Placement *place = place_.data();
+                    const uint32_t *body_mesh = body_mesh_.data();
+                    for (size_t k = chunks[c].begin; k < end; ++k, ++tetras) {
+                        const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
+                        tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b};
+                    }
+                }
+                for (size_t k = all_tetra ? end : chunks[c].begin; k < end; ++k) {
                     // The meshes of a later pair, to hide the latency, and its
                     // placements unless the batched test will read them (it
                     // asks for them itself: asked for here, 512 pairs before

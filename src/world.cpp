@@ -759,9 +759,20 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
                     hit_count += verdict[k] != Contact::None;
                     my_containment += verdict[k] == Contact::Containment;
                 }
-                for (size_t h = 0; h < hit_count; ++h) {
-                    const TetraPair &p = tetra[hit_index[h]];
-                    mine.push_back(pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]));
+                const size_t at = mine.size();
+                mine.resize(at + hit_count);
+                uint64_t *to = mine.data() + at;
+                if (all_tetra) {  // (the batch's pairs are the chunk's, in order)
+                    const uint64_t *keys = list.begin() + chunks[c].begin;
+                    for (size_t h = 0; h < hit_count; ++h) {
+                        const uint64_t key = keys[hit_index[h]];
+                        to[h] = pair_key(slot_of_[key >> 32], slot_of_[uint32_t(key)]);
+                    }
+                } else {
+                    for (size_t h = 0; h < hit_count; ++h) {
+                        const TetraPair &p = tetra[hit_index[h]];
+                        to[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
+                    }
                 }
             });
             containment[me] = my_containment;

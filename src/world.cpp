@@ -947,6 +947,7 @@ struct Motion {
     Placement *place;
     double *velocity, *point;
     const uint32_t *live;
+    uint32_t count;  // of storage
     std::atomic<bool> applied{false};  // some range has moved
 
     static void run(void *context, uint32_t begin, uint32_t end) {
@@ -958,6 +959,12 @@ struct Motion {
         Placement *place = m.place;
         double *velocity = m.velocity, *point = m.point;
         for (uint32_t s = begin; s < end; ++s) {
+            // The placement 16 bodies on (past this range too: the thread's
+            // next range follows it): the hardware's prefetch left the
+            // motion waiting on every placement line (tetra 750k, 1 thread:
+            // grid update 24.9 -> 22.8 ms; asking for the velocities and
+            // points as well gained nothing more).
+            if (s + 16 < m.count) __builtin_prefetch(&place[s + 16], 1);
             if (!m.live[s]) continue;
             for (int k = 0; k < 3; ++k) {
                 double &c = place[s].position[k];
@@ -1025,6 +1032,7 @@ hgcd_status World::step() {
     motion.velocity = velocity_.data();
     motion.point = point_.data();
     motion.live = stored_gen_.data();
+    motion.count = uint32_t(n);
     const SlotPass pass{&Motion::run, &motion};
     const double motion_seconds = omp_get_wtime() - t0;
     hgcd_status s;

@@ -312,7 +312,9 @@ __attribute__((target("avx2"))) bool quiet4(size_t s, const double *point, const
                                       _mm256_andnot_pd(sign, z));
     const __m256d room = _mm256_cvtps_pd(_mm_loadu_ps(slack + s));
     if (_mm256_movemask_pd(_mm256_cmp_pd(_mm256_mul_pd(_mm256_set1_pd(kOversizeFactor), sum), room, _CMP_GT_OQ))) return false;
-    const __m256d inv4 = _mm256_loadu_pd(scale);
+    // (From registers: a vector load of the four stores stalled on store
+    // forwarding, 36% of the samples in this function.)
+    const __m256d inv4 = _mm256_setr_pd(scale[0], scale[1], scale[2], scale[3]);
     const __m256d vy = _mm256_mul_pd(y, inv4), vz = _mm256_mul_pd(z, inv4);
     const __m256d limit = _mm256_set1_pd(0x1p51);
     if (_mm256_movemask_pd(_mm256_or_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, vy), limit, _CMP_NLT_UQ),

@@ -1448,9 +1448,9 @@ static inline void decide8(const Sides8 &s, unsigned &apart, unsigned &contained
     contained = lanes8(inside == all);
     surface = lanes8((inside != 0) & (any_out != 0));
 }
-// Group g's four doubles as lanes 4 g to 4 g + 3 of eight floats.
-static inline void to_float4(F8 &to, int g, const V4 &v) {
-    _mm_storeu_ps(reinterpret_cast<float *>(&to) + 4 * g, _mm256_cvtpd_ps((__m256d)v));
+// Two groups' four doubles as eight floats (group 0 in lanes 0-3).
+static inline F8 join8(const V4 &g0, const V4 &g1) {
+    return (F8)_mm256_set_m128(_mm256_cvtpd_ps((__m256d)g1), _mm256_cvtpd_ps((__m256d)g0));
 }
 #pragma GCC pop_options
 
@@ -1533,7 +1533,7 @@ __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, cons
     V4 wa[2][3][4], wb[2][3][4], ex[2], ey[2], ez[2];
     V4 la[2][3], ha[2][3], lb[2][3], hb[2][3];
     unsigned boxed = 0, small = 0;
-    F8 fa[3][4], fb[3][4], bound8;  // (written a group, four floats, at a time)
+    V4 lo[2][3], scale[2], bound[2];
     for (int g = 0; g < 2; ++g) {
         const TetraPair *group[4];
         for (int k = 0; k < 4; ++k) group[k] = &pairs[idx[4 * g + k < count ? 4 * g + k : 0]];
@@ -1544,27 +1544,30 @@ __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, cons
         boxed |= (~lanes_of((ha[g][0] < lb[g][0]) | (hb[g][0] < la[g][0]) | (ha[g][1] < lb[g][1]) |
                             (hb[g][1] < la[g][1]) | (ha[g][2] < lb[g][2]) | (hb[g][2] < la[g][2])) & 0xF)
                  << (4 * g);
-        V4 lo[3];
-        for (int a = 0; a < 3; ++a) lo[a] = min4(la[g][a], lb[g][a]);
-        ex[g] = max4(ha[g][0], hb[g][0]) - lo[0];
-        ey[g] = max4(ha[g][1], hb[g][1]) - lo[1];
-        ez[g] = max4(ha[g][2], hb[g][2]) - lo[2];
+        for (int a = 0; a < 3; ++a) lo[g][a] = min4(la[g][a], lb[g][a]);
+        ex[g] = max4(ha[g][0], hb[g][0]) - lo[g][0];
+        ey[g] = max4(ha[g][1], hb[g][1]) - lo[g][1];
+        ez[g] = max4(ha[g][2], hb[g][2]) - lo[g][2];
         // s = 2^-(E's exponent + 1), E the largest extent: E s < 1.
         const M4 field = M4{} + (int64_t(0x7FF) << 52);
         const V4 big = max4(ex[g], max4(ey[g], ez[g]));
-        const V4 scale = (V4)((M4{} + (int64_t(2045) << 52)) - ((M4)big & field));
-        const V4 p = ((ex[g] * scale) * (ey[g] * scale)) * (ez[g] * scale);
+        scale[g] = (V4)((M4{} + (int64_t(2045) << 52)) - ((M4)big & field));
+        const V4 p = ((ex[g] * scale[g]) * (ey[g] * scale[g])) * (ez[g] * scale[g]);
         small |= lanes_of(p < 0x1p-115) << (4 * g);
-        to_float4(bound8, g, 0x1p-15 * p);
-        for (int a = 0; a < 3; ++a)
-            for (int v = 0; v < 4; ++v) {
-                to_float4(fa[a][v], g, (wa[g][a][v] - lo[a]) * scale);
-                to_float4(fb[a][v], g, (wb[g][a][v] - lo[a]) * scale);
-            }
+        bound[g] = 0x1p-15 * p;
     }
     boxed &= valid;
     if (!boxed) return;
     scratch.exact_tests += unsigned(__builtin_popcount(boxed));
+    // Both groups' floats joined in registers (halves stored to memory and
+    // read back whole would wait on store forwarding).
+    F8 fa[3][4], fb[3][4];
+    for (int a = 0; a < 3; ++a)
+        for (int v = 0; v < 4; ++v) {
+            fa[a][v] = join8((wa[0][a][v] - lo[0][a]) * scale[0], (wa[1][a][v] - lo[1][a]) * scale[1]);
+            fb[a][v] = join8((wb[0][a][v] - lo[0][a]) * scale[0], (wb[1][a][v] - lo[1][a]) * scale[1]);
+        }
+    const F8 bound8 = join8(bound[0], bound[1]);
     Sides8 sab, sba;  // b's vertices against a's faces, and a's against b's
     sides8(fa, fb, bound8, sab);
     sides8(fb, fa, bound8, sba);

@@ -1380,12 +1380,14 @@ static inline void decide4(const Sides4 &s, unsigned &apart, unsigned &contained
 // by a power of two s that brings the box's largest extent below 1, rounded
 // to float. Why a sign is then certain when |d| > bound = 2^-15 P, P =
 // ex ey ez of the scaled extents (each at most 1):
-//  - the scaled double vertices U are exact (a power of two, the difference
-//    within eps_d of the box's extent), and orient3d's sign on them is the
-//    sign on the world vertices;
+//  - let U be the world vertices less the corner, scaled, in exact
+//    arithmetic: orient3d's sign on them is the sign on the world vertices
+//    (a translation, and a positive scaling);
 //  - the float vertices u differ from U by at most (2^-24 + 2^-52) e_k per
-//    axis k (plus 2^-149 below float's normal range); a difference of two
-//    by twice that. orient3d is a sum of six products of three differences,
+//    axis k (e_k the scaled extent), plus 2^-149 below float's normal range:
+//    the double subtraction of the corner rounds by at most 2^-53 e_k, the
+//    power-of-two scaling is exact, the conversion to float rounds by at
+//    most 2^-24 of the value; a difference of two vertices by twice that. orient3d is a sum of six products of three differences,
 //    one per axis, each difference at most e_k (both points in the box), so
 //    moving every difference so changes it by at most 3 * 6 * 2^-23 P =
 //    36 * 2^-24 P (to first order; the rest is below 2^-40 P);

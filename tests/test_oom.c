@@ -31,6 +31,13 @@
 
 #include <cmocka.h>
 
+#if defined(__linux__)
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#endif
+
 #include <hgcd/hgcd.h>
 
 #include "oom_hook.h"
@@ -420,11 +427,94 @@ static void test_hook_works(void **state) {
     hgcd_world_destroy(w);
 }
 
+#if defined(__linux__)
+/* The world's large arrays (2 MiB and up) come from mmap, past operator new
+ * and so past the hook above (src/memory.cpp): here the system refuses
+ * them. In a child process with its address space limited to 48 MB over
+ * what it uses, bodies are added until a call fails: the failure must be
+ * HGCD_ERROR_OUT_OF_MEMORY, by then arrays of several MiB have been grown,
+ * and once the limit is lifted the world holds every body it accepted and
+ * detects. (Skipped under ASan and valgrind, HGCD_SKIP_SLOW_TESTS, whose
+ * own mappings a limit on the address space would break.) */
+static long address_space_bytes(void) {
+    FILE *f = fopen("/proc/self/statm", "r");
+    long pages = 0;
+    if (f) {
+        if (fscanf(f, "%ld", &pages) != 1) pages = 0;
+        fclose(f);
+    }
+    return pages * sysconf(_SC_PAGESIZE);
+}
+
+static int limited_child(void) {
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.thread_count = 1;
+    hgcd_world *w = NULL;
+    if (hgcd_world_create(&wd, &w) != HGCD_OK) return 10;
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = tetra_v;
+    md.triangles = tetra_t;
+    md.vertex_count = 4;
+    md.triangle_count = 4;
+    hgcd_mesh mesh;
+    if (hgcd_mesh_create(w, &md, &mesh) != HGCD_OK) return 11;
+    struct rlimit old, low;
+    if (getrlimit(RLIMIT_AS, &old) != 0) return 12;
+    low = old;
+    low.rlim_cur = (rlim_t)(address_space_bytes() + (48L << 20));
+    if (old.rlim_cur != RLIM_INFINITY && low.rlim_cur > old.rlim_cur) return 13;
+    if (setrlimit(RLIMIT_AS, &low) != 0) return 14;
+    uint32_t added = 0;
+    hgcd_status s = HGCD_OK;
+    for (; added < 4000000; ++added) {
+        hgcd_body_desc bd = hgcd_body_desc_default();
+        bd.mesh = mesh;
+        bd.position[0] = (double)(added % 1000) * 3;
+        bd.position[1] = (double)(added / 1000) * 3;
+        hgcd_body b;
+        s = hgcd_body_create(w, &bd, &b);
+        if (s != HGCD_OK) break;
+    }
+    if (setrlimit(RLIMIT_AS, &old) != 0) return 15;
+    printf("address space limited: %u bodies placed, then \"%s\"\n", added, hgcd_world_last_error(w));
+    fflush(stdout);
+    if (s != HGCD_ERROR_OUT_OF_MEMORY) return 16;
+    if (added < 100000) return 17; /* (the per-body arrays of 64 bytes a body passed 2 MiB at 32768) */
+    if (hgcd_world_body_count(w) != added) return 18;
+    if (hgcd_world_detect(w) != HGCD_OK) return 19;
+    hgcd_world_destroy(w);
+    return 0;
+}
+
+static void test_system_refuses_large_arrays(void **state) {
+    (void)state;
+#if defined(__SANITIZE_ADDRESS__)
+    skip();
+#endif
+    if (getenv("HGCD_SKIP_SLOW_TESTS")) skip();
+    fflush(stdout);
+    const pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) { /* (cmocka's signal handlers off: a crash ends the child, and the parent sees it) */
+        const int sig[] = {SIGSEGV, SIGBUS, SIGABRT, SIGILL, SIGFPE};
+        for (size_t k = 0; k < sizeof sig / sizeof sig[0]; ++k) signal(sig[k], SIG_DFL);
+        _exit(limited_child());
+    }
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+}
+#endif
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hook_works),
         cmocka_unit_test(test_single_failure),
         cmocka_unit_test(test_exhausted),
+#if defined(__linux__)
+        cmocka_unit_test(test_system_refuses_large_arrays),
+#endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

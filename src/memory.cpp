@@ -7,6 +7,8 @@
 #include <sys/mman.h>
 #endif
 
+#include "ieee.hpp"  // (every source refuses -ffast-math: see ieee.hpp)
+
 namespace hgcd {
 
 namespace {

@@ -1207,19 +1207,21 @@ __attribute__((target("avx2"))) Contact collide_tetra_avx2(const BodyPose &a, co
     return collide_tetra_with<KernelsV4>(a, b, scratch);
 }
 
-// Four pairs at a time, one per lane (collide_tetra_batch). Every lane does
-// the one-pair test's operations in its order (tet_axis_separates,
-// KernelsV4's world, planes and sides), so its values have the same bits and
-// its certified decisions are the same; only the order of the decisions
-// differs, and certified decisions cannot disagree. Pairs are first
-// filtered by the axis along the line of centres, four at a time; the
-// survivors, four at a time, get both bodies' world vertices, planes and the
-// signs of each body's vertices against the other's faces, all branch-free
-// (on scene tetra 41% of the pairs that reach the faces need both bodies'
-// faces in the one-pair test, so a group of four nearly always needs them).
-// A lane left open (no face separates, no vertex is surely inside) takes the
-// one-pair test's edge axis and exact path; a lane whose own tetrahedron's
-// orientation is not certified (flat or nearly), the whole one-pair test.
+// Many pairs at a time, one per lane (collide_tetra_batch). Pairs are first
+// filtered by the axis along the line of centres, four at a time, each lane
+// in the one-pair test's operations (tet_axis_separates), so with the same
+// bits. The survivors, eight at a time in two groups of four, get both
+// bodies' world vertices and boxes (KernelsV4's world, the same bits), then
+// the signs of each body's vertices against the other's faces, certified in
+// float (sides8, with a bound of its own), all branch-free (on scene tetra
+// 41% of the pairs that reach the faces need both bodies' faces in the
+// one-pair test, so a group nearly always needs them). Certified decisions
+// cannot disagree, whatever filter certified them. A lane left open (no face
+// separates, no vertex is surely inside) takes the one-pair test's edge axis
+// (the same bits) and exact path, which makes every sign exact first; a lane
+// whose own tetrahedron's orientation is not certified (flat or nearly), or
+// whose box is nearly flat, the whole one-pair test. So the verdicts and the
+// work counted (exact tests, triangle tests) are the one-pair test's.
 struct Side4 {
     V4 c[3];     // position
     V4 m[9];     // rotation
@@ -1322,63 +1324,11 @@ static inline void world4(const Side4 &s, V4 (*w)[4], V4 *lo, V4 *hi) {
     }
 }
 
-// The certified signs of o's vertices against the faces of w (lanes of
-// tet_face, as bit sets: bit v of pos[f] / neg[f] per lane) and the sign of
-// w's own orientation: inner_pos / inner_neg lanes (neither: uncertain).
-struct Sides4 {
-    M4 pos[4], neg[4];
-    unsigned inner_pos, inner_neg;
-};
-static inline void sides4(V4 (*w)[4], V4 (*o)[4], const V4 &bound, Sides4 &s) {
-    M4 ip = M4{}, in = M4{};
-    const V4 minus = -bound;
-    for (int f = 0; f < 4; ++f) {
-        const int i0 = kFace[f][0], i1 = kFace[f][1], i2 = kFace[f][2];
-        const V4 t0x = w[0][i0], t0y = w[1][i0], t0z = w[2][i0];
-        const V4 e1x = w[0][i1] - t0x, e1y = w[1][i1] - t0y, e1z = w[2][i1] - t0z;
-        const V4 e2x = w[0][i2] - t0x, e2y = w[1][i2] - t0y, e2z = w[2][i2] - t0z;
-        const V4 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, g = e1y * e2x;
-        const V4 nx = a - b, ny = c - d, nz = e - g;
-        const V4 own = ((w[0][f] - t0x) * nx + (w[1][f] - t0y) * ny) + (w[2][f] - t0z) * nz;  // -orient3d
-        ip |= own < minus;
-        in |= bound < own;
-        M4 pos = M4{}, neg = M4{};
-        for (int v = 0; v < 4; ++v) {
-            const V4 dd = ((o[0][v] - t0x) * nx + (o[1][v] - t0y) * ny) + (o[2][v] - t0z) * nz;
-            pos |= (dd < minus) & int64_t(1 << v);
-            neg |= (bound < dd) & int64_t(1 << v);
-        }
-        s.pos[f] = pos;
-        s.neg[f] = neg;
-    }
-    s.inner_pos = lanes_of(ip);
-    s.inner_neg = lanes_of(in) & ~s.inner_pos;
-}
-
-// From the signs (tet_verdict and TetOuter for a certain inner sign): lanes
-// surely apart, surely Containment, surely Surface.
-static inline void decide4(const Sides4 &s, unsigned &apart, unsigned &contained, unsigned &surface) {
-    const M4 all = M4{} + 0xF;
-    const M4 positive = M4{} - M4{int64_t(s.inner_pos & 1), int64_t(s.inner_pos >> 1 & 1),
-                                  int64_t(s.inner_pos >> 2 & 1), int64_t(s.inner_pos >> 3 & 1)};
-    M4 sep = M4{}, inside = all, any_out = M4{};
-    for (int f = 0; f < 4; ++f) {
-        const M4 out = (positive & s.neg[f]) | (~positive & s.pos[f]);
-        const M4 in = (positive & s.pos[f]) | (~positive & s.neg[f]);
-        sep |= out == all;
-        inside &= in;
-        any_out |= out;
-    }
-    apart = lanes_of(sep);
-    contained = lanes_of(inside == all);
-    surface = lanes_of((inside != 0) & (any_out != 0));
-}
-
 // The face planes' signs in float, eight pairs at a time (two groups of
-// four): sides4 and decide4 on float lanes, whose vertices are the double
-// world vertices less the low corner of the box holding both bodies, scaled
-// by a power of two s that brings the box's largest extent below 1, rounded
-// to float. Why a sign is then certain when |d| > bound = 2^-15 P, P =
+// four), on vertices that are the double world vertices less the low corner
+// of the box holding both bodies, scaled by a power of two s that brings the
+// box's largest extent below 1, rounded to float. (Double, four lanes, the
+// narrow phase on tetra 750k took 1.3 ms more on 1 thread.) Why a sign is then certain when |d| > bound = 2^-15 P, P =
 // ex ey ez of the scaled extents (each at most 1):
 //  - let U be the world vertices less the corner, scaled, in exact
 //    arithmetic: orient3d's sign on them is the sign on the world vertices
@@ -1405,6 +1355,9 @@ static inline void decide4(const Sides4 &s, unsigned &apart, unsigned &contained
 typedef float F8 __attribute__((vector_size(32)));
 typedef int32_t I8 __attribute__((vector_size(32)));
 
+// The certified signs of o's vertices against the faces of w (lanes of
+// tet_face, as bit sets: bit v of pos[f] / neg[f] per lane) and the sign of
+// w's own orientation: inner_pos / inner_neg lanes (neither: uncertain).
 struct Sides8 {
     I8 pos[4], neg[4];
     unsigned inner_pos, inner_neg;
@@ -1435,6 +1388,8 @@ static inline void sides8(F8 (*w)[4], F8 (*o)[4], const F8 &bound, Sides8 &s) {
     s.inner_pos = lanes8(ip);
     s.inner_neg = lanes8(in) & ~s.inner_pos;
 }
+// From the signs (tet_verdict and TetOuter for a certain inner sign): lanes
+// surely apart, surely Containment, surely Surface.
 static inline void decide8(const Sides8 &s, unsigned &apart, unsigned &contained, unsigned &surface) {
     const I8 all = I8{} + 0xF;
     const I8 positive = ((I8{} + int32_t(s.inner_pos)) & I8{1, 2, 4, 8, 16, 32, 64, 128}) != 0;

@@ -90,12 +90,12 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
                 Witness *witness = nullptr);
 
 // collide() of every pair of tetrahedra pairs[0, n) into out[0, n), the
-// same verdicts and counts in scratch. With AVX2 (use_avx2) four pairs at a
-// time, one per lane: the separating axis along the line of centres for all
-// pairs, then, for those it leaves, world vertices, boxes, face planes and
-// the certified signs of both bodies, each lane in the operations of the
-// one-pair test; a lane those leave open goes on with the one-pair test's
-// later steps. Elsewhere one pair at a time.
+// same verdicts and counts in scratch. With AVX2 (use_avx2) many pairs at a
+// time, one per lane: the separating axis along the line of centres four
+// pairs at a time, then, for those it leaves, eight at a time, world
+// vertices, boxes, and the signs of both bodies' vertices against the
+// other's face planes (certified in float); a lane those leave open goes on
+// with the one-pair test's later steps. Elsewhere one pair at a time.
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
 
 // World-space vertices of a body into out (3 per vertex) and their box.

@@ -1483,8 +1483,25 @@ inline void lane_sides(const Sides8 &s, int k, TetSides &t) {
 // every pair whose vertex boxes meet. World vertices, boxes, the edge axis
 // and the exact path in double, four pairs a group; the face planes' signs
 // in float, both groups at once (sides8).
+// A lane the face planes leave open, waiting for the edge axis (four of them
+// at a time, gathered from all groups: tested group by group, a group with
+// one open lane cost a whole four-lane test) and then the exact path.
+struct OpenLane {
+    double va[4][3], vb[4][3];  // world vertices
+    double ca[3], cb[3];        // positions
+    double ex, ey, ez;          // extents of the box holding both
+    TetSides s_ab, s_ba;        // certified signs (oriented lanes)
+    uint32_t pair;
+    bool b_is_u, oriented;
+};
+struct OpenLanes {
+    static constexpr int kMax = 64;
+    OpenLane lane[kMax];
+    int count = 0;
+};
+
 __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, const uint32_t *idx, int count,
-                                                   Contact *out, NarrowScratch &scratch) {
+                                                   Contact *out, NarrowScratch &scratch, OpenLanes &waiting) {
     const unsigned valid = (1u << count) - 1;
     Side4 A[2], B[2];
     V4 wa[2][3][4], wb[2][3][4], ex[2], ey[2], ez[2];
@@ -1550,34 +1567,76 @@ __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, cons
         tet_box_size(size_a, la[g], ha[g]);
         tet_box_size(size_b, lb[g], hb[g]);
         const M4 b_is_u = size_b > size_a;
-        left &= ~edges_apart4(wa[g], wb[g], A[g].c, B[g].c, b_is_u, ex[g], ey[g], ez[g]);
         while (left) {
             const int k = __builtin_ctz(left);
             left &= left - 1;
             const int lane = 4 * g + k;
-            const TetraPair &p = pairs[idx[lane]];
-            if (!(oriented >> lane & 1)) {  // a tetrahedron flat or nearly, or a tiny box: the whole one-pair test
-                --scratch.exact_tests;  // (counted again there)
-                out[idx[lane]] = collide_tetra_avx2(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), scratch);
-                continue;
+            OpenLane &o = waiting.lane[waiting.count++];
+            lane_vertices(wa[g], k, o.va);
+            lane_vertices(wb[g], k, o.vb);
+            for (int a = 0; a < 3; ++a) {
+                o.ca[a] = A[g].c[a][k];
+                o.cb[a] = B[g].c[a][k];
             }
-            double va[4][3], vb[4][3];
-            TetSides s_ab, s_ba;
-            lane_vertices(wa[g], k, va);
-            lane_vertices(wb[g], k, vb);
-            lane_sides(sab, lane, s_ab);
-            lane_sides(sba, lane, s_ba);
-            // In the one-pair test's order (which face pairs it tries first).
-            out[idx[lane]] = b_is_u[k] ? collide_tetra_exact_aos(vb, va, s_ba, s_ab, scratch)
-                                       : collide_tetra_exact_aos(va, vb, s_ab, s_ba, scratch);
+            o.ex = ex[g][k];
+            o.ey = ey[g][k];
+            o.ez = ez[g][k];
+            o.pair = idx[lane];
+            o.b_is_u = b_is_u[k] != 0;
+            o.oriented = (oriented >> lane & 1) != 0;
+            if (o.oriented) {
+                lane_sides(sab, lane, o.s_ab);
+                lane_sides(sba, lane, o.s_ba);
+            }
         }
     }
+}
+
+// The edge axis for the waiting lanes, four at a time (edges_apart4 on
+// each lane's own values: the same bits), then the one-pair test's exact
+// path for those it leaves, in its order (which face pairs it tries
+// first); a lane whose tetrahedron's orientation or box is not certified
+// takes the whole one-pair test.
+__attribute__((target("avx2"))) void settle_open(const TetraPair *pairs, Contact *out, NarrowScratch &scratch,
+                                                OpenLanes &waiting) {
+    for (int first = 0; first < waiting.count; first += 4) {
+        const OpenLane *l[4];
+        for (int k = 0; k < 4; ++k) l[k] = &waiting.lane[first + k < waiting.count ? first + k : first];
+        V4 wa[3][4], wb[3][4], ca[3], cb[3];
+        for (int a = 0; a < 3; ++a) {
+            for (int v = 0; v < 4; ++v) {
+                wa[a][v] = V4{l[0]->va[v][a], l[1]->va[v][a], l[2]->va[v][a], l[3]->va[v][a]};
+                wb[a][v] = V4{l[0]->vb[v][a], l[1]->vb[v][a], l[2]->vb[v][a], l[3]->vb[v][a]};
+            }
+            ca[a] = V4{l[0]->ca[a], l[1]->ca[a], l[2]->ca[a], l[3]->ca[a]};
+            cb[a] = V4{l[0]->cb[a], l[1]->cb[a], l[2]->cb[a], l[3]->cb[a]};
+        }
+        const M4 b_is_u = M4{} - M4{l[0]->b_is_u, l[1]->b_is_u, l[2]->b_is_u, l[3]->b_is_u};
+        const V4 ex = V4{l[0]->ex, l[1]->ex, l[2]->ex, l[3]->ex}, ey = V4{l[0]->ey, l[1]->ey, l[2]->ey, l[3]->ey},
+                 ez = V4{l[0]->ez, l[1]->ez, l[2]->ez, l[3]->ez};
+        const unsigned apart = edges_apart4(wa, wb, ca, cb, b_is_u, ex, ey, ez);
+        const int n = std::min(4, waiting.count - first);
+        for (int k = 0; k < n; ++k) {
+            if (apart >> k & 1) continue;  // (out: None already)
+            OpenLane &o = waiting.lane[first + k];
+            if (!o.oriented) {  // a tetrahedron flat or nearly, or a tiny box: the whole one-pair test
+                const TetraPair &p = pairs[o.pair];
+                --scratch.exact_tests;  // (counted again there)
+                out[o.pair] = collide_tetra_avx2(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), scratch);
+                continue;
+            }
+            out[o.pair] = o.b_is_u ? collide_tetra_exact_aos(o.vb, o.va, o.s_ba, o.s_ab, scratch)
+                                   : collide_tetra_exact_aos(o.va, o.vb, o.s_ab, o.s_ba, scratch);
+        }
+    }
+    waiting.count = 0;
 }
 
 __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *pairs, size_t n, Contact *out,
                                                              NarrowScratch &scratch) {
     constexpr size_t kStage = 256;  // pairs per round of the two stages
     uint32_t left[kStage];
+    OpenLanes waiting;
     for (size_t begin = 0; begin < n; begin += kStage) {
         const size_t end = std::min(n, begin + kStage);
         size_t kept = 0;
@@ -1598,8 +1657,11 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
                 kept += ~apart >> l & 1;
             }
         }
-        for (size_t g = 0; g < kept; g += 8)
-            collide_tetra8(pairs, left + g, int(std::min<size_t>(8, kept - g)), out, scratch);
+        for (size_t g = 0; g < kept; g += 8) {
+            collide_tetra8(pairs, left + g, int(std::min<size_t>(8, kept - g)), out, scratch, waiting);
+            if (waiting.count > OpenLanes::kMax - 8) settle_open(pairs, out, scratch, waiting);
+        }
+        settle_open(pairs, out, scratch, waiting);
     }
 }
 #endif

@@ -44,16 +44,16 @@ constexpr double kPlaneBound = 0x1p-50, kCentresMargin = 0x1p-48, kEdgeMargin = 
 
 // The face planes' certifying bound for points in a box of extent (ex, ey,
 // ez) that holds both bodies (see the tetra path's notes below), one for
-// every face: T is double or a vector of doubles (an out-parameter: a
-// vector return would change the ABI where no AVX target is on).
-template <class T>
-inline void tet_plane_bound(T &bound, const T &ex, const T &ey, const T &ez) {
-    bound = kPlaneBound * (8.0 * ((ex * ey) * ez)) + kUnderflowFloor;
+// every face.
+inline double tet_plane_bound(double ex, double ey, double ez) {
+    return kPlaneBound * (8.0 * ((ex * ey) * ez)) + kUnderflowFloor;
 }
 
 // The size of a box (lo, hi: 3 values each) that picks which body's faces
 // the tetra test tries first: the same sums in the one-pair test and the
-// batch, so both try them in the same order (an out-parameter, as above).
+// batch, so both try them in the same order. T is double or a vector of
+// doubles (an out-parameter: a vector return would change the ABI where no
+// AVX target is on).
 template <class T>
 inline void tet_box_size(T &size, const T *lo, const T *hi) {
     size = ((hi[0] - lo[0]) + (hi[1] - lo[1])) + (hi[2] - lo[2]);
@@ -983,10 +983,10 @@ HGCD_TET_INLINE Contact collide_tetra_with(const BodyPose &a, const BodyPose &b,
     // tetra, 19% fewer pairs need the second body's faces).
     const TetWorld *u = &ta, *v = &tb;
     const double *cu = a.position, *cv = b.position;
-    double size_a, size_b, bound;
+    double size_a, size_b;
     tet_box_size(size_a, ta.lo, ta.hi);
     tet_box_size(size_b, tb.lo, tb.hi);
-    tet_plane_bound(bound, ex, ey, ez);
+    const double bound = tet_plane_bound(ex, ey, ez);
     if (size_b > size_a) {
         std::swap(u, v);
         std::swap(cu, cv);
@@ -1328,8 +1328,9 @@ static inline void world4(const Side4 &s, V4 (*w)[4], V4 *lo, V4 *hi) {
 // four), on vertices that are the double world vertices less the low corner
 // of the box holding both bodies, scaled by a power of two s that brings the
 // box's largest extent below 1, rounded to float. (Double, four lanes, the
-// narrow phase on tetra 750k took 1.3 ms more on 1 thread.) Why a sign is then certain when |d| > bound = 2^-15 P, P =
-// ex ey ez of the scaled extents (each at most 1):
+// narrow phase on tetra 750k took 1.3 ms more on 1 thread.) Why a sign is
+// then certain when |d| > bound = 2^-15 P, P = ex ey ez of the scaled
+// extents (each at most 1):
 //  - let U be the world vertices less the corner, scaled, in exact
 //    arithmetic: orient3d's sign on them is the sign on the world vertices
 //    (a translation, and a positive scaling);
@@ -1337,10 +1338,11 @@ static inline void world4(const Side4 &s, V4 (*w)[4], V4 *lo, V4 *hi) {
 //    axis k (e_k the scaled extent), plus 2^-149 below float's normal range:
 //    the double subtraction of the corner rounds by at most 2^-53 e_k, the
 //    power-of-two scaling is exact, the conversion to float rounds by at
-//    most 2^-24 of the value; a difference of two vertices by twice that. orient3d is a sum of six products of three differences,
-//    one per axis, each difference at most e_k (both points in the box), so
-//    moving every difference so changes it by at most 3 * 6 * 2^-23 P =
-//    36 * 2^-24 P (to first order; the rest is below 2^-40 P);
+//    most 2^-24 of the value; a difference of two vertices by twice that.
+//    orient3d is a sum of six products of three differences, one per axis,
+//    each difference at most e_k (both points in the box), so moving every
+//    difference so changes it by at most 3 * 6 * 2^-23 P = 36 * 2^-24 P (to
+//    first order; the rest is below 2^-40 P);
 //  - evaluated in float the same way as the double filters (geometry.cpp's
 //    plane_sides3), the computed value is within (7 + 56 eps) eps of the
 //    permanent, eps = 2^-24, and the permanent is at most 6 P (1 + 2^-21):
@@ -1478,11 +1480,6 @@ inline void lane_sides(const Sides8 &s, int k, TetSides &t) {
     t.inner = (s.inner_pos >> k & 1) ? 1 : -1;
 }
 
-// Up to eight pairs (idx[0, count) of pairs; count >= 1) past the axis
-// test, whose out[] the axis stage has set to None: writes the verdict of
-// every pair whose vertex boxes meet. World vertices, boxes, the edge axis
-// and the exact path in double, four pairs a group; the face planes' signs
-// in float, both groups at once (sides8).
 // A lane the face planes leave open, waiting for the edge axis (four of them
 // at a time, gathered from all groups: tested group by group, a group with
 // one open lane cost a whole four-lane test) and then the exact path.
@@ -1500,6 +1497,11 @@ struct OpenLanes {
     int count = 0;
 };
 
+// Up to eight pairs (idx[0, count) of pairs; count >= 1) past the axis
+// test, whose out[] the axis stage has set to None: writes the verdict of
+// every pair the face planes decide, and hands the others to `waiting`.
+// World vertices and boxes in double, four pairs a group; the face planes'
+// signs in float, both groups at once (sides8).
 __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, const uint32_t *idx, int count,
                                                    Contact *out, NarrowScratch &scratch, OpenLanes &waiting) {
     const unsigned valid = (1u << count) - 1;

@@ -26,10 +26,10 @@ BUILD ?= build-make
 # say (scripts/check-ieee.sh checks an -Ofast build).
 CXXFLAGS ?= -O2 -g
 HGCD_CXXFLAGS := -std=c++17 -fPIC -fopenmp -fvisibility=hidden \
-                 -Wall -Wextra -Iinclude -DHGCD_BUILDING_LIBRARY
-# (The list is src/ieee-flags.txt, which meson.build reads too; those the
-# compiler knows.)
-HGCD_IEEE_FLAGS := $(foreach f,$(shell cat src/ieee-flags.txt),$(shell $(CXX) $(f) -x c++ -fsyntax-only /dev/null 2>/dev/null && echo $(f)))
+                 -Wall -Wextra -Iinclude -Isrc -DHGCD_BUILDING_LIBRARY -MMD -MP
+# (The list is src/common/ieee-flags.txt, which meson.build reads too; those
+# the compiler knows.)
+HGCD_IEEE_FLAGS := $(foreach f,$(shell cat src/common/ieee-flags.txt),$(shell $(CXX) $(f) -x c++ -fsyntax-only /dev/null 2>/dev/null && echo $(f)))
 LDLIBS_LIB := -fopenmp -lm
 
 # Optional narrow phase through libccd (GJK/MPR for convex meshes): used when
@@ -46,19 +46,35 @@ HGCD_CXXFLAGS += -DHGCD_HAVE_CCD $(shell pkg-config --cflags ccd 2>/dev/null)
 LDLIBS_LIB += $(CCD_LIBS)
 endif
 
-SRCS := $(wildcard src/*.cpp)
-OBJS := $(patsubst src/%.cpp,$(BUILD)/%.o,$(SRCS))
+SRCS := $(wildcard src/*/*.cpp)
+OBJS := $(patsubst src/%.cpp,$(BUILD)/obj/%.o,$(SRCS))
 STATIC := $(BUILD)/libhgcd.a
 SHARED := $(BUILD)/libhgcd.so.$(VERSION)
 SONAME := libhgcd.so.$(MAJOR)
+# The reference scenes' generator (scene/): a support library for the demo,
+# not part of libhgcd.
+SCENE_LIB := $(BUILD)/libhgcd_scene.a
+MAP := src/api/hgcd.map
 
-.PHONY: all lib install uninstall demo test bench clean deps
+.PHONY: all lib scene install uninstall demo test bench clean deps
 
 all: lib
 lib: $(STATIC) $(SHARED)
+scene: $(SCENE_LIB)
 
-$(BUILD)/%.o: src/%.cpp $(wildcard src/*.hpp src/*.h include/hgcd/*.h) | $(BUILD)
+$(BUILD)/obj/%.o: src/%.cpp | $(BUILD)
+	@mkdir -p $(dir $@)
 	$(CXX) $(HGCD_CXXFLAGS) $(CXXFLAGS) $(HGCD_IEEE_FLAGS) -c $< -o $@
+
+$(BUILD)/scene/scene.o: scene/scene.cpp | $(BUILD)
+	@mkdir -p $(dir $@)
+	$(CXX) $(HGCD_CXXFLAGS) -Iscene $(CXXFLAGS) $(HGCD_IEEE_FLAGS) -c $< -o $@
+
+$(SCENE_LIB): $(BUILD)/scene/scene.o
+	rm -f $@
+	ar rcs $@ $^
+
+-include $(OBJS:.o=.d) $(BUILD)/scene/scene.d
 
 $(BUILD):
 	mkdir -p $(BUILD)
@@ -68,8 +84,8 @@ $(STATIC): $(OBJS)
 	ar rcs $@ $^
 	echo '$(patsubst -l%,%,$(filter -l%,$(CCD_LIBS)))' > $(BUILD)/libhgcd-static-deps.txt
 
-$(SHARED): $(OBJS) src/hgcd.map
-	$(CXX) -shared -Wl,-soname,$(SONAME) -Wl,--version-script=src/hgcd.map -o $@ $(OBJS) $(LDFLAGS) $(LDLIBS_LIB)
+$(SHARED): $(OBJS) $(MAP)
+	$(CXX) -shared -Wl,-soname,$(SONAME) -Wl,--version-script=$(MAP) -o $@ $(OBJS) $(LDFLAGS) $(LDLIBS_LIB)
 	ln -sf libhgcd.so.$(VERSION) $(BUILD)/$(SONAME)
 	ln -sf $(SONAME) $(BUILD)/libhgcd.so
 
@@ -94,8 +110,8 @@ uninstall:
 N ?= 200000
 TICKS ?= 5
 THREADS ?= 0
-$(BUILD)/demo: examples/demo.c $(STATIC) | $(BUILD)
-	$(CC) -std=c99 -O2 -Wall -Iinclude $< -o $@ $(STATIC) -fopenmp -lstdc++ -lm $(CCD_LIBS)
+$(BUILD)/demo: examples/demo.c $(SCENE_LIB) $(STATIC) | $(BUILD)
+	$(CC) -std=c99 -O2 -Wall -Iinclude -Iscene $< -o $@ $(SCENE_LIB) $(STATIC) -fopenmp -lstdc++ -lm $(CCD_LIBS)
 
 demo:
 	bash scripts/ensure-deps.sh demo

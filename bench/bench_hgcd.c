@@ -43,6 +43,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -43,6 +43,7 @@
 //
 // FCL's pkg-config adds -std=c++11: this file is C++11.
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 #include <sys/resource.h>
 
@@ -57,8 +58,8 @@
 #include <string>
 #include <vector>
 
-#include "../src/transform.hpp"
-#include "scene_meshes.h"
+#include "../src/common/transform.hpp"
+#include "../scene/scene_meshes.h"
 
 #ifdef HGCD_BENCH_FCL
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>

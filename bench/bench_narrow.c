@@ -25,6 +25,7 @@
  * and a table on stderr. Exit status 0, 1 on an API failure, 2 on usage. */
 #define _POSIX_C_SOURCE 200809L
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 #include <math.h>
 #include <stdio.h>

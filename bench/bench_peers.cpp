@@ -79,6 +79,7 @@
 //    overflows and ODE aborts. Such runs are skipped and reported with a
 //    "skipped" member instead of timings.
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 #include <sys/resource.h>
 #include <unistd.h>

@@ -8,6 +8,7 @@
  * cube's walls), printing per tick the colliding pairs and the time per phase. */
 #define _POSIX_C_SOURCE 199309L
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 #include <stdio.h>
 #include <stdlib.h>

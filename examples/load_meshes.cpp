@@ -36,6 +36,7 @@
 #endif
 
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 #include <cctype>
 #include <chrono>
@@ -47,7 +48,7 @@
 #include <tuple>
 #include <vector>
 
-#include "../bench/scene_meshes.h"
+#include "../scene/scene_meshes.h"
 
 namespace {
 

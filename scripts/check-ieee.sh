@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# The library's results must not depend on -ffast-math or -Ofast (src/ieee.hpp
+# The library's results must not depend on -ffast-math or -Ofast (src/common/ieee.hpp
 # says why). Two checks, called by scripts/run-tests.sh:
 # 1. The library built with CXXFLAGS="-Ofast", through the Makefile and
 #    through meson (both take the flags that undo it from
-#    src/ieee-flags.txt, after the user's), reports the same pairs as the
+#    src/common/ieee-flags.txt, after the user's), reports the same pairs as the
 #    plain Makefile build: bench_hgcd, scene tetra, n = 100000,
 #    2 threads, 3 ticks, the same counts (candidates, narrow and triangle
 #    tests, pairs, containment), the same hash of the last tick's pairs, and
 #    SCENES.md's counts at the initial poses.
 # 2. A build that compiles the sources some other way with either flag stops:
-#    each src/*.cpp is compiled with each, syntax only, and must stop with
+#    each library source is compiled with each, syntax only, and must stop with
 #    ieee.hpp's message (a new source that forgets the include fails here).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -24,8 +24,8 @@ print(" ".join("%s=%s" % (k, d[k]) for k in ("candidate_pairs", "narrow_tests", 
 }
 for flags in "-O2 -g" "-Ofast"; do
     dir=build-make-ieee$(tr -dc 'a-zA-Z0-9' <<<"$flags")
-    make -s -j"$(nproc 2>/dev/null || echo 2)" lib BUILD="$dir" CXXFLAGS="$flags" >/dev/null
-    cc -std=c99 -O2 -Iinclude bench/bench_hgcd.c -o "$dir/bench_hgcd" "$dir/libhgcd.a" -fopenmp -lstdc++ -lm \
+    make -s -j"$(nproc 2>/dev/null || echo 2)" lib scene BUILD="$dir" CXXFLAGS="$flags" >/dev/null
+    cc -std=c99 -O2 -Iinclude -Iscene bench/bench_hgcd.c -o "$dir/bench_hgcd" "$dir/libhgcd_scene.a" "$dir/libhgcd.a" -fopenmp -lstdc++ -lm \
         $(cat "$dir/libhgcd-static-deps.txt" | sed 's/\([^ ]\+\)/-l\1/g')
     got=$("$dir/bench_hgcd" --n 100000 --threads 2 --ticks 3 --check | results)
     echo "library built with CXXFLAGS=\"$flags\": $got"
@@ -46,10 +46,10 @@ if [ "$got" != "$plain" ]; then
     fail=1
 fi
 case "$plain" in *reference_ok=True*) ;; *) echo "the plain build misses SCENES.md's counts"; fail=1 ;; esac
-for f in src/*.cpp; do
+for f in src/*/*.cpp scene/scene.cpp; do
     for flag in -ffast-math -Ofast; do
-        if out=$("$cxx" -std=c++17 -fopenmp "$flag" -fsyntax-only -Iinclude -Isrc "$f" 2>&1); then
-            echo "$f compiles with $flag: it must include src/ieee.hpp"
+        if out=$("$cxx" -std=c++17 -fopenmp "$flag" -fsyntax-only -Iinclude -Isrc -Iscene "$f" 2>&1); then
+            echo "$f compiles with $flag: it must include src/common/ieee.hpp"
             fail=1
         elif ! grep -q "hgcd needs IEEE arithmetic" <<<"$out"; then
             echo "$f fails with $flag, but not on ieee.hpp's check:"
@@ -58,5 +58,5 @@ for f in src/*.cpp; do
         fi
     done
 done
-[ "$fail" = 0 ] && echo "-Ofast builds (make, meson) report the same pairs; every src/*.cpp compiled otherwise refuses -ffast-math and -Ofast"
+[ "$fail" = 0 ] && echo "-Ofast builds (make, meson) report the same pairs; every library source compiled otherwise refuses -ffast-math and -Ofast"
 exit "$fail"

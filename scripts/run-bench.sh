@@ -33,7 +33,7 @@ peer_max=${BENCH_PEER_MAX_SECONDS:-300}
 results=${BENCH_RESULTS:-bench/results}
 
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
-if [ "$commit" != unknown ] && [ -n "$(git status --porcelain -- src include meson.build 2>/dev/null)" ]; then
+if [ "$commit" != unknown ] && [ -n "$(git status --porcelain -- src scene include meson.build 2>/dev/null)" ]; then
     commit="$commit-dirty"
 fi
 

@@ -26,7 +26,7 @@ step "meson build and tests (debugoptimized)"
 meson compile -C build >/dev/null
 meson test -C build --print-errorlogs --num-processes "$jobs"
 
-step "the library built with CXXFLAGS=-Ofast reports the same pairs; sources compiled otherwise refuse -ffast-math and -Ofast (src/ieee.hpp)"
+step "the library built with CXXFLAGS=-Ofast reports the same pairs; sources compiled otherwise refuse -ffast-math and -Ofast (src/common/ieee.hpp)"
 bash scripts/check-ieee.sh
 
 step "the broad phase, tetrahedron-pair and thread tests again without AVX2 (AVX2 machines pick 8-box sweeps, the four-body census and gather and the batched narrow kernels)"
@@ -62,12 +62,12 @@ elif [ $rc -ne 0 ]; then
 fi
 
 step "plain Makefile build, install into a staging directory, link a program against it"
-make -s lib
+make -s lib scene
 stage=$(mktemp -d)
 make -s install DESTDIR="$stage" PREFIX=/usr >/dev/null
 test -f "$stage/usr/lib/pkgconfig/hgcd.pc"
 test -L "$stage/usr/lib/libhgcd.so.0"
-cc -std=c99 -I"$stage/usr/include" examples/demo.c -o "$stage/demo" -L"$stage/usr/lib" -lhgcd
+cc -std=c99 -I"$stage/usr/include" -Iscene examples/demo.c -o "$stage/demo" build-make/libhgcd_scene.a -L"$stage/usr/lib" -lhgcd
 LD_LIBRARY_PATH="$stage/usr/lib" "$stage/demo" --n 20000 --ticks 1 --threads 2 | tail -n 2
 rm -rf "$stage"
 

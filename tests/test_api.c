@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 static const double kTetraVerts[12] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
 static const uint32_t kTetraTris[12] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};

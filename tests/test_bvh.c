@@ -19,8 +19,9 @@
 #include <cmocka.h>
 
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
-#include "../bench/scene_meshes.h"
+#include "../scene/scene_meshes.h"
 #include "oracle.h"
 
 /* ------------------------------------------------------------- meshes -- */

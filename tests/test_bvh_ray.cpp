@@ -23,10 +23,10 @@ extern "C" {  // this cmocka.h has no C++ guard
 #include <cmocka.h>
 }
 
-#include "../bench/scene_meshes.h"
-#include "../src/bvh.hpp"
-#include "../src/geometry.hpp"
-#include "../src/mesh.hpp"
+#include "../scene/scene_meshes.h"
+#include "narrow/bvh.hpp"
+#include "exact/geometry.hpp"
+#include "world/mesh.hpp"
 #include "oracle.h"
 
 namespace {

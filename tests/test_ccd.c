@@ -44,8 +44,9 @@
 #include <cmocka.h>
 
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
-#include "../src/testing.h"
+#include "support/testing.h"
 #include "oracle.h"
 
 /* ------------------------------------------------------------- shapes -- */

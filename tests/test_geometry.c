@@ -16,7 +16,7 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#include "../src/testing.h"
+#include "support/testing.h"
 #include "oracle.h"
 
 /* ------------------------------------------------------------------------ */

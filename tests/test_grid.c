@@ -23,7 +23,7 @@
 #include <xmmintrin.h>
 #endif
 
-#include "../src/testing.h"
+#include "support/testing.h"
 #include "test_rng.h"
 
 /* v rounded to a float at most, or at least, v (the nearest float, one

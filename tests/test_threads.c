@@ -22,6 +22,7 @@
 #include <cmocka.h>
 
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 enum { WORKERS = 4, TICKS = 4 };
 

@@ -20,6 +20,7 @@
 #include <cmocka.h>
 
 #include <hgcd/hgcd.h>
+#include <hgcd/hgcd_scene.h>
 
 #include "oracle.h"
 #include "snapshot.h"

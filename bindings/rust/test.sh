@@ -37,10 +37,10 @@ if [ -z "${HGCD_LIB_DIR:-}" ]; then
     lib="$root/build-make/libhgcd.a"
     if [ ! -f "$lib" ]; then
         step "building the C library ($lib is missing)"
-        make -C "$root" lib
-    elif ! make -q -C "$root" lib >/dev/null 2>&1; then
+        make -C "$root" lib scene
+    elif ! make -q -C "$root" lib scene >/dev/null 2>&1; then
         step "rebuilding the C library (out of date)"
-        make -C "$root" lib
+        make -C "$root" lib scene
     fi
     export HGCD_LIB_DIR="$root/build-make"
 fi

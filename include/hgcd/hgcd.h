@@ -644,6 +644,4 @@ HGCD_API hgcd_status hgcd_body_validate(const hgcd_world *world,
 }
 #endif
 
-#include "hgcd_scene.h"
-
 #endif /* HGCD_H */

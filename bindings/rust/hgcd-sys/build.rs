@@ -227,6 +227,25 @@ fn main() {
                     println!("cargo:rustc-link-search=native={}", d.display());
                 }
             }
+            // The reference scenes' support library (the `hgcd::scene`
+            // module), beside libhgcd or in the repository build; it calls
+            // libhgcd, so it comes first.
+            let scene_dir = [f.dir.clone(), repo_build_dir()]
+                .into_iter()
+                .find(|d| d.join("libhgcd_scene.a").is_file());
+            match scene_dir {
+                Some(d) => {
+                    if d != f.dir {
+                        println!("cargo:rustc-link-search=native={}", d.display());
+                    }
+                    println!("cargo:rerun-if-changed={}", d.join("libhgcd_scene.a").display());
+                    println!("cargo:rustc-link-lib=static=hgcd_scene");
+                }
+                None => println!(
+                    "cargo:warning=libhgcd_scene.a not found beside libhgcd nor in build-make/: \
+                     the hgcd_scene_* functions will not link (run `make scene`)"
+                ),
+            }
             match f.kind {
                 Kind::Static => println!("cargo:rustc-link-lib=static=hgcd"),
                 Kind::Dylib => println!("cargo:rustc-link-lib=dylib=hgcd"),

@@ -75,7 +75,7 @@ trap 'rm -f "$tmp" "$tmp.raw"' EXIT
 # leak into the output.
 (
     cd "$root"
-    "$BINDGEN" include/hgcd/hgcd.h \
+    "$BINDGEN" bindings/rust/hgcd-sys/wrapper.h \
         --no-rustfmt-bindings \
         --rust-target 1.47 \
         --allowlist-function 'hgcd_.*' \
@@ -88,7 +88,7 @@ trap 'rm -f "$tmp" "$tmp.raw"' EXIT
         --with-derive-partialeq \
         --with-derive-eq \
         --with-derive-hash \
-        -- -x c -std=c99 -Iinclude
+        -- -x c -std=c99 -Iinclude -Iscene
 ) > "$tmp.raw"
 "$RUSTFMT" --config-path "$here/rustfmt-bindings.toml" --emit stdout < "$tmp.raw" > "$tmp"
 

@@ -1,4 +1,4 @@
-#include "narrow.hpp"
+#include "narrow/narrow.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,11 +8,11 @@
 #include <immintrin.h>
 #endif
 
-#include "bvh.hpp"
-#include "cpu.hpp"
-#include "geometry.hpp"
-#include "ieee.hpp"
-#include "transform.hpp"
+#include "narrow/bvh.hpp"
+#include "common/cpu.hpp"
+#include "exact/geometry.hpp"
+#include "common/ieee.hpp"
+#include "common/transform.hpp"
 
 namespace hgcd {
 

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "transform.hpp"
+#include "common/transform.hpp"
 
 namespace hgcd {
 

@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "ccd_narrow.hpp"
+#include "narrow/ccd_narrow.hpp"
 #include "hgcd/hgcd.h"
-#include "narrow.hpp"
+#include "narrow/narrow.hpp"
 
 namespace hgcd {
 

@@ -8,6 +8,8 @@
 #include <atomic>
 #include <exception>
 
+#include "common/ieee.hpp"
+
 namespace hgcd {
 
 class RegionGuard {
@@ -31,5 +33,21 @@ class RegionGuard {
     std::atomic<bool> failed_{false};
     std::exception_ptr first_;
 };
+
+// One OpenMP region on `threads` threads: each runs body(guard) under the
+// IEEE mode (ieee.hpp); the first exception is rethrown after the region.
+// The body may hold worksharing loops; each iteration that can throw runs
+// through guard.run, so that a failing thread still reaches the loops'
+// barriers and the region ends.
+template <class Body>
+void parallel_region(int threads, Body &&body) {
+    RegionGuard guard;
+#pragma omp parallel num_threads(threads)
+    {
+        const IeeeMode ieee;
+        body(guard);
+    }
+    guard.rethrow();
+}
 
 }  // namespace hgcd

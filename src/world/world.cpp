@@ -1,4 +1,4 @@
-#include "world.hpp"
+#include "world/world.hpp"
 
 #include <omp.h>
 
@@ -9,13 +9,13 @@
 #include <memory>
 #include <new>
 
-#include "ccd_narrow.hpp"
-#include "contact.hpp"
-#include "ieee.hpp"
-#include "narrow.hpp"
-#include "parallel.hpp"
-#include "permute.hpp"
-#include "transform.hpp"
+#include "narrow/ccd_narrow.hpp"
+#include "narrow/contact.hpp"
+#include "common/ieee.hpp"
+#include "narrow/narrow.hpp"
+#include "common/parallel.hpp"
+#include "world/permute.hpp"
+#include "common/transform.hpp"
 
 namespace hgcd {
 

@@ -1,10 +1,10 @@
-#include "contact.hpp"
+#include "narrow/contact.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "geometry.hpp"
-#include "ieee.hpp"
+#include "exact/geometry.hpp"
+#include "common/ieee.hpp"
 
 namespace hgcd {
 

@@ -5,8 +5,9 @@
 #include <vector>
 
 #include "hgcd/hgcd.h"
-#include "ieee.hpp"
-#include "tags.hpp"
+#include "hgcd/hgcd_scene.h"
+#include "common/ieee.hpp"
+#include "common/tags.hpp"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "mesh.hpp"
+#include "world/mesh.hpp"
 
 namespace hgcd {
 

@@ -7,7 +7,7 @@
 
 #include <stdint.h>
 
-#include "hgcd_export.h"
+#include <hgcd/hgcd.h>
 
 #ifdef __cplusplus
 extern "C" {

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "narrow.hpp"
+#include "narrow/narrow.hpp"
 
 namespace hgcd {
 

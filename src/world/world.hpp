@@ -9,11 +9,11 @@
 #include <type_traits>
 #include <vector>
 
-#include "grid.hpp"
+#include "broad/grid.hpp"
 #include "hgcd/hgcd.h"
-#include "mesh.hpp"
-#include "memory.hpp"
-#include "narrow.hpp"
+#include "world/mesh.hpp"
+#include "world/memory.hpp"
+#include "narrow/narrow.hpp"
 
 namespace hgcd {
 

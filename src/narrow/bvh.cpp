@@ -1,11 +1,11 @@
-#include "bvh.hpp"
+#include "narrow/bvh.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
-#include "geometry.hpp"
-#include "ieee.hpp"
+#include "exact/geometry.hpp"
+#include "common/ieee.hpp"
 
 namespace hgcd {
 

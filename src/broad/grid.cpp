@@ -1,4 +1,4 @@
-#include "grid.hpp"
+#include "broad/grid.hpp"
 
 #include <omp.h>
 
@@ -9,10 +9,10 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "cpu.hpp"
-#include "ieee.hpp"
-#include "parallel.hpp"
-#include "permute.hpp"
+#include "common/cpu.hpp"
+#include "common/ieee.hpp"
+#include "common/parallel.hpp"
+#include "world/permute.hpp"
 
 #if defined(__SSE2__)
 #include <immintrin.h>

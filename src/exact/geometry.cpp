@@ -23,8 +23,8 @@
 // only removes roundings); the exact parts use std::fma explicitly when the
 // target has a hardware FMA and Dekker's splitting otherwise (targets without
 // FMA cannot contract).
-#include "geometry.hpp"
-#include "ieee.hpp"
+#include "exact/geometry.hpp"
+#include "common/ieee.hpp"
 
 #include <cmath>
 #include <cstdint>

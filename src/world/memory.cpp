@@ -1,4 +1,4 @@
-#include "memory.hpp"
+#include "world/memory.hpp"
 
 #include <atomic>
 #include <cstdint>
@@ -7,7 +7,7 @@
 #include <sys/mman.h>
 #endif
 
-#include "ieee.hpp"  // (every source refuses -ffast-math: see ieee.hpp)
+#include "common/ieee.hpp"  // (every source refuses -ffast-math: see ieee.hpp)
 
 namespace hgcd {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "bvh.hpp"
+#include "narrow/bvh.hpp"
 
 namespace hgcd {
 

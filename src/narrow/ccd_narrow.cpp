@@ -3,11 +3,11 @@
 //
 // The plain Makefile compiles every src/*.cpp: without HGCD_HAVE_CCD this
 // file is empty (the header's inline definitions for that build stand in).
-#include "ieee.hpp"  // (every library source, this one with or without libccd)
+#include "common/ieee.hpp"  // (every library source, this one with or without libccd)
 
 #ifdef HGCD_HAVE_CCD
 
-#include "ccd_narrow.hpp"
+#include "narrow/ccd_narrow.hpp"
 
 #include <ccd/ccd.h>
 #include <ccd/config.h>

@@ -8,12 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "geometry.hpp"
-#include "hgcd/hgcd.h"  // (and hgcd_scene.h)
-#include "grid.hpp"
-#include "mesh.hpp"
-#include "narrow.hpp"
-#include "ieee.hpp"
+#include "exact/geometry.hpp"
+#include "hgcd/hgcd.h"
+#include "hgcd/hgcd_scene.h"
+#include "broad/grid.hpp"
+#include "world/mesh.hpp"
+#include "narrow/narrow.hpp"
+#include "common/ieee.hpp"
 
 extern "C" {
 

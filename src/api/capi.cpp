@@ -4,11 +4,11 @@
 #include <cstring>
 #include <new>
 
-#include "ccd_narrow.hpp"
+#include "narrow/ccd_narrow.hpp"
 #include "hgcd/hgcd.h"
-#include "ieee.hpp"
-#include "tags.hpp"
-#include "world.hpp"
+#include "common/ieee.hpp"
+#include "common/tags.hpp"
+#include "world/world.hpp"
 
 struct hgcd_world {
     hgcd::World impl;

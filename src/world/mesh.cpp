@@ -1,11 +1,11 @@
-#include "mesh.hpp"
+#include "world/mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
-#include "geometry.hpp"
-#include "ieee.hpp"
+#include "exact/geometry.hpp"
+#include "common/ieee.hpp"
 
 namespace hgcd {
 

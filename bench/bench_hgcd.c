@@ -1,4 +1,4 @@
-/* bench_hgcd: scene `tetra` of SCENES.md through the public C API of hgcd.
+/* bench_hgcd: scene `tetra` (docs/scenes.md) through the public C API of hgcd.
  *
  *   bench_hgcd [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
  *              [--lib NAME] [--min-cell-size W] [--side L] [--check]
@@ -7,13 +7,13 @@
  * runs are hgcd-long).
  * --min-cell-size sets the world descriptor's min_cell_size (default 0: the
  * grid adapts to the body sizes, levels a factor 2 apart). --side sets the
- * scene's cube side L (default 200; SCENES.md's reference counts hold for
+ * scene's cube side L (default 200; the reference counts of docs/scenes.md hold for
  * the default only).
  *
  * Generates the scene with hgcd_scene_tetra_generate, creates the N bodies on
  * the shared unit mesh (hgcd_scene_tetra_unit_mesh, body scale = generated
  * scale) in a world that reflects at the cube [0, side]^3 (which is exactly
- * the motion of SCENES.md), runs one initial hgcd_world_detect and then T
+ * the motion of docs/scenes.md), runs one initial hgcd_world_detect and then T
  * ticks of hgcd_world_step, and prints ONE JSON line on stdout:
  *
  *   lib, scene, n, seed, threads, ticks, commit,
@@ -34,8 +34,8 @@
  *   bytes_per_body    growth of the peak RSS from just before world creation
  *                     to after the ticks, divided by n;
  *   reference_ok      with --check: whether the initial detect matches the
- *                     reference counts of SCENES.md (pairs and containment;
- *                     null when SCENES.md has no row for this n and seed).
+ *                     reference counts of docs/scenes.md (pairs and containment;
+ *                     null when docs/scenes.md has no row for this n and seed).
  *
  * --per-tick prints each tick's times to stderr. Diagnostics go to stderr. Exit status: 0 when the JSON line was printed
  * (even with reference_ok false: the caller reads the JSON), 1 on an API
@@ -98,11 +98,11 @@ static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
 static void usage(const char *argv0) {
     fprintf(stderr,
             "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--lib NAME] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
-            "  --threads 0 = all cores; --check compares the initial detect with SCENES.md\n",
+            "  --threads 0 = all cores; --check compares the initial detect with docs/scenes.md\n",
             argv0);
 }
 
-/* Reference answers of SCENES.md (seed 1, default scene parameters). */
+/* Reference answers of docs/scenes.md (seed 1, default scene parameters). */
 static const struct {
     uint64_t n, pairs, containment;
 } reference[] = {{100000, 4266, 30}, {200000, 17201, 151}, {500000, 106075, 926}, {750000, 237561, 2155}};
@@ -146,7 +146,7 @@ int main(int argc, char **argv) {
         return 2;
     }
 
-    /* The scene, bit for bit as SCENES.md defines it. */
+    /* The scene, bit for bit as docs/scenes.md defines it. */
     hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
     sd.n = n;
     sd.seed = seed;
@@ -197,7 +197,7 @@ int main(int argc, char **argv) {
                 if (!ok)
                     fprintf(stderr,
                             "bench_hgcd: n = %llu: initial detect gave %llu pairs (%llu by containment), "
-                            "SCENES.md says %llu (%llu)\n",
+                            "docs/scenes.md says %llu (%llu)\n",
                             (unsigned long long)n, (unsigned long long)initial_pairs,
                             (unsigned long long)initial_containment, (unsigned long long)reference[k].pairs,
                             (unsigned long long)reference[k].containment);

@@ -1,5 +1,5 @@
 // bench_meshes: hgcd on large non-convex meshes (scene `meshes`,
-// bench/SCENES-meshes.md), against FCL's BVHModel<OBBRSS> mesh-mesh
+// docs/scenes.md), against FCL's BVHModel<OBBRSS> mesh-mesh
 // collision on the same scene in the same run.
 //
 //   bench_meshes [--n N] [--side L] [--seed S] [--threads K] [--reps R]

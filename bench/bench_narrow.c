@@ -1,5 +1,5 @@
 /* bench_narrow: the narrow phases of hgcd side by side on scene `tetra`
- * (SCENES.md), in one run on the same poses: the exact test, libccd's GJK and
+ * (docs/scenes.md), in one run on the same poses: the exact test, libccd's GJK and
  * MPR (HGCD_NARROW_GJK / HGCD_NARROW_MPR), and each with contacts on
  * (witness triangles for the exact test, EPA / MPR penetration for libccd).
  *

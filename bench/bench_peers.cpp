@@ -4,7 +4,7 @@
 //               [--commit HASH] [--max-tick-seconds X] [--max-seconds Y]
 //   bench_peers --list          prints the peers compiled in, one a line
 //
-// The scene is the one of SCENES.md, drawn by hgcd_scene_tetra_generate (so
+// The scene is the one of docs/scenes.md, drawn by hgcd_scene_tetra_generate (so
 // centres, orientations, velocities and scales are bit-identical to what
 // bench_hgcd uses) and moved each tick by hgcd_scene_tetra_move. Each body is
 // handed to the peer as an axis-aligned box of its 4 world vertices (world

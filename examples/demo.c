@@ -1,9 +1,9 @@
-/* hgcd demo: the `tetra` scene of SCENES.md through the C API.
+/* hgcd demo: the `tetra` scene of docs/scenes.md through the C API.
  *
  *   demo [--n N] [--ticks T] [--threads K] [--seed S]
  *
  * Generates N tetrahedra, detects at the initial poses (tick 0, checked
- * against the reference counts of SCENES.md when N and the seed are one of
+ * against the reference counts of docs/scenes.md when N and the seed are one of
  * its rows), then runs T ticks of motion (hgcd_world_step, reflecting at the
  * cube's walls), printing per tick the colliding pairs and the time per phase. */
 #define _POSIX_C_SOURCE 199309L
@@ -81,7 +81,7 @@ int main(int argc, char **argv) {
     for (size_t k = 0; k < sizeof ref / sizeof ref[0]; ++k)
         if (seed == 1 && n == ref[k].n && sd.side == 200.0) {
             const int ok = st.colliding_pairs == ref[k].pairs && st.containment_pairs == ref[k].containment;
-            printf("        SCENES.md reference for n = %llu: %llu pairs (%llu by containment): %s\n",
+            printf("        docs/scenes.md reference for n = %llu: %llu pairs (%llu by containment): %s\n",
                    (unsigned long long)n, (unsigned long long)ref[k].pairs,
                    (unsigned long long)ref[k].containment, ok ? "MATCH" : "MISMATCH");
             if (!ok) return 1;

@@ -17,7 +17,7 @@
 // bounding sphere gets radius r. Prints what hgcd worked out about the mesh,
 // then detects once and prints the pair count, the containment count, the
 // time and the first pairs.
-// The second form writes the blob of scene `meshes` (bench/SCENES-meshes.md)
+// The second form writes the blob of scene `meshes` (docs/scenes.md)
 // as OBJ or ASCII STL (by the extension), for a file to try the first form
 // on.
 //

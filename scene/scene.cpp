@@ -1,4 +1,4 @@
-// Scene `tetra` of SCENES.md, bit for bit.
+// Scene `tetra` (docs/scenes.md), bit for bit.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -23,7 +23,7 @@ struct SplitMix64 {
     double u() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
 };
 
-// One object of the scene: the ten numbers SCENES.md draws, in its order and
+// One object of the scene: the ten numbers docs/scenes.md draws, in its order and
 // arithmetic, turned into what a body needs.
 struct Object {
     double center[3], radius, scale, orientation[4], velocity[3];
@@ -85,7 +85,7 @@ hgcd_scene_tetra_desc hgcd_scene_tetra_desc_default(void) {
 int32_t hgcd_scene_tetra_generate(const hgcd_scene_tetra_desc *desc, double *centers,
                                   double *radii, double *scales, double *orientations,
                                   double *velocities) {
-    const hgcd::IeeeMode ieee;  // (SCENES.md's arithmetic is IEEE's)
+    const hgcd::IeeeMode ieee;  // (the scene's arithmetic is IEEE's)
     const int32_t status = check(desc);
     if (status != HGCD_OK) return status;
     Draw draw(*desc);
@@ -105,7 +105,7 @@ int32_t hgcd_scene_tetra_generate(const hgcd_scene_tetra_desc *desc, double *cen
 
 int32_t hgcd_scene_tetra_populate(hgcd_world *world, const hgcd_scene_tetra_desc *desc,
                                   hgcd_mesh *mesh_out) {
-    const hgcd::IeeeMode ieee;  // (SCENES.md's arithmetic is IEEE's)
+    const hgcd::IeeeMode ieee;  // (the scene's arithmetic is IEEE's)
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     int32_t status = check(desc);
     if (status != HGCD_OK) return status;
@@ -163,7 +163,7 @@ void hgcd_scene_tetra_unit_mesh(double *vertices, uint32_t *triangles) {
 }
 
 void hgcd_scene_tetra_move(uint64_t n, double side, double *centers, double *velocities) {
-    const hgcd::IeeeMode ieee;  // (SCENES.md's arithmetic is IEEE's)
+    const hgcd::IeeeMode ieee;  // (the scene's arithmetic is IEEE's)
     if (!centers || !velocities) return;
     for (uint64_t k = 0; k < 3 * n; ++k) {
         double x = centers[k] + velocities[k];

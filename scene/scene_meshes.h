@@ -1,5 +1,5 @@
 /*
- * Scene `meshes` (bench/SCENES-meshes.md): the blob mesh, bit for bit.
+ * Scene `meshes` (docs/scenes.md): the blob mesh, bit for bit.
  * Header-only C99 (also valid C++), shared by bench/bench_meshes.cpp,
  * examples/load_meshes.cpp and tests/test_bvh.c. Poses come from
  * hgcd_scene_tetra_generate (the `tetra` draws), with body scale = radius.

@@ -7,7 +7,7 @@
 #    plain Makefile build: bench_hgcd, scene tetra, n = 100000,
 #    2 threads, 3 ticks, the same counts (candidates, narrow and triangle
 #    tests, pairs, containment), the same hash of the last tick's pairs, and
-#    SCENES.md's counts at the initial poses.
+#    the reference counts of docs/scenes.md at the initial poses.
 # 2. A build that compiles the sources some other way with either flag stops:
 #    each library source is compiled with each, syntax only, and must stop with
 #    ieee.hpp's message (a new source that forgets the include fails here).
@@ -45,7 +45,7 @@ if [ "$got" != "$plain" ]; then
     echo "the meson -Ofast build reports other results than the plain one"
     fail=1
 fi
-case "$plain" in *reference_ok=True*) ;; *) echo "the plain build misses SCENES.md's counts"; fail=1 ;; esac
+case "$plain" in *reference_ok=True*) ;; *) echo "the plain build misses the reference counts of docs/scenes.md"; fail=1 ;; esac
 for f in src/*/*.cpp scene/scene.cpp; do
     for flag in -ffast-math -Ofast; do
         if out=$("$cxx" -std=c++17 -fopenmp "$flag" -fsyntax-only -Iinclude -Isrc -Iscene "$f" 2>&1); then

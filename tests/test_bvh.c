@@ -554,7 +554,7 @@ static void test_exact_grid_contacts(void **state) {
     }
 }
 
-/* The `meshes` benchmark scene (bench/SCENES-meshes.md) at a small size,
+/* The `meshes` benchmark scene (docs/scenes.md) at a small size,
  * detected with 1 and 3 threads, against the oracle. */
 static void test_meshes_scene_small(void **state) {
     (void)state;

@@ -1,7 +1,7 @@
 /* The libccd narrow phase (HGCD_NARROW_GJK, HGCD_NARROW_MPR) against the
  * exact one, and the contact API (hgcd_world_contacts).
  *
- * Agreement. On random convex scenes (scene `tetra` of SCENES.md at small n,
+ * Agreement. On random convex scenes (scene `tetra` of docs/scenes.md at small n,
  * rotated cubes, finely tessellated cubes) every pair is decided by the exact
  * path and by libccd. libccd is not exact, so the two may differ, but only on
  * pairs that touch or overlap by less than libccd's tolerance. hgcd sets the
@@ -423,7 +423,7 @@ static void test_feature_and_refusals(void **state) {
     hgcd_world_destroy(w);
 }
 
-/* Scene `tetra` of SCENES.md at small n, the cube side shrunk so that the
+/* Scene `tetra` of docs/scenes.md at small n, the cube side shrunk so that the
  * density of the n = 750000 scene is kept. */
 static void tetra_scene(bodies *b, uint64_t n, uint64_t seed) {
     hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();

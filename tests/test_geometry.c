@@ -1048,7 +1048,7 @@ static void test_scene_oracle_small(void **state) {
     assert_int_equal(brute, count);
 }
 
-/* The reference answer of SCENES.md: tetra scene, n = 100000, seed 1,
+/* The reference answer of docs/scenes.md: tetra scene, n = 100000, seed 1,
  * initial poses: 4266 colliding pairs, 30 by containment. */
 static uint64_t sm_state;
 static uint64_t sm_next(void) {

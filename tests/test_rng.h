@@ -1,4 +1,4 @@
-/* The tests' random numbers: splitmix64 (as SCENES.md) and Shoemake's
+/* The tests' random numbers: splitmix64 (as docs/scenes.md) and Shoemake's
  * uniform rotation. Shared by the test programs. */
 #ifndef HGCD_TEST_RNG_H
 #define HGCD_TEST_RNG_H

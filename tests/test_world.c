@@ -2,7 +2,7 @@
  * brute-force oracle (tests/oracle.c: every body pair, every triangle pair,
  * containment, in exact rationals), on random scenes with every kind of mesh,
  * exact touching configurations, bodies larger than the coarsest level,
- * incremental motion, removal, and the tetra scene of SCENES.md. */
+ * incremental motion, removal, and the tetra scene of docs/scenes.md. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -422,7 +422,7 @@ static void test_row_reversed(void **state) {
 static void test_step_matches_oracle(void **state) {
     (void)state;
     /* Motion through hgcd_world_step (reflecting at the bounds), mirrored on
-     * the test side with the SCENES.md formula. */
+     * the test side with the formula of docs/scenes.md. */
     rng r = {5};
     scene sc;
     hgcd_world_desc wd = hgcd_world_desc_default();
@@ -457,7 +457,7 @@ static void test_step_matches_oracle(void **state) {
     scene_free(&sc);
 }
 
-/* The tetra scene of SCENES.md in a world with the given threads (scene
+/* The tetra scene of docs/scenes.md in a world with the given threads (scene
  * object i in slot i, with user data i). */
 static hgcd_world *tetra_world(const hgcd_scene_tetra_desc *sd, uint32_t threads) {
     hgcd_world_desc wd = hgcd_world_desc_default();
@@ -589,7 +589,7 @@ static void test_thread_counts_identical(void **state) {
 
 static void test_tetra_reference_counts(void **state) {
     (void)state;
-    /* SCENES.md's reference answers (exact, computed independently). */
+    /* The reference answers of docs/scenes.md (exact, computed independently). */
     static const struct { uint64_t n, pairs, containment; } ref[] = {{100000, 4266, 30}, {200000, 17201, 151}};
     for (int k = 0; k < 2; ++k) {
         const uint64_t n = ref[k].n;

@@ -1,5 +1,5 @@
 /*
- * hgcd reference scenes (../shared/SCENES.md), generated bit for bit, for
+ * hgcd reference scenes (defined in docs/scenes.md), generated bit for bit, for
  * tests, examples, benchmarks and bindings. Included by hgcd.h.
  */
 #ifndef HGCD_SCENE_H
@@ -62,7 +62,7 @@ HGCD_API int32_t hgcd_scene_tetra_generate(const hgcd_scene_tetra_desc *desc,
 HGCD_API int32_t hgcd_scene_tetra_populate(hgcd_world *world, const hgcd_scene_tetra_desc *desc,
                                            hgcd_mesh *mesh_out);
 
-/** The unit sign-pattern tetrahedron of SCENES.md: vertices (1,1,1),
+/** The unit sign-pattern tetrahedron of docs/scenes.md: vertices (1,1,1),
  *  (1,-1,-1), (-1,1,-1), (-1,-1,1) into vertices[12] and the faces (0,1,2)
  *  (0,3,1) (0,2,3) (1,3,2) into triangles[12]. Scaled by r / sqrt(3) it is the
  *  scene's tetrahedron of circumradius r, bit for bit. NULL pointers are
@@ -71,7 +71,7 @@ HGCD_API void hgcd_scene_tetra_unit_mesh(double *vertices, uint32_t *triangles);
 
 /** One tick of the scene's motion for n objects: center += velocity, mirrored
  *  back into [0, side] per coordinate with that velocity component negated,
- *  exactly as SCENES.md writes it. For callers that move bodies themselves. */
+ *  exactly as docs/scenes.md writes it. For callers that move bodies themselves. */
 HGCD_API void hgcd_scene_tetra_move(uint64_t n, double side, double *centers,
                                     double *velocities);
 

@@ -1,14 +1,13 @@
 #!/usr/bin/env python3
-"""Chart and Markdown table of a benchmark run (bench/results/*.jsonl).
+"""Chart and Markdown table of a benchmark run (bench/results/<machine>/<scene>.jsonl).
 
-    python3 bench/plot.py bench/results/<date>-<commit>.jsonl [--out FILE.svg]
+    python3 bench/plot.py bench/results/<machine>/tetra.jsonl [--out FILE.svg]
 
-Writes bench/results/tick_time_vs_n.svg (next to the input file; --out to
-choose another path): time per tick against n on log-log axes, for hgcd's
-whole tick (tick_ms) and its broad phase (broad_ms) at each thread count
-measured, and each peer's broad phase (broad_ms). The SVG is written by hand,
-so nothing beyond python3 is needed. Then prints a Markdown table (also saved
-as <input>.md) that the README can embed.
+Writes <scene>.svg next to the input file (--out to choose another path):
+time per tick against n on log-log axes, for hgcd's whole tick (tick_ms) and
+its broad phase (broad_ms) at each thread count measured, and each peer's
+broad phase (broad_ms). The SVG is written by hand, so nothing beyond python3
+is needed. Then prints a Markdown table, also saved as <scene>.md.
 
 When a file holds several runs of the same (lib, threads, n), the last line
 wins. Lines with "skipped" or "error" are listed in the table, not plotted.
@@ -75,7 +74,8 @@ def machine_of(rows):
     for r in rows:
         if r.get("nproc"):
             cpu = r.get("cpu") or ""
-            return f"{r['nproc']} cores" + (f", {cpu}" if cpu else "")
+            name = f"{r['machine']}: " if r.get("machine") else ""
+            return f"{name}{r['nproc']} cores" + (f", {cpu}" if cpu else "")
     cpu = ""
     try:
         with open("/proc/cpuinfo") as f:
@@ -208,7 +208,7 @@ def markdown(rows):
         if lib.startswith("hgcd"):
             pairs = f"{r.get('colliding_pairs', '?')} colliding / {r.get('candidate_pairs', '?')} box candidates"
             if r.get("reference_ok") is False:
-                pairs += " (initial detect ≠ SCENES.md!)"
+                pairs += " (initial detect ≠ docs/scenes.md!)"
             narrow, tick, mean = cell(r.get("narrow_ms")), cell(r.get("tick_ms")), cell(r.get("tick_mean_ms"))
         else:
             ok = r.get("pairs_ok")
@@ -219,12 +219,12 @@ def markdown(rows):
             ticks = f"{ticks} of {r['ticks_requested']}"
         out.append(f"| {n} | {lib} | {t} | {cell(r.get('broad_ms'))} | {narrow} | {tick} | {mean} | {pairs} | {ticks} |")
     out.append("")
-    out.append(f"Scene `tetra` (SCENES.md, seed {rows[0].get('seed', 1) if rows else 1}), "
+    out.append(f"Scene `tetra` (docs/scenes.md, seed {rows[0].get('seed', 1) if rows else 1}), "
                f"{machine_of(rows)}, commit {commits_of(rows)}; medians over the ticks, and hgcd's mean tick "
                "(with the ticks that renumber storage; hgcd-long: a longer run, whose mean counts renumberings at "
                "their real rate). "
                "hgcd: broad phase on each body's axis-aligned box of its world vertices, exact narrow phase, tick = motion + grid update + broad + "
-               "narrow (since commit c4d4251 the motion runs inside the grid update's pass over the bodies). Peers: broad phase only (update + pair search) on each body's axis-aligned box; their pair "
+               "narrow (the motion runs inside the grid update's pass over the bodies). Peers: broad phase only (update + pair search) on each body's axis-aligned box; their pair "
                "counts are checked against a sort-and-sweep of the same boxes.")
     return "\n".join(out)
 
@@ -232,13 +232,13 @@ def markdown(rows):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("jsonl")
-    ap.add_argument("--out", help="SVG path (default: tick_time_vs_n.svg next to the input)")
+    ap.add_argument("--out", help="SVG path (default: <scene>.svg next to the input)")
     a = ap.parse_args()
     rows = load(a.jsonl)
     if not rows:
         print(f"plot.py: no measurements in {a.jsonl}", file=sys.stderr)
         return 1
-    out = a.out or os.path.join(os.path.dirname(os.path.abspath(a.jsonl)), "tick_time_vs_n.svg")
+    out = a.out or os.path.splitext(a.jsonl)[0] + ".svg"
     write_svg(rows, series_of(rows), out)
     table = markdown(rows)
     md = os.path.splitext(a.jsonl)[0] + ".md"

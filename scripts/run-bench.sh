@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Benchmarks of hgcd on scene `tetra` (SCENES.md) and the broad phases of the
-# peers found (FCL, Bullet, ODE). Called by `make bench`; runs on its own too.
+# Benchmarks of hgcd on scene `tetra` (docs/scenes.md) and the broad phases of
+# the peers found (FCL, Bullet, ODE). Called by `make bench`; runs on its own
+# too. Method and fields: bench/README.md.
 #
 # Environment (defaults in brackets):
 #   BENCH_N        object counts                  [100000 200000 500000 750000]
@@ -10,17 +11,22 @@
 #   BENCH_SEED     scene seed                     [1]
 #   BENCH_MAX_TICK_SECONDS  a peer slower than this per tick stops after that tick [60]
 #   BENCH_PEER_MAX_SECONDS  a peer run stops before a tick that would pass this [300]
-#   BENCH_RESULTS  output directory               [bench/results]
 #   BENCH_LONG_N, BENCH_LONG_TICKS  a longer hgcd run per thread count,
 #                  recorded as lib "hgcd-long": its mean tick counts the
 #                  renumberings of storage (every ~40 ticks at n = 750000)
 #                  at their real rate, which 9 ticks do not  [the largest of
 #                  BENCH_N, 100; 0 ticks: none]
+#   BENCH_MACHINE  the machine's name in the results' path [a slug of the CPU
+#                  model and the core count, e.g. xeon-2c, from /proc/cpuinfo]
+#   BENCH_RESULTS  output directory               [bench/results]
 #
-# Builds with meson in build-bench (release, no tests), appends one JSON line
-# per measurement to $BENCH_RESULTS/<date>-<commit>.jsonl (commit gets a
-# "-dirty" suffix when src/, include/ or meson.build differ from HEAD), prints
-# them, then runs bench/plot.py on that file (chart + Markdown table).
+# Builds with meson in build-bench (release, no tests), runs the measurements,
+# printing one JSON line each, and then replaces
+# $BENCH_RESULTS/<machine>/tetra.jsonl with them (git keeps the earlier runs;
+# an interrupted run leaves the file as it was). Every line names its commit
+# ("-dirty" when src/, scene/, include/ or meson.build differ from HEAD).
+# Last, bench/plot.py writes the chart tetra.svg and the Markdown table
+# tetra.md beside it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -49,12 +55,28 @@ bench_hgcd=build-bench/bench/bench_hgcd
 bench_peers=build-bench/bench/bench_peers
 if [ -n "${BENCH_PEERS+set}" ]; then peers=$BENCH_PEERS; else peers=$("$bench_peers" --list | tr '\n' ' '); fi
 
-mkdir -p "$results"
-out="$results/$(date +%Y-%m-%d)-$commit.jsonl"
 nproc=$(nproc 2>/dev/null || echo 1)
 cpu=$(sed -n 's/^model name[[:space:]]*:[[:space:]]*//p' /proc/cpuinfo 2>/dev/null | head -n 1 | tr -d '"\\')
-echo "== $nproc cores (${cpu:-unknown cpu}); commit $commit; n = $ns; ticks = $ticks; hgcd threads = $threads; peers = ${peers:-none}" >&2
-echo "== results: $out" >&2
+# The machine's slug: the CPU model without vendor, trademarks, clock and
+# filler words ("Intel(R) Xeon(R) Processor" -> xeon, "AMD Ryzen 9 5950X
+# 16-Core Processor" -> ryzen-9-5950x), then the core count: xeon-2c.
+machine_slug() {
+    local model
+    model=$(printf '%s' "$cpu" | tr 'A-Z' 'a-z' | sed -e 's/([^)]*)//g' -e 's/@.*//' \
+        -e 's/[0-9]*-core//g' -e 's/\b\(intel\|amd\|cpu\|processor\)\b//g' \
+        -e 's/[^a-z0-9]\{1,\}/-/g' -e 's/^-//' -e 's/-$//')
+    printf '%s-%sc' "${model:-$(uname -m)}" "$nproc"
+}
+machine=${BENCH_MACHINE:-$(machine_slug)}
+case $machine in
+    ''|*/*|.*) echo "run-bench.sh: BENCH_MACHINE must be a plain name, not '$machine'" >&2; exit 2 ;;
+esac
+mkdir -p "$results/$machine"
+final="$results/$machine/tetra.jsonl"
+out="$results/$machine/.tetra.jsonl.partial"
+: > "$out"
+echo "== $machine: $nproc cores (${cpu:-unknown cpu}); commit $commit; n = $ns; ticks = $ticks; hgcd threads = $threads; peers = ${peers:-none}" >&2
+echo "== results: $final" >&2
 
 # Runs one measurement; appends its JSON line (with machine fields added) to
 # $out and prints it. A failed run is recorded as an "error" line.
@@ -67,7 +89,7 @@ run() {
         echo "bench: $lib n=$n threads=$t failed (exit status $status)" >&2
         line="{\"lib\":\"$lib\",\"scene\":\"tetra\",\"n\":$n,\"seed\":$seed,\"threads\":$t,\"ticks\":0,\"commit\":\"$commit\",\"error\":\"exit status $status\"}"
     fi
-    line="${line%\}},\"nproc\":$nproc,\"cpu\":\"$cpu\",\"date\":\"$(date -u +%Y-%m-%dT%H:%M:%SZ)\"}"
+    line="${line%\}},\"machine\":\"$machine\",\"nproc\":$nproc,\"cpu\":\"$cpu\",\"date\":\"$(date -u +%Y-%m-%dT%H:%M:%SZ)\"}"
     echo "$line" >> "$out"
     echo "$line"
 }
@@ -95,6 +117,7 @@ if [ "$long_ticks" -gt 0 ]; then
     done
 fi
 echo "== measurements took $(( $(date +%s) - start )) s" >&2
+mv "$out" "$final"
 
 echo >&2
-python3 bench/plot.py "$out"
+python3 bench/plot.py "$final"

@@ -21,8 +21,7 @@
  * determinism across thread counts and the threading model. This header
  * states what each call does, takes, refuses and returns.
  *
- * Conventions (they hold for every function unless its comment says
- * otherwise)
+ * Conventions (for every function unless its comment says otherwise)
  * -----------
  * Status: every fallible call returns an hgcd_status, HGCD_OK (0) or a
  *   negative hgcd_status_code. When several things are wrong, the first of
@@ -39,17 +38,18 @@
  *   HGCD_ERROR_OUT_OF_MEMORY instead of the refusal's own.
  * Ids: meshes and bodies are value ids {index, generation}; all-zero is the
  *   null id, never given to a live object. Destroying an object makes its id
- *   stale for good, also after its index is reused; an id of another world
- *   is refused as stale (docs/semantics.md, "Ids").
+ *   stale for good, also after its index is reused. An id of another world
+ *   is refused as stale: always between any 256 worlds created one after
+ *   another, otherwise with probability 255/256 (docs/semantics.md, "Ids").
  * Threads: one world is used by one thread at a time, except that calls
  *   taking a const hgcd_world* ("read-only" below) may overlap with each
  *   other. Different worlds are independent. Functions without a world
  *   argument may be called from any thread at any time.
  * Floating point: callers may run in any floating-point mode; every call
  *   computes in IEEE's default mode and restores the caller's.
- * Memory: the library allocates with operator new / malloc and owns
- *   everything it returns a pointer to; nothing returned is to be freed by
- *   the caller except the world itself (hgcd_world_destroy).
+ * Memory: the library owns everything it returns a pointer to; the caller
+ *   frees nothing but the world itself (hgcd_world_destroy). Input arrays
+ *   are read during the call only (meshes are copied in).
  */
 #ifndef HGCD_H
 #define HGCD_H
@@ -659,17 +659,17 @@ HGCD_API hgcd_status hgcd_body_get_user_data(const hgcd_world *world,
                                              hgcd_body body,
                                              uint64_t *out_user_data);
 
-/** HGCD_OK if body is a live body of this world. Returns STALE_ID for the
- *  null id, a destroyed body's id, a forged id or another world's id, and
- *  NULL_ARGUMENT for a NULL world. Records no message (the world is
- *  const). Read-only, O(1). */
+/** HGCD_OK if body is a live body of this world; STALE_ID for the null
+ *  id, a destroyed body's id, a forged id or another world's id (see Ids
+ *  above); NULL_ARGUMENT for a NULL world. Records no message (the world
+ *  is const). Read-only, O(1). */
 HGCD_API hgcd_status hgcd_body_validate(const hgcd_world *world,
                                         hgcd_body body);
 
-/** HGCD_OK if mesh is a live mesh of this world. Returns STALE_ID for the
- *  null id, a destroyed mesh's id, a forged id or another world's id, and
- *  NULL_ARGUMENT for a NULL world. Records no message (the world is
- *  const). Read-only, O(1). */
+/** HGCD_OK if mesh is a live mesh of this world; STALE_ID for the null
+ *  id, a destroyed mesh's id, a forged id or another world's id (see Ids
+ *  above); NULL_ARGUMENT for a NULL world. Records no message (the world
+ *  is const). Read-only, O(1). */
 HGCD_API hgcd_status hgcd_mesh_validate(const hgcd_world *world,
                                         hgcd_mesh mesh);
 

@@ -660,16 +660,16 @@ HGCD_API hgcd_status hgcd_body_get_user_data(const hgcd_world *world,
                                              uint64_t *out_user_data);
 
 /** HGCD_OK if body is a live body of this world; STALE_ID for the null
- *  id, a destroyed body's id, a forged id or another world's id (see Ids
- *  above); NULL_ARGUMENT for a NULL world. Records no message (the world
- *  is const). Read-only, O(1). */
+ *  id, a destroyed body's id, a forged id or another world's id (see
+ *  "Ids" at the top of hgcd.h); NULL_ARGUMENT for a NULL world. Records no
+ *  message (the world is const). Read-only, O(1). */
 HGCD_API hgcd_status hgcd_body_validate(const hgcd_world *world,
                                         hgcd_body body);
 
 /** HGCD_OK if mesh is a live mesh of this world; STALE_ID for the null
- *  id, a destroyed mesh's id, a forged id or another world's id (see Ids
- *  above); NULL_ARGUMENT for a NULL world. Records no message (the world
- *  is const). Read-only, O(1). */
+ *  id, a destroyed mesh's id, a forged id or another world's id (see
+ *  "Ids" at the top of hgcd.h); NULL_ARGUMENT for a NULL world. Records no
+ *  message (the world is const). Read-only, O(1). */
 HGCD_API hgcd_status hgcd_mesh_validate(const hgcd_world *world,
                                         hgcd_mesh mesh);
 

@@ -399,8 +399,8 @@ HGCD_API hgcd_status hgcd_world_contacts(const hgcd_world *world,
                                          const hgcd_contact **out_contacts,
                                          size_t *out_count);
 
-/** Statistics of the last step/detect (all zero before the first, and after
- *  a detect refused for lack of memory). */
+/** Statistics of the last step/detect. Counts and times are zero before
+ *  the first, and after a detect refused for lack of memory. */
 typedef struct hgcd_stats {
     /** In: sizeof(hgcd_stats) as the caller knows it (0 = the library's
      *  size); the library fills min(struct_size, its own size) bytes, so

@@ -836,8 +836,8 @@ extern "C" {
         out_count: *mut usize,
     ) -> hgcd_status;
 }
-#[doc = " Statistics of the last step/detect (all zero before the first, and after"]
-#[doc = "  a detect refused for lack of memory)."]
+#[doc = " Statistics of the last step/detect. Counts and times are zero before"]
+#[doc = "  the first, and after a detect refused for lack of memory."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct hgcd_stats {

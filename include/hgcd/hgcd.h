@@ -1,7 +1,8 @@
 /*
  * hgcd: exact, parallel collision detection between many rigid triangle
- * meshes. This header is the whole C contract; it is strict C99 and defines
- * no API macros (the version macros are in hgcd_version.h).
+ * meshes. This header is the whole C contract, kept in one file (over 600
+ * lines) so that it reads in one place; it is strict C99 and defines no API
+ * macros (the version macros are in hgcd_version.h).
  *
  * The loop
  * --------

@@ -6,7 +6,8 @@
 // create/destroy bodies (poses from tables of ordinary, far, tiny, huge,
 // NaN and infinite values; unit, near-unit, non-unit, zero and NaN
 // quaternions), set_pose, set_velocity, step, detect, pairs, copy_pairs,
-// stats, mesh info and the getters, with live, stale, forged and random ids.
+// stats, mesh info, the getters and validation, with live, stale, forged
+// and random ids.
 //
 // A shadow model predicts every status (refusals included) and the full
 // observable state; after every call the world must agree with it. After
@@ -386,6 +387,8 @@ void check_state(Model &m) {
         info.struct_size = sizeof info;
         const hgcd_status s = hgcd_mesh_get_info(m.w, mm.id, &info);
         EXPECT(s == (mm.live ? HGCD_OK : HGCD_ERROR_STALE_ID), "mesh info status");
+        EXPECT(hgcd_mesh_validate(m.w, mm.id) == (mm.live ? HGCD_OK : HGCD_ERROR_STALE_ID), "validate mesh {%u,%u}",
+               mm.id.index, mm.id.generation);
         if (!mm.live) continue;
         EXPECT(info.body_count == mm.users, "mesh users %u != %u", info.body_count, mm.users);
         EXPECT(!std::memcmp(&info.center, &mm.info.center, sizeof info.center) && info.radius == mm.info.radius,
@@ -718,6 +721,8 @@ void op_read(Input &in, Model &m) {
         const hgcd_status expect = eff < 8 ? HGCD_ERROR_BAD_DESCRIPTOR
                                    : live_mesh_of(m, id) < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK;
         EXPECT(s == expect, "mesh_get_info: %s expected %s", hgcd_status_string(s), hgcd_status_string(expect));
+        EXPECT(hgcd_mesh_validate(m.w, id) == (live_mesh_of(m, id) < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK),
+               "validate mesh {%u,%u}", id.index, id.generation);
         for (size_t x = std::max<size_t>(std::min(eff, sizeof(hgcd_mesh_info)), 4); x < sizeof buf; ++x)
             EXPECT(buf[x] == 0xCD, "mesh_get_info wrote past struct_size (or wrote when refusing)");
     } else if (k == 4) {  // getters on any id, NULL outputs

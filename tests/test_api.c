@@ -352,6 +352,52 @@ static void test_body_ids(void **state) {
     assert_int_equal(hgcd_world_body_count(f->w), 0);
 }
 
+/* hgcd_mesh_validate: OK exactly for the live meshes of this world, STALE_ID
+ * for every other id (the null id shares index 0 with the live tetra),
+ * NULL_ARGUMENT for no world; it records no message and changes nothing. */
+static void test_mesh_validate(void **state) {
+    fixture *f = *state;
+    assert_int_equal(f->tetra.index, 0);
+    assert_int_equal(hgcd_mesh_validate(f->w, f->tetra), HGCD_OK);
+    /* Live, then destroyed; its index reused with a new generation. */
+    hgcd_mesh m = add_mesh(f->w, kTetraVerts, 4, kTetraTris, 4);
+    assert_int_equal(hgcd_mesh_validate(f->w, m), HGCD_OK);
+    assert_int_equal(hgcd_mesh_destroy(f->w, m), HGCD_OK);
+    assert_int_equal(hgcd_mesh_validate(f->w, m), HGCD_ERROR_STALE_ID);
+    hgcd_mesh again = add_mesh(f->w, kTetraVerts, 4, kTetraTris, 4);
+    assert_int_equal(again.index, m.index);
+    assert_int_not_equal(again.generation, m.generation);
+    assert_int_equal(hgcd_mesh_validate(f->w, again), HGCD_OK);
+    assert_int_equal(hgcd_mesh_validate(f->w, m), HGCD_ERROR_STALE_ID);
+    /* Null, forged and out-of-range ids. */
+    hgcd_mesh null_mesh = {0, 0}, forged = f->tetra, far = {1000, f->tetra.generation};
+    forged.generation ^= 1;
+    assert_int_equal(hgcd_mesh_validate(f->w, null_mesh), HGCD_ERROR_STALE_ID);
+    assert_int_equal(hgcd_mesh_validate(f->w, forged), HGCD_ERROR_STALE_ID);
+    assert_int_equal(hgcd_mesh_validate(f->w, far), HGCD_ERROR_STALE_ID);
+    /* Another world's mesh of the same index. */
+    hgcd_world *other;
+    hgcd_world_desc d = hgcd_world_desc_default();
+    assert_int_equal(hgcd_world_create(&d, &other), HGCD_OK);
+    hgcd_mesh foreign = add_mesh(other, kTetraVerts, 4, kTetraTris, 4);
+    assert_int_equal(foreign.index, f->tetra.index);
+    assert_int_equal(hgcd_mesh_validate(other, foreign), HGCD_OK);
+    assert_int_equal(hgcd_mesh_validate(f->w, foreign), HGCD_ERROR_STALE_ID);
+    assert_int_equal(hgcd_mesh_validate(other, f->tetra), HGCD_ERROR_STALE_ID);
+    hgcd_world_destroy(other);
+    /* No world. */
+    assert_int_equal(hgcd_mesh_validate(NULL, f->tetra), HGCD_ERROR_NULL_ARGUMENT);
+    /* A refusal records no message and changes nothing. */
+    assert_int_equal(hgcd_mesh_destroy(f->w, m), HGCD_ERROR_STALE_ID);
+    char before[256];
+    snprintf(before, sizeof before, "%s", hgcd_world_last_error(f->w));
+    assert_true(strlen(before) > 0);
+    assert_int_equal(hgcd_mesh_validate(f->w, forged), HGCD_ERROR_STALE_ID);
+    assert_string_equal(hgcd_world_last_error(f->w), before);
+    assert_int_equal(hgcd_world_mesh_count(f->w), 2);
+    assert_int_equal(hgcd_mesh_destroy(f->w, again), HGCD_OK);
+}
+
 static void test_foreign_ids(void **state) {
     fixture *f = *state;
     /* f->w and these 255 worlds are 256 worlds created one after another:
@@ -729,6 +775,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_null_outputs, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mesh_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_body_ids, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_mesh_validate, setup, teardown),
         cmocka_unit_test_setup_teardown(test_foreign_ids, setup, teardown),
         cmocka_unit_test_setup_teardown(test_body_value_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_pairs_and_stats, setup, teardown),

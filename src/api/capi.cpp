@@ -289,6 +289,12 @@ hgcd_status hgcd_body_validate(const hgcd_world *world, hgcd_body body) {
     return world->impl.body_valid(body) ? HGCD_OK : HGCD_ERROR_STALE_ID;
 }
 
+hgcd_status hgcd_mesh_validate(const hgcd_world *world, hgcd_mesh mesh) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    hgcd_mesh_info info;  // (mesh_info checks the id as every mesh call does, recording nothing)
+    return world->impl.mesh_info(mesh, &info);
+}
+
 // ------------------------------------------------ narrow phase, contacts --
 
 int32_t hgcd_feature_libccd(void) { return hgcd::libccd_precision(); }

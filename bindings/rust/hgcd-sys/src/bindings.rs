@@ -6,45 +6,55 @@ pub const HGCD_VERSION_PATCH: u32 = 0;
 pub type __int32_t = ::std::os::raw::c_int;
 pub type __uint32_t = ::std::os::raw::c_uint;
 pub type __uint64_t = ::std::os::raw::c_ulong;
-#[doc = " Result of every fallible call: HGCD_OK or one of the negative codes."]
+#[doc = " Result of every fallible call: HGCD_OK or one of the negative codes of"]
+#[doc = "  enum hgcd_status_code."]
 pub type hgcd_status = i32;
+#[doc = " Success."]
 pub const HGCD_OK: hgcd_status_code = 0;
 #[doc = " A required pointer argument was NULL."]
 pub const HGCD_ERROR_NULL_ARGUMENT: hgcd_status_code = -1;
 #[doc = " A value is out of its documented range: NaN, infinite, negative where"]
-#[doc = "  it must not be, a quaternion that is not unit length, ..."]
+#[doc = "  it must not be, a quaternion that is not unit length, an unknown enum"]
+#[doc = "  value, ..."]
 pub const HGCD_ERROR_INVALID_ARGUMENT: hgcd_status_code = -2;
 #[doc = " A descriptor was not initialised by its hgcd_*_desc_default() function"]
-#[doc = "  (wrong struct_size or init tag)."]
+#[doc = "  (wrong struct_size or init_tag), or an output struct_size is too"]
+#[doc = "  small."]
 pub const HGCD_ERROR_BAD_DESCRIPTOR: hgcd_status_code = -3;
-#[doc = " A mesh or body id is null, stale (destroyed), forged or of another world."]
+#[doc = " A mesh or body id is null, stale (destroyed), forged or of another"]
+#[doc = "  world."]
 pub const HGCD_ERROR_STALE_ID: hgcd_status_code = -4;
-#[doc = " Mesh data rejected: no triangles, index out of range, non-finite vertex,"]
-#[doc = "  too large."]
+#[doc = " Mesh data rejected: no triangles, an index out of range, a vertex not"]
+#[doc = "  finite or beyond 1e15, more than 2^26 vertices or triangles."]
 pub const HGCD_ERROR_INVALID_MESH: hgcd_status_code = -5;
 #[doc = " hgcd_mesh_destroy on a mesh that live bodies still use."]
 pub const HGCD_ERROR_MESH_IN_USE: hgcd_status_code = -6;
-#[doc = " An allocation failed; the world is unchanged."]
+#[doc = " An allocation failed; the world is unchanged (but see"]
+#[doc = "  hgcd_world_detect)."]
 pub const HGCD_ERROR_OUT_OF_MEMORY: hgcd_status_code = -7;
-#[doc = " A count limit was reached (more than 2^31 - 2 bodies or meshes, a size"]
-#[doc = "  that would overflow)."]
+#[doc = " A count limit was reached: more than 2^31 - 2 live bodies or meshes."]
 pub const HGCD_ERROR_CAPACITY: hgcd_status_code = -8;
-#[doc = " The feature was not compiled into this build of the library."]
+#[doc = " The feature was not compiled into this build (GJK or MPR without"]
+#[doc = "  libccd)."]
 pub const HGCD_ERROR_NOT_SUPPORTED: hgcd_status_code = -9;
 #[doc = " A bug in hgcd: please report it with the message."]
 pub const HGCD_ERROR_INTERNAL: hgcd_status_code = -10;
 pub type hgcd_status_code = i32;
 extern "C" {
-    #[doc = " Static name of a status code (\"HGCD_ERROR_STALE_ID\"); never NULL. Unknown"]
-    #[doc = "  codes give \"HGCD_ERROR_UNKNOWN\"."]
+    #[doc = " Name of a status code, e.g. \"HGCD_ERROR_STALE_ID\"; \"HGCD_ERROR_UNKNOWN\""]
+    #[doc = "  for a value that is not a code. Never NULL."]
+    #[doc = "  Returns a static string (do not free). Any thread."]
     pub fn hgcd_status_string(status: hgcd_status) -> *const ::std::os::raw::c_char;
 }
 extern "C" {
-    #[doc = " The run-time version as (major << 16) | (minor << 8) | patch."]
+    #[doc = " Version of the linked library as (major << 16) | (minor << 8) | patch;"]
+    #[doc = "  compare with HGCD_VERSION_* of hgcd_version.h to detect a mismatched"]
+    #[doc = "  header. Any thread."]
     pub fn hgcd_version() -> u32;
 }
 extern "C" {
-    #[doc = " The run-time version as a static string, \"0.1.0\"."]
+    #[doc = " Version of the linked library as \"major.minor.patch\", e.g. \"0.1.0\"."]
+    #[doc = "  Returns a static string (do not free). Any thread."]
     pub fn hgcd_version_string() -> *const ::std::os::raw::c_char;
 }
 #[repr(C)]
@@ -52,11 +62,15 @@ extern "C" {
 pub struct hgcd_world {
     _unused: [u8; 0],
 }
-#[doc = " A mesh (shared shape) of one world. The all-zero id is the null id."]
+#[doc = " Id of a mesh (a shared shape) of one world. A value: copy and compare it"]
+#[doc = "  freely (equal ids have equal index and generation)."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
 pub struct hgcd_mesh {
+    #[doc = " Slot of the mesh in its world; reused after the mesh is destroyed."]
     pub index: u32,
+    #[doc = " Distinguishes successive meshes of one slot and worlds; never 0 in a"]
+    #[doc = "  live id. {0, 0} is the null id."]
     pub generation: u32,
 }
 #[test]
@@ -106,11 +120,16 @@ fn bindgen_test_layout_hgcd_mesh() {
     }
     test_field_generation();
 }
-#[doc = " A body (placed instance of a mesh) of one world. All-zero is null."]
+#[doc = " Id of a body (a placed instance of a mesh) of one world. A value, like"]
+#[doc = "  hgcd_mesh. On a fresh world bodies get indices 0, 1, 2, ... in creation"]
+#[doc = "  order, so pairs map straight back to the caller's arrays; a destroyed"]
+#[doc = "  body's index is given to a later hgcd_body_create."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
 pub struct hgcd_body {
+    #[doc = " Slot of the body in its world."]
     pub index: u32,
+    #[doc = " As hgcd_mesh.generation; {0, 0} is the null id."]
     pub generation: u32,
 }
 #[test]
@@ -160,11 +179,13 @@ fn bindgen_test_layout_hgcd_body() {
     }
     test_field_generation();
 }
-#[doc = " One colliding pair: a.index < b.index."]
+#[doc = " One colliding pair of bodies."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
 pub struct hgcd_pair {
+    #[doc = " The body of smaller index (a.index < b.index)."]
     pub a: hgcd_body,
+    #[doc = " The body of larger index."]
     pub b: hgcd_body,
 }
 #[test]
@@ -225,46 +246,29 @@ pub const HGCD_NARROW_GJK: hgcd_narrow_phase = 1;
 #[doc = "  ccdMPRPenetration for contacts)."]
 pub const HGCD_NARROW_MPR: hgcd_narrow_phase = 2;
 #[doc = " Which test decides a candidate pair (hgcd_world_desc.narrow_phase,"]
-#[doc = "  hgcd_world_set_narrow_phase, hgcd_mesh_set_narrow_phase)."]
-#[doc = ""]
-#[doc = "  HGCD_NARROW_EXACT is the exact definition of a collision given at the top"]
-#[doc = "  of this header. HGCD_NARROW_GJK and HGCD_NARROW_MPR hand a pair to libccd"]
-#[doc = "  instead (GJK, or Minkowski portal refinement), on the convex hulls of the"]
-#[doc = "  two bodies' world-space vertices (the same bits the exact test uses), when"]
-#[doc = "  both meshes are convex (hgcd_mesh_info.convex) and both are set to GJK or"]
-#[doc = "  MPR (one GJK and the other MPR: GJK). Every other pair, in particular"]
-#[doc = "  every pair with a non-convex mesh, takes the exact test."]
-#[doc = ""]
-#[doc = "  libccd is not exact: a pair whose solids only touch, or overlap or are"]
-#[doc = "  apart by less than its tolerance, may be reported either way. The"]
-#[doc = "  tolerance, libccd's mpr_tolerance and epa_tolerance, is set per pair to"]
-#[doc = "  1e-6 * (r_a + r_b) with libccd in double precision (1e-4 * (r_a + r_b) in"]
-#[doc = "  single precision), r being a body's bounding radius (scale *"]
-#[doc = "  hgcd_mesh_info.radius). GJK's yes/no answer uses no tolerance, only"]
-#[doc = "  libccd's fixed rounding thresholds; MPR may miss an overlap shallower than"]
-#[doc = "  the tolerance. libccd's iterations are capped at 1000 per call. Pairs"]
-#[doc = "  whose exact vertex boxes are disjoint are refused before libccd."]
+#[doc = "  hgcd_world_set_narrow_phase, hgcd_mesh_set_narrow_phase). A pair is handed"]
+#[doc = "  to libccd only when both meshes are convex (hgcd_mesh_info.convex) and"]
+#[doc = "  both are set to GJK or MPR (one of each: GJK); every other pair takes the"]
+#[doc = "  exact test. libccd works with a tolerance, so pairs that touch or nearly"]
+#[doc = "  touch may be answered either way: docs/semantics.md, \"libccd\"."]
 pub type hgcd_narrow_phase = i32;
 #[doc = " Built without libccd."]
 pub const HGCD_LIBCCD_NONE: hgcd_libccd_precision = 0;
-#[doc = " libccd with ccd_real_t = float."]
+#[doc = " libccd with ccd_real_t = float (CCD_SINGLE)."]
 pub const HGCD_LIBCCD_SINGLE: hgcd_libccd_precision = 1;
-#[doc = " libccd with ccd_real_t = double (Debian's libccd-dev)."]
+#[doc = " libccd with ccd_real_t = double (CCD_DOUBLE; Debian's libccd-dev)."]
 pub const HGCD_LIBCCD_DOUBLE: hgcd_libccd_precision = 2;
-#[doc = " Precision of the libccd compiled in, read from libccd's own config.h at"]
-#[doc = "  build time (CCD_SINGLE: ccd_real_t is float; CCD_DOUBLE: double)."]
+#[doc = " Precision of the libccd compiled in (hgcd_feature_libccd), read from"]
+#[doc = "  libccd's own config.h at build time."]
 pub type hgcd_libccd_precision = u32;
 extern "C" {
-    #[doc = " Whether this build can use libccd: HGCD_LIBCCD_NONE (0: built without it;"]
-    #[doc = "  every request for GJK or MPR fails with HGCD_ERROR_NOT_SUPPORTED, message"]
-    #[doc = "  \"not built with libccd\"), HGCD_LIBCCD_SINGLE (1) or HGCD_LIBCCD_DOUBLE"]
-    #[doc = "  (2). In double precision libccd reads the world vertices bit for bit; in"]
-    #[doc = "  single precision it gets them minus a point of the pair (the centre of"]
-    #[doc = "  body a's vertex box), rounded to float."]
+    #[doc = " Whether this build can use libccd: an enum hgcd_libccd_precision value."]
+    #[doc = "  With HGCD_LIBCCD_NONE every request for GJK or MPR fails with"]
+    #[doc = "  HGCD_ERROR_NOT_SUPPORTED (\"not built with libccd\"). Any thread."]
     pub fn hgcd_feature_libccd() -> i32;
 }
-#[doc = " World descriptor. Obtain one from hgcd_world_desc_default(), then change"]
-#[doc = "  fields."]
+#[doc = " World descriptor: get one from hgcd_world_desc_default(), change the"]
+#[doc = "  fields you need, pass it to hgcd_world_create (which copies it)."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct hgcd_world_desc {
@@ -272,48 +276,39 @@ pub struct hgcd_world_desc {
     pub struct_size: u32,
     #[doc = " Set by hgcd_world_desc_default(); catches uninitialised descriptors."]
     pub init_tag: u32,
-    #[doc = " OpenMP threads per parallel region; 0 (default) = all cores."]
-    #[doc = "  At most 4096 (more is INVALID_ARGUMENT)."]
+    #[doc = " OpenMP threads per parallel region of step/detect; 0 (default) = all"]
+    #[doc = "  cores (omp_get_num_procs). At most 4096."]
     pub thread_count: u32,
-    #[doc = " Non-zero: hgcd_world_step reflects bodies at the bounds box, as the"]
-    #[doc = "  reference scenes do (a coordinate that leaves [min, max] is mirrored"]
-    #[doc = "  back inside and that velocity component changes sign). Default 0."]
+    #[doc = " Non-zero: hgcd_world_step keeps bodies inside [bounds_min,"]
+    #[doc = "  bounds_max] by reflection (docs/semantics.md, \"Motion\"). Default 0:"]
+    #[doc = "  bodies move freely."]
     pub reflect_at_bounds: u32,
     #[doc = " Time step of hgcd_world_step: position += velocity * time_step."]
     #[doc = "  Finite and >= 0; default 1."]
     pub time_step: f64,
-    #[doc = " Bounds used when reflect_at_bounds is set: min[3] then max[3]."]
-    #[doc = "  Finite, min < max. Default 0..1 on each axis."]
+    #[doc = " Lower corner of the reflection box (used only with"]
+    #[doc = "  reflect_at_bounds). Finite, |x| <= 1e15, bounds_min < bounds_max on"]
+    #[doc = "  each axis. Default (0, 0, 0)."]
     pub bounds_min: [f64; 3usize],
+    #[doc = " Upper corner of the reflection box. Same rules; default (1, 1, 1)."]
     pub bounds_max: [f64; 3usize],
-    #[doc = " Broad-phase grid override. The broad phase compares each body's"]
-    #[doc = "  axis-aligned box (see hgcd_stats.candidate_pairs) in a hierarchical"]
-    #[doc = "  grid keyed by the bodies' positions. Cell widths are powers of two; a"]
-    #[doc = "  body lives on the level whose width is the smallest power of two >="]
-    #[doc = "  twice the farthest its vertices reach from its position in any"]
-    #[doc = "  orientation (scale x (distance of the mesh's bounding-sphere centre"]
-    #[doc = "  from the mesh origin + that sphere's radius)), except where bodies are"]
-    #[doc = "  sparse (the previous detect found fewer than 3 candidate pairs per"]
-    #[doc = "  body): then the levels at most a factor 4 finer than the coarsest"]
-    #[doc = "  populated level join it (fewer levels, same pairs). min_cell_size > 0 raises the finest width to the"]
-    #[doc = "  power of two >= min_cell_size (bodies smaller than that share it)."]
-    #[doc = "  max_cell_size > 0 caps the coarsest width at the largest power of two"]
-    #[doc = "  <= max_cell_size: bodies larger than that are kept in a separate"]
-    #[doc = "  oversize set, still exactly handled, each compared with the others"]
-    #[doc = "  through a range query, never all-pairs. 0 (default) = adapt to the"]
-    #[doc = "  bodies. Both finite and >= 0; if both are set, min <= max."]
+    #[doc = " Broad-phase grid: the finest cell width is the power of two >="]
+    #[doc = "  min_cell_size (bodies smaller than that share it). 0 (default) = adapt"]
+    #[doc = "  to the bodies. Finite and >= 0. Never changes the pairs, only speed"]
+    #[doc = "  (docs/semantics.md, \"Broad phase\")."]
     pub min_cell_size: f64,
+    #[doc = " Broad-phase grid: the coarsest cell width is the largest power of two"]
+    #[doc = "  <= max_cell_size; larger bodies go to an oversize set, still handled"]
+    #[doc = "  exactly. 0 (default) = adapt. Finite, >= 0, and >= min_cell_size when"]
+    #[doc = "  both are non-zero. Never changes the pairs."]
     pub max_cell_size: f64,
-    #[doc = " Narrow phase of the world's pairs (enum hgcd_narrow_phase): EXACT (0,"]
-    #[doc = "  default), GJK or MPR. Meshes follow it unless set otherwise with"]
-    #[doc = "  hgcd_mesh_set_narrow_phase; non-convex meshes always fall back to the"]
-    #[doc = "  exact test (hgcd_mesh_info.narrow_phase says which test a mesh gets,"]
-    #[doc = "  hgcd_stats.libccd_fallback_tests counts such pairs). GJK or MPR"]
-    #[doc = "  without libccd: NOT_SUPPORTED; other values: INVALID_ARGUMENT."]
+    #[doc = " enum hgcd_narrow_phase: EXACT (0, default), GJK or MPR (WORLD is not"]
+    #[doc = "  allowed here). Meshes follow it unless set otherwise with"]
+    #[doc = "  hgcd_mesh_set_narrow_phase."]
     pub narrow_phase: i32,
     #[doc = " Non-zero: step/detect also record what each colliding pair is made of"]
-    #[doc = "  (hgcd_world_contacts). Default 0: nothing is recorded and the pair"]
-    #[doc = "  query pays nothing for it. See hgcd_world_set_contacts."]
+    #[doc = "  (hgcd_world_contacts). Default 0: nothing is recorded and costs"]
+    #[doc = "  nothing. Never changes the pairs."]
     pub contacts: u32,
 }
 #[test]
@@ -517,83 +512,102 @@ fn bindgen_test_layout_hgcd_world_desc() {
     test_field_contacts();
 }
 extern "C" {
-    #[doc = " A descriptor with every default filled in."]
+    #[doc = " A world descriptor with every default filled in (see the fields)."]
+    #[doc = "  Any thread."]
     pub fn hgcd_world_desc_default() -> hgcd_world_desc;
 }
 extern "C" {
-    #[doc = " Creates a world. On success *out_world owns the new world (free it with"]
-    #[doc = "  hgcd_world_destroy). On failure *out_world is set to NULL."]
-    #[doc = "  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_ARGUMENT, OUT_OF_MEMORY,"]
-    #[doc = "  NOT_SUPPORTED (narrow_phase GJK or MPR without libccd)."]
+    #[doc = " Creates an empty world configured by *desc (copied; desc may be freed on"]
+    #[doc = "  return). On success *out_world is a new world the caller owns and must"]
+    #[doc = "  free with hgcd_world_destroy; on failure *out_world is set to NULL (if"]
+    #[doc = "  out_world itself is not NULL). No message is recorded (there is no world)."]
+    #[doc = "  Errors: NULL_ARGUMENT (desc or out_world), BAD_DESCRIPTOR,"]
+    #[doc = "  INVALID_ARGUMENT (a field out of range), NOT_SUPPORTED (narrow_phase GJK"]
+    #[doc = "  or MPR without libccd), OUT_OF_MEMORY. Any thread. Cost: O(1)."]
     pub fn hgcd_world_create(
         desc: *const hgcd_world_desc,
         out_world: *mut *mut hgcd_world,
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Frees the world and everything in it; every pointer it returned becomes"]
-    #[doc = "  invalid. NULL is a no-op."]
+    #[doc = " Frees the world and all its meshes, bodies and results; every id of it"]
+    #[doc = "  becomes meaningless and every pointer it returned (pairs, contacts, error"]
+    #[doc = "  message) dangles. NULL is a no-op. Needs exclusive use of the world."]
+    #[doc = "  Cost: O(memory held)."]
     pub fn hgcd_world_destroy(world: *mut hgcd_world);
 }
 extern "C" {
-    #[doc = " Detail of the last failed call (of those taking a non-const world) on this"]
-    #[doc = "  world, or \"\" if none failed yet: the call and what was wrong, naming the"]
-    #[doc = "  field, index or id. The string is owned by the world and valid until the"]
-    #[doc = "  next non-const call on it. NULL world gives a static message."]
+    #[doc = " The message of the last refused call on this world that takes a"]
+    #[doc = "  non-const world, e.g. \"body_create: position[1] is not finite\", or \"\" if"]
+    #[doc = "  none was refused yet. A later successful call does not clear it."]
+    #[doc = "  The string is owned by the world and valid until the next call taking a"]
+    #[doc = "  non-const world; for a NULL world, a static message. Read-only."]
     pub fn hgcd_world_last_error(world: *const hgcd_world) -> *const ::std::os::raw::c_char;
 }
 extern "C" {
-    #[doc = " Number of live bodies and meshes. NULL world gives 0."]
+    #[doc = " Number of live bodies. NULL world gives 0. Read-only, O(1)."]
     pub fn hgcd_world_body_count(world: *const hgcd_world) -> u32;
 }
 extern "C" {
+    #[doc = " Number of live meshes. NULL world gives 0. Read-only, O(1)."]
     pub fn hgcd_world_mesh_count(world: *const hgcd_world) -> u32;
 }
 extern "C" {
-    #[doc = " Sets the number of OpenMP threads per parallel region (0 = all cores)."]
+    #[doc = " Sets the OpenMP threads per parallel region of the following"]
+    #[doc = "  step/detect calls (0 = all cores), as hgcd_world_desc.thread_count. The"]
+    #[doc = "  pairs never depend on it. The process's OpenMP settings are not touched."]
     #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (more than 4096)."]
     pub fn hgcd_world_set_thread_count(world: *mut hgcd_world, thread_count: u32) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Sets the world's narrow phase (enum hgcd_narrow_phase,"]
-    #[doc = "  hgcd_world_desc.narrow_phase), used from the next step/detect."]
-    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (not EXACT, GJK or MPR),"]
-    #[doc = "  NOT_SUPPORTED (GJK or MPR without libccd: \"not built with libccd\")."]
+    #[doc = " Sets the world's narrow phase (enum hgcd_narrow_phase: EXACT, GJK or"]
+    #[doc = "  MPR), used from the next step/detect by every mesh set to"]
+    #[doc = "  HGCD_NARROW_WORLD."]
+    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (any other value), NOT_SUPPORTED"]
+    #[doc = "  (GJK or MPR without libccd)."]
     pub fn hgcd_world_set_narrow_phase(world: *mut hgcd_world, narrow_phase: i32) -> hgcd_status;
 }
 extern "C" {
     #[doc = " Switches contact recording on (non-zero) or off for the following"]
-    #[doc = "  step/detect calls (hgcd_world_desc.contacts). Errors: NULL_ARGUMENT."]
+    #[doc = "  step/detect calls, as hgcd_world_desc.contacts."]
+    #[doc = "  Errors: NULL_ARGUMENT."]
     pub fn hgcd_world_set_contacts(world: *mut hgcd_world, enable: u32) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Moves every body by velocity * time_step (reflecting at the bounds when"]
-    #[doc = "  the descriptor asked for it; a move longer than the box is clamped into"]
-    #[doc = "  it), then detects as hgcd_world_detect does. Without reflection, if a move"]
-    #[doc = "  would take a coordinate beyond 1e15 in magnitude (or make it non-finite),"]
-    #[doc = "  nothing moves and INVALID_ARGUMENT is returned naming the body."]
-    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY (the motion, which"]
-    #[doc = "  needs no memory, has then been applied and the detection failed as for"]
-    #[doc = "  hgcd_world_detect: pairs cleared, statistics zeroed; calling"]
-    #[doc = "  hgcd_world_detect finishes the tick)."]
+    #[doc = " Moves every live body by velocity * time_step (reflected at the bounds"]
+    #[doc = "  if the world reflects), then detects as hgcd_world_detect."]
+    #[doc = "  Without reflection, if any move would take a coordinate beyond 1e15 in"]
+    #[doc = "  magnitude or make it non-finite, nothing moves and INVALID_ARGUMENT is"]
+    #[doc = "  returned, the message naming the body."]
+    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT, OUT_OF_MEMORY (the moves have"]
+    #[doc = "  then been applied and the detection failed as in hgcd_world_detect;"]
+    #[doc = "  calling hgcd_world_detect finishes the tick)."]
+    #[doc = "  Invalidates the previous pairs and contacts. Runs parallel regions."]
+    #[doc = "  Cost: O(bodies) plus the detection."]
     pub fn hgcd_world_step(world: *mut hgcd_world) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Detects the colliding pairs at the current poses without moving anything."]
-    #[doc = "  The result replaces the previous tick's pairs and statistics."]
-    #[doc = "  Errors: NULL_ARGUMENT, OUT_OF_MEMORY (the previous pairs are then"]
-    #[doc = "  cleared and the statistics zeroed)."]
+    #[doc = " Finds every colliding pair of live bodies at their current poses,"]
+    #[doc = "  replacing the previous pairs, contacts and statistics."]
+    #[doc = "  Errors: NULL_ARGUMENT, OUT_OF_MEMORY (the only refusal that changes the"]
+    #[doc = "  world: the previous pairs and contacts are cleared and the statistics"]
+    #[doc = "  zeroed; bodies and meshes are untouched)."]
+    #[doc = "  Invalidates the pointers given by hgcd_world_pairs and"]
+    #[doc = "  hgcd_world_contacts. Runs parallel regions with the world's thread"]
+    #[doc = "  count; the pairs do not depend on it. The world keeps its working memory"]
+    #[doc = "  for the next call. Cost: about O(bodies + candidate pairs x pair test),"]
+    #[doc = "  the pair test growing with the meshes' sizes."]
     pub fn hgcd_world_detect(world: *mut hgcd_world) -> hgcd_status;
 }
 extern "C" {
     #[doc = " The pairs of the last step/detect: *out_pairs points to *out_count pairs"]
-    #[doc = "  owned by the world, sorted by (a.index, b.index), no duplicates, and"]
-    #[doc = "  a.index < b.index. Valid until the next call that changes the world"]
-    #[doc = "  (step, detect, create/destroy of a body or mesh, set_pose, set_velocity,"]
-    #[doc = "  destroy). Before the first detect the count is 0 (and *out_pairs may be"]
-    #[doc = "  NULL). Pairs of bodies destroyed since the detect are still listed (with"]
-    #[doc = "  their now-stale ids) until the next detect."]
-    #[doc = "  Errors: NULL_ARGUMENT."]
+    #[doc = "  owned by the world, sorted by (a.index, b.index), without duplicates."]
+    #[doc = "  0 pairs (and *out_pairs possibly NULL) before the first detect. Pairs of"]
+    #[doc = "  bodies destroyed since are still listed, with their now-stale ids."]
+    #[doc = "  The array stays valid and unchanged until the next call that changes the"]
+    #[doc = "  world (step, detect, create/destroy of a body or mesh, set_pose,"]
+    #[doc = "  set_velocity, hgcd_world_destroy)."]
+    #[doc = "  Errors: NULL_ARGUMENT (any argument). Read-only, O(1)."]
     pub fn hgcd_world_pairs(
         world: *const hgcd_world,
         out_pairs: *mut *const hgcd_pair,
@@ -601,12 +615,12 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Copies up to capacity pairs of the last tick into buffer (which may be"]
-    #[doc = "  NULL when capacity is 0) and sets *out_total to the full count, so a"]
-    #[doc = "  caller can size its buffer with a first call. Same order as"]
-    #[doc = "  hgcd_world_pairs."]
+    #[doc = " Copies the first min(capacity, total) pairs of the last step/detect (same"]
+    #[doc = "  order as hgcd_world_pairs) into the caller's buffer and sets *out_total"]
+    #[doc = "  to the total, so a first call with capacity 0 (buffer may then be NULL)"]
+    #[doc = "  sizes the buffer."]
     #[doc = "  Errors: NULL_ARGUMENT (world or out_total NULL, or buffer NULL with"]
-    #[doc = "  capacity > 0)."]
+    #[doc = "  capacity > 0). Read-only. Cost: O(pairs copied)."]
     pub fn hgcd_world_copy_pairs(
         world: *const hgcd_world,
         buffer: *mut hgcd_pair,
@@ -615,8 +629,8 @@ extern "C" {
     ) -> hgcd_status;
 }
 #[doc = " The surfaces meet (exact test): triangle triangle_a of body a's mesh"]
-#[doc = "  and triangle triangle_b of body b's mesh share a point. One such"]
-#[doc = "  witness pair, not all of them."]
+#[doc = "  and triangle triangle_b of body b's mesh share a point. One witness"]
+#[doc = "  pair of triangles, not all of them."]
 pub const HGCD_CONTACT_SURFACE: hgcd_contact_kind = 1;
 #[doc = " The surfaces are apart and a's closed mesh holds b: a connected"]
 #[doc = "  component of b's mesh (all of b when it has one) lies inside a."]
@@ -624,9 +638,8 @@ pub const HGCD_CONTACT_A_CONTAINS_B: hgcd_contact_kind = 2;
 #[doc = " The same with the roles swapped (when each holds a component of the"]
 #[doc = "  other, this kind is reported)."]
 pub const HGCD_CONTACT_B_CONTAINS_A: hgcd_contact_kind = 3;
-#[doc = " Decided by libccd (a GJK or MPR pair, enum hgcd_narrow_phase): depth,"]
-#[doc = "  normal and point are libccd's penetration estimate (EPA after GJK, or"]
-#[doc = "  MPR's own)."]
+#[doc = " Decided by libccd (a GJK or MPR pair): depth, normal and point are"]
+#[doc = "  libccd's penetration estimate (EPA after GJK, or MPR's own)."]
 pub const HGCD_CONTACT_PENETRATION: hgcd_contact_kind = 4;
 #[doc = " What a colliding pair is made of (hgcd_contact.kind)."]
 pub type hgcd_contact_kind = u32;
@@ -638,22 +651,26 @@ pub struct hgcd_contact {
     pub pair: hgcd_pair,
     #[doc = " enum hgcd_contact_kind."]
     pub kind: i32,
-    #[doc = " SURFACE: a triangle index (as given to hgcd_mesh_create) in a's mesh"]
-    #[doc = "  and one in b's mesh; UINT32_MAX for the other kinds."]
+    #[doc = " SURFACE: the index of a triangle of a's mesh (as given to"]
+    #[doc = "  hgcd_mesh_create) that meets triangle_b; UINT32_MAX for other kinds."]
     pub triangle_a: u32,
+    #[doc = " SURFACE: the index of that triangle's partner in b's mesh;"]
+    #[doc = "  UINT32_MAX for other kinds."]
     pub triangle_b: u32,
     #[doc = " Always 0."]
     pub reserved: u32,
-    #[doc = " PENETRATION: translating body b by depth along normal (a unit"]
-    #[doc = "  vector) brings the two convex hulls to touching, within libccd's"]
-    #[doc = "  tolerance (EPA gives the smallest such translation; MPR one along"]
-    #[doc = "  its own direction, close to the line between the bodies' centres)."]
-    #[doc = "  point is libccd's contact position in world space: an average of"]
-    #[doc = "  support points near the contact, not guaranteed to lie in both"]
-    #[doc = "  bodies. normal is all zero when libccd gave no direction (bodies that"]
-    #[doc = "  only touch). All zero for the other kinds."]
+    #[doc = " PENETRATION: translating body b by depth along normal brings the two"]
+    #[doc = "  convex hulls to touching, within libccd's tolerance (EPA: the"]
+    #[doc = "  smallest such translation; MPR: one along its own direction, near the"]
+    #[doc = "  line between the bodies' centres). 0 for other kinds."]
     pub depth: f64,
+    #[doc = " PENETRATION: unit direction of that translation, in world space; all"]
+    #[doc = "  zero when libccd gave none (bodies that only touch) and for other"]
+    #[doc = "  kinds."]
     pub normal: [f64; 3usize],
+    #[doc = " PENETRATION: libccd's contact position in world space (an average of"]
+    #[doc = "  support points near the contact, not guaranteed to lie in both"]
+    #[doc = "  bodies); all zero for other kinds."]
     pub point: [f64; 3usize],
 }
 #[test]
@@ -807,70 +824,66 @@ fn bindgen_test_layout_hgcd_contact() {
 }
 extern "C" {
     #[doc = " The contacts of the last step/detect, parallel to hgcd_world_pairs:"]
-    #[doc = "  *out_contacts points to *out_count contacts owned by the world (as many as"]
-    #[doc = "  there are pairs), contact k describing pair k; same lifetime as the pairs."]
-    #[doc = "  Recorded only when contacts were on (hgcd_world_desc.contacts,"]
-    #[doc = "  hgcd_world_set_contacts) during that step/detect; switching them on or"]
-    #[doc = "  off never changes the pairs. Before the first detect the count is 0."]
-    #[doc = "  Errors: NULL_ARGUMENT; INVALID_ARGUMENT when the last step/detect ran with"]
-    #[doc = "  contacts off (then *out_contacts is NULL and *out_count 0)."]
+    #[doc = "  *out_contacts points to *out_count contacts owned by the world, contact k"]
+    #[doc = "  describing pair k; same lifetime as the pairs' array. 0 contacts before"]
+    #[doc = "  the first detect."]
+    #[doc = "  Errors: NULL_ARGUMENT (any argument); INVALID_ARGUMENT when the last"]
+    #[doc = "  step/detect ran with contacts off (then *out_contacts is NULL and"]
+    #[doc = "  *out_count 0). Read-only, O(1)."]
     pub fn hgcd_world_contacts(
         world: *const hgcd_world,
         out_contacts: *mut *const hgcd_contact,
         out_count: *mut usize,
     ) -> hgcd_status;
 }
-#[doc = " Statistics of the last step/detect."]
+#[doc = " Statistics of the last step/detect. Counts and times are zero before"]
+#[doc = "  the first, and after a detect refused for lack of memory."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct hgcd_stats {
-    #[doc = " sizeof(hgcd_stats): set it before calling hgcd_world_stats (the"]
-    #[doc = "  library fills min(struct_size, its own size) bytes)."]
+    #[doc = " In: sizeof(hgcd_stats) as the caller knows it (0 = the library's"]
+    #[doc = "  size); the library fills min(struct_size, its own size) bytes, so"]
+    #[doc = "  older callers keep working. Out: the number of bytes filled."]
     pub struct_size: u32,
-    #[doc = " Number of grid levels in use and bodies in the oversize set."]
+    #[doc = " Broad-phase grid levels in use."]
     pub level_count: u32,
+    #[doc = " Bodies in the oversize set (larger than the coarsest level)."]
     pub oversize_count: u32,
+    #[doc = " Threads the last detect ran with."]
     pub thread_count: u32,
     #[doc = " Bodies that changed grid cell in the last update."]
     pub moved_bodies: u64,
-    #[doc = " Pairs whose axis-aligned boxes overlap (broad-phase output; closed"]
-    #[doc = "  intervals, so touching boxes count). A body's box holds its solid:"]
-    #[doc = "  for meshes of at most 128 triangles it is the box of the world"]
-    #[doc = "  vertices themselves (their offsets from the position, computed when"]
-    #[doc = "  the orientation is set, rounded outward to float, plus the position),"]
-    #[doc = "  for larger meshes the box of the mesh's bounding sphere. The grid"]
-    #[doc = "  compares these boxes with each bound rounded outward to float (the"]
-    #[doc = "  absolute position, so a box at coordinate x grows by up to about"]
-    #[doc = "  |x| 2^-23 a side), so this may also count pairs that overlap only"]
-    #[doc = "  once rounded (13 of 844,304 on scene tetra at n = 750000; many more"]
-    #[doc = "  where bodies are smaller than about |x| 2^-20, e.g. under 1 unit at"]
-    #[doc = "  |x| = 1e6: keep the origin near the bodies). The pairs reported are"]
-    #[doc = "  unaffected: every candidate gets the exact test."]
+    #[doc = " Pairs whose axis-aligned boxes overlap (the broad phase's output;"]
+    #[doc = "  touching boxes count). May include pairs that overlap only once the"]
+    #[doc = "  boxes are rounded outward to float; the pairs reported are unaffected"]
+    #[doc = "  (docs/semantics.md, \"Broad phase\")."]
     pub candidate_pairs: u64,
-    #[doc = " Candidate pairs that reached the exact test (not rejected by the"]
-    #[doc = "  exact prefilters: vertex boxes, and for two tetrahedra also a"]
+    #[doc = " Candidate pairs that reached the exact test (not rejected by its"]
+    #[doc = "  exact prefilters: the vertex boxes, and for two tetrahedra a"]
     #[doc = "  separating axis along the line between their positions)."]
     pub narrow_tests: u64,
     #[doc = " Triangle-triangle tests performed."]
     pub triangle_tests: u64,
-    #[doc = " Colliding pairs, and those of them found by containment alone."]
+    #[doc = " Colliding pairs (the count of hgcd_world_pairs)."]
     pub colliding_pairs: u64,
+    #[doc = " Colliding pairs found by containment alone (surfaces apart)."]
     pub containment_pairs: u64,
-    #[doc = " Wall-clock seconds: what step does before the grid update (checking"]
-    #[doc = "  the moves when the world does not reflect, and now and then"]
-    #[doc = "  reordering the bodies' storage to follow the grid, which a detect"]
-    #[doc = "  called alone counts in the update; step only), updating the grid"]
-    #[doc = "  (for step, with the moves themselves: the update's pass over the"]
-    #[doc = "  bodies moves each range of them just before it reads them), broad"]
-    #[doc = "  phase, narrow phase (with sorting of the output), total."]
+    #[doc = " Wall-clock seconds of hgcd_world_step before the grid update:"]
+    #[doc = "  checking the moves (without reflection) and occasionally reordering"]
+    #[doc = "  the bodies' storage; 0 for hgcd_world_detect, which counts such a"]
+    #[doc = "  reordering in update_seconds."]
     pub motion_seconds: f64,
+    #[doc = " Seconds updating the grid (with step, including the moves)."]
     pub update_seconds: f64,
+    #[doc = " Seconds of the broad phase."]
     pub broad_seconds: f64,
+    #[doc = " Seconds of the narrow phase, including sorting the pairs."]
     pub narrow_seconds: f64,
+    #[doc = " Seconds of the whole call."]
     pub total_seconds: f64,
     #[doc = " Candidate pairs decided by libccd (both meshes convex and set to GJK"]
     #[doc = "  or MPR, exact vertex boxes overlapping); not counted in narrow_tests,"]
-    #[doc = "  and their pairs never count in containment_pairs."]
+    #[doc = "  and never in containment_pairs."]
     pub libccd_tests: u64,
     #[doc = " Candidate pairs whose meshes were both set to GJK or MPR but one of"]
     #[doc = "  them is not convex: tested exactly instead."]
@@ -1179,23 +1192,36 @@ fn bindgen_test_layout_hgcd_stats() {
     test_field_libccd_fallback_tests();
 }
 extern "C" {
-    #[doc = " Fills *out_stats (whose struct_size the caller sets; 0 is taken as"]
-    #[doc = "  sizeof(hgcd_stats)). Errors: NULL_ARGUMENT, BAD_DESCRIPTOR (struct_size"]
-    #[doc = "  smaller than 8)."]
+    #[doc = " Copies the statistics of the last step/detect into *out_stats, whose"]
+    #[doc = "  struct_size the caller sets first (see hgcd_stats.struct_size); nothing"]
+    #[doc = "  past struct_size is written."]
+    #[doc = "  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR (struct_size between 1 and 7)."]
+    #[doc = "  Read-only, O(1)."]
     pub fn hgcd_world_stats(world: *const hgcd_world, out_stats: *mut hgcd_stats) -> hgcd_status;
 }
-#[doc = " Mesh descriptor. Obtain one from hgcd_mesh_desc_default()."]
+#[doc = " Mesh descriptor: get one from hgcd_mesh_desc_default(), then set the"]
+#[doc = "  arrays and counts."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
 pub struct hgcd_mesh_desc {
+    #[doc = " sizeof(hgcd_mesh_desc), set by hgcd_mesh_desc_default()."]
     pub struct_size: u32,
+    #[doc = " Set by hgcd_mesh_desc_default(); catches uninitialised descriptors."]
     pub init_tag: u32,
-    #[doc = " vertex_count * 3 doubles (x, y, z per vertex), in the mesh's frame."]
-    #[doc = "  Copied in; the caller may free it when hgcd_mesh_create returns."]
+    #[doc = " vertex_count * 3 doubles (x, y, z per vertex) in the mesh's own"]
+    #[doc = "  frame; finite, each |coordinate| <= 1e15. Copied in: the caller may"]
+    #[doc = "  free it when hgcd_mesh_create returns. Default NULL (refused)."]
     pub vertices: *const f64,
     #[doc = " triangle_count * 3 vertex indices, each < vertex_count. Copied in."]
+    #[doc = "  The winding never changes the pairs; only a consistently wound mesh"]
+    #[doc = "  (all faces outward, or all inward) can be found convex. Default NULL"]
+    #[doc = "  (refused)."]
     pub triangles: *const u32,
+    #[doc = " Number of vertices, 1 to 2^26. Vertices no triangle uses are"]
+    #[doc = "  allowed (and checked) but ignored."]
     pub vertex_count: u32,
+    #[doc = " Number of triangles, 1 to 2^26. Triangles may be degenerate (zero"]
+    #[doc = "  area: they count as the segment or point they are) and may repeat."]
     pub triangle_count: u32,
 }
 #[test]
@@ -1314,19 +1340,18 @@ fn bindgen_test_layout_hgcd_mesh_desc() {
     test_field_triangle_count();
 }
 extern "C" {
+    #[doc = " A mesh descriptor with NULL arrays and zero counts. Any thread."]
     pub fn hgcd_mesh_desc_default() -> hgcd_mesh_desc;
 }
 extern "C" {
-    #[doc = " Registers a mesh. Vertices must be finite and within 1e15 of the"]
-    #[doc = "  origin; 1 <= triangle_count <= 2^26 and vertex_count <= 2^26. Triangles may"]
-    #[doc = "  be degenerate (zero area: they then count as the segment or point they"]
-    #[doc = "  are) and may repeat vertices. The library works out whether the mesh is"]
-    #[doc = "  closed (every edge shared by an even number of triangles, so it bounds a"]
-    #[doc = "  volume) and whether it is convex; see hgcd_mesh_info. The sizes are"]
-    #[doc = "  checked before the arrays are read. Creation takes O(n log n) time in the"]
-    #[doc = "  mesh size (about a second for two million triangles)."]
-    #[doc = "  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_MESH, CAPACITY,"]
-    #[doc = "  OUT_OF_MEMORY."]
+    #[doc = " Copies a mesh into the world and sets *out_mesh to its id. The library"]
+    #[doc = "  works out whether the mesh is closed and convex and its bounding sphere"]
+    #[doc = "  (hgcd_mesh_info). The counts are checked before the arrays are read."]
+    #[doc = "  Errors: NULL_ARGUMENT (world, desc, out_mesh or an array), BAD_DESCRIPTOR,"]
+    #[doc = "  INVALID_MESH (see the descriptor's fields; the message says which index"]
+    #[doc = "  or vertex), CAPACITY, OUT_OF_MEMORY."]
+    #[doc = "  Cost: O(n log n) in the mesh's size, plus the convexity test (at most"]
+    #[doc = "  5e7 orientation tests, see hgcd_mesh_info.convex)."]
     pub fn hgcd_mesh_create(
         world: *mut hgcd_world,
         desc: *const hgcd_mesh_desc,
@@ -1334,41 +1359,48 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Removes a mesh no body uses any more; its id becomes stale."]
-    #[doc = "  Errors: NULL_ARGUMENT, STALE_ID, MESH_IN_USE."]
+    #[doc = " Destroys a mesh that no live body uses, freeing its memory; its id"]
+    #[doc = "  becomes stale."]
+    #[doc = "  Errors: NULL_ARGUMENT, STALE_ID (mesh not live in this world),"]
+    #[doc = "  MESH_IN_USE (destroy its bodies first). Cost: O(1) plus the free."]
     pub fn hgcd_mesh_destroy(world: *mut hgcd_world, mesh: hgcd_mesh) -> hgcd_status;
 }
-#[doc = " What hgcd worked out about a mesh."]
+#[doc = " What hgcd worked out about a mesh (hgcd_mesh_get_info)."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct hgcd_mesh_info {
+    #[doc = " In: sizeof(hgcd_mesh_info) as the caller knows it (0 = the"]
+    #[doc = "  library's size). Out: the number of bytes filled."]
     pub struct_size: u32,
+    #[doc = " As given to hgcd_mesh_create."]
     pub vertex_count: u32,
     pub triangle_count: u32,
-    #[doc = " 1 if every edge is shared by an even number of triangles."]
+    #[doc = " 1 if every edge is shared by an even number of triangles (the mesh"]
+    #[doc = "  bounds a volume and can contain other bodies), else 0."]
     pub closed: u32,
-    #[doc = " 1 if closed and every vertex lies on or behind every face plane. The"]
-    #[doc = "  test costs triangles x vertices exact orientation tests; beyond 5e7"]
-    #[doc = "  of them it is skipped and the mesh reported not convex (still handled"]
-    #[doc = "  exactly, without the convex shortcuts)."]
+    #[doc = " 1 if closed, not all degenerate, and every vertex lies on or behind"]
+    #[doc = "  every face's plane (taking the faces' winding, all one way), else 0."]
+    #[doc = "  The test costs triangles x vertices exact orientation tests;"]
+    #[doc = "  beyond 5e7 of them it is skipped and the mesh reported not convex"]
+    #[doc = "  (still handled exactly, without the convex shortcuts)."]
     pub convex: u32,
-    #[doc = " Connected components (via shared vertices)."]
+    #[doc = " Connected components (triangles joined through shared vertices)."]
     pub component_count: u32,
     #[doc = " Zero-area triangles."]
     pub degenerate_triangle_count: u32,
-    #[doc = " Bodies using this mesh."]
+    #[doc = " Live bodies using this mesh."]
     pub body_count: u32,
-    #[doc = " Bounding sphere in the mesh frame (centre of the vertex box, radius"]
-    #[doc = "  reaching every vertex)."]
+    #[doc = " Centre of the bounding sphere in the mesh frame: the centre of the"]
+    #[doc = "  box of the vertices the triangles use."]
     pub center: [f64; 3usize],
+    #[doc = " Radius of the bounding sphere: it reaches every used vertex."]
     pub radius: f64,
-    #[doc = " The narrow phase set for this mesh: HGCD_NARROW_WORLD (default) or"]
-    #[doc = "  the value given to hgcd_mesh_set_narrow_phase."]
+    #[doc = " The mesh's setting: HGCD_NARROW_WORLD (default) or the value given"]
+    #[doc = "  to hgcd_mesh_set_narrow_phase."]
     pub narrow_phase_setting: i32,
-    #[doc = " The test this mesh's pairs get now (enum hgcd_narrow_phase, never"]
-    #[doc = "  WORLD): the setting or else the world's, and HGCD_NARROW_EXACT for a"]
-    #[doc = "  mesh that is not convex. A pair uses libccd only when both of its"]
-    #[doc = "  meshes say GJK or MPR."]
+    #[doc = " The test the mesh's pairs get now (enum hgcd_narrow_phase, never"]
+    #[doc = "  WORLD): the setting, else the world's, and EXACT for a mesh that is"]
+    #[doc = "  not convex. A pair uses libccd only when both meshes say GJK or MPR."]
     pub narrow_phase: i32,
 }
 #[test]
@@ -1589,8 +1621,11 @@ fn bindgen_test_layout_hgcd_mesh_info() {
     test_field_narrow_phase();
 }
 extern "C" {
-    #[doc = " Fills *out_info (the caller sets struct_size; 0 is taken as the full size)."]
-    #[doc = "  Errors: NULL_ARGUMENT, STALE_ID, BAD_DESCRIPTOR."]
+    #[doc = " Fills *out_info about a live mesh; the caller sets out_info->struct_size"]
+    #[doc = "  first (see hgcd_mesh_info.struct_size); nothing past it is written, and"]
+    #[doc = "  nothing at all on failure."]
+    #[doc = "  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR (struct_size between 1 and 7),"]
+    #[doc = "  STALE_ID. Read-only, O(1)."]
     pub fn hgcd_mesh_get_info(
         world: *const hgcd_world,
         mesh: hgcd_mesh,
@@ -1599,43 +1634,45 @@ extern "C" {
 }
 extern "C" {
     #[doc = " Chooses the narrow phase of this mesh's pairs (enum hgcd_narrow_phase):"]
-    #[doc = "  HGCD_NARROW_WORLD (the default: follow the world), EXACT, GJK or MPR,"]
-    #[doc = "  used from the next step/detect. A pair uses libccd only when both of its"]
-    #[doc = "  meshes are convex and say GJK or MPR."]
+    #[doc = "  HGCD_NARROW_WORLD (follow the world), EXACT, GJK or MPR, used from the"]
+    #[doc = "  next step/detect."]
     #[doc = "  Errors: NULL_ARGUMENT, STALE_ID, INVALID_ARGUMENT (an unknown value, or"]
-    #[doc = "  GJK or MPR for a mesh that is not convex: libccd handles convex shapes"]
-    #[doc = "  only, so the mesh keeps its setting and the exact test), NOT_SUPPORTED"]
-    #[doc = "  (GJK or MPR without libccd: \"not built with libccd\")."]
+    #[doc = "  GJK or MPR for a mesh that is not convex: the mesh keeps its setting),"]
+    #[doc = "  NOT_SUPPORTED (GJK or MPR without libccd). O(1)."]
     pub fn hgcd_mesh_set_narrow_phase(
         world: *mut hgcd_world,
         mesh: hgcd_mesh,
         narrow_phase: i32,
     ) -> hgcd_status;
 }
-#[doc = " Body descriptor. Obtain one from hgcd_body_desc_default()."]
+#[doc = " Body descriptor: get one from hgcd_body_desc_default(), then set at least"]
+#[doc = "  the mesh."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct hgcd_body_desc {
+    #[doc = " sizeof(hgcd_body_desc), set by hgcd_body_desc_default()."]
     pub struct_size: u32,
+    #[doc = " Set by hgcd_body_desc_default(); catches uninitialised descriptors."]
     pub init_tag: u32,
-    #[doc = " The shape; must be a live mesh of this world. Default: null (refused)."]
+    #[doc = " The shape: a live mesh of this world. Default: the null id"]
+    #[doc = "  (refused)."]
     pub mesh: hgcd_mesh,
-    #[doc = " Position of the mesh frame's origin. Finite, |x| <= 1e15. Default 0."]
+    #[doc = " World position of the mesh frame's origin. Finite, |x| <= 1e15."]
+    #[doc = "  Default (0, 0, 0)."]
     pub position: [f64; 3usize],
-    #[doc = " Orientation quaternion (x, y, z, w). Finite and of unit length within"]
-    #[doc = "  1e-6 (| x^2+y^2+z^2+w^2 - 1 | <= 1e-6); it is used exactly as given,"]
-    #[doc = "  not normalised, so results are reproducible bit for bit. Default"]
-    #[doc = "  (0, 0, 0, 1)."]
+    #[doc = " Orientation quaternion (x, y, z, w): finite and of unit length within"]
+    #[doc = "  1e-6 (|x^2 + y^2 + z^2 + w^2 - 1| <= 1e-6). Used exactly as given,"]
+    #[doc = "  not normalised (docs/semantics.md, \"World-space vertices\")."]
+    #[doc = "  Default (0, 0, 0, 1)."]
     pub orientation: [f64; 4usize],
-    #[doc = " Velocity used by hgcd_world_step. Finite. Default 0."]
+    #[doc = " Velocity used by hgcd_world_step. Finite. Default (0, 0, 0)."]
     pub velocity: [f64; 3usize],
-    #[doc = " Uniform scale of the mesh: local vertex = scale * v, component by"]
-    #[doc = "  component, before the rotation. Finite, > 0 and such that the scaled"]
-    #[doc = "  mesh stays within 1e15 of its origin. Default 1. Lets one mesh serve"]
-    #[doc = "  bodies of many sizes (the tetra scene uses scale = r / sqrt(3) on the"]
-    #[doc = "  unit sign-pattern tetrahedron, which gives its vertices bit for bit)."]
+    #[doc = " Uniform scale applied to the mesh's vertices before the rotation, so"]
+    #[doc = "  one mesh can serve bodies of many sizes. Finite, > 0, and small"]
+    #[doc = "  enough that the scaled mesh stays within 1e15 of its origin."]
+    #[doc = "  Default 1."]
     pub scale: f64,
-    #[doc = " Opaque caller value, returned by hgcd_body_get_user_data."]
+    #[doc = " Any caller value, returned by hgcd_body_get_user_data. Default 0."]
     pub user_data: u64,
 }
 #[test]
@@ -1788,11 +1825,17 @@ fn bindgen_test_layout_hgcd_body_desc() {
     test_field_user_data();
 }
 extern "C" {
+    #[doc = " A body descriptor with the defaults of its fields. Any thread."]
     pub fn hgcd_body_desc_default() -> hgcd_body_desc;
 }
 extern "C" {
-    #[doc = " Places a body. Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, STALE_ID (mesh),"]
-    #[doc = "  INVALID_ARGUMENT, CAPACITY, OUT_OF_MEMORY."]
+    #[doc = " Places a new body and sets *out_body to its id. The body takes part"]
+    #[doc = "  from the next step/detect."]
+    #[doc = "  Errors: NULL_ARGUMENT (world, desc or out_body), BAD_DESCRIPTOR, STALE_ID"]
+    #[doc = "  (desc->mesh), INVALID_ARGUMENT (a field out of range; the message names"]
+    #[doc = "  it), CAPACITY, OUT_OF_MEMORY."]
+    #[doc = "  Cost: amortised O(1), plus one transform of each vertex for meshes of at"]
+    #[doc = "  most 128 triangles (their exact bounding box)."]
     pub fn hgcd_body_create(
         world: *mut hgcd_world,
         desc: *const hgcd_body_desc,
@@ -1800,13 +1843,19 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Removes a body; its id becomes stale. Errors: NULL_ARGUMENT, STALE_ID."]
+    #[doc = " Removes a body; its id becomes stale and its index may be reused by the"]
+    #[doc = "  next hgcd_body_create. The last pairs still list it until the next"]
+    #[doc = "  detect. Errors: NULL_ARGUMENT, STALE_ID. O(1)."]
     pub fn hgcd_body_destroy(world: *mut hgcd_world, body: hgcd_body) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Sets position[3] and orientation[4] (x, y, z, w), same rules as the"]
-    #[doc = "  descriptor. Either pointer may be NULL to keep the current value."]
-    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT."]
+    #[doc = " Sets a body's position[3] and orientation[4] (x, y, z, w), with the rules"]
+    #[doc = "  of hgcd_body_desc; either pointer may be NULL to keep the current value."]
+    #[doc = "  The arrays are read during the call only."]
+    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT (nothing is"]
+    #[doc = "  changed, not even the valid half)."]
+    #[doc = "  Cost: O(1), plus with an orientation one transform of each vertex for"]
+    #[doc = "  meshes of at most 128 triangles."]
     pub fn hgcd_body_set_pose(
         world: *mut hgcd_world,
         body: hgcd_body,
@@ -1815,7 +1864,9 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Sets velocity[3]. Errors: NULL_ARGUMENT, STALE_ID, INVALID_ARGUMENT."]
+    #[doc = " Sets a body's velocity[3] (finite), used by hgcd_world_step."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or velocity), STALE_ID, INVALID_ARGUMENT."]
+    #[doc = "  O(1)."]
     pub fn hgcd_body_set_velocity(
         world: *mut hgcd_world,
         body: hgcd_body,
@@ -1823,8 +1874,10 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Reads position[3] and orientation[4]; either may be NULL to skip it."]
-    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID."]
+    #[doc = " Copies a body's position into position[3] and its orientation into"]
+    #[doc = "  orientation[4], bit for bit as last set or moved; either pointer may be"]
+    #[doc = "  NULL to skip it."]
+    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID. Read-only, O(1)."]
     pub fn hgcd_body_get_pose(
         world: *const hgcd_world,
         body: hgcd_body,
@@ -1833,7 +1886,9 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Reads velocity[3]. Errors: NULL_ARGUMENT, STALE_ID."]
+    #[doc = " Copies a body's velocity into velocity[3] (its sign flipped by any"]
+    #[doc = "  reflection of hgcd_world_step)."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or velocity), STALE_ID. Read-only, O(1)."]
     pub fn hgcd_body_get_velocity(
         world: *const hgcd_world,
         body: hgcd_body,
@@ -1841,8 +1896,8 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " Reads the mesh and user data given at creation. Errors: NULL_ARGUMENT,"]
-    #[doc = "  STALE_ID."]
+    #[doc = " Sets *out_mesh to the mesh the body was created with."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_mesh), STALE_ID. Read-only, O(1)."]
     pub fn hgcd_body_get_mesh(
         world: *const hgcd_world,
         body: hgcd_body,
@@ -1850,6 +1905,9 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
+    #[doc = " Sets *out_user_data to the body's hgcd_body_desc.user_data."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_user_data), STALE_ID. Read-only,"]
+    #[doc = "  O(1)."]
     pub fn hgcd_body_get_user_data(
         world: *const hgcd_world,
         body: hgcd_body,
@@ -1857,9 +1915,18 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
-    #[doc = " HGCD_OK if body is a live body of this world, else STALE_ID (or"]
-    #[doc = "  NULL_ARGUMENT). Does not record an error message."]
+    #[doc = " HGCD_OK if body is a live body of this world; STALE_ID for the null"]
+    #[doc = "  id, a destroyed body's id, a forged id or another world's id (see"]
+    #[doc = "  \"Ids\" at the top of hgcd.h); NULL_ARGUMENT for a NULL world. Records no"]
+    #[doc = "  message (the world is const). Read-only, O(1)."]
     pub fn hgcd_body_validate(world: *const hgcd_world, body: hgcd_body) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " HGCD_OK if mesh is a live mesh of this world; STALE_ID for the null"]
+    #[doc = "  id, a destroyed mesh's id, a forged id or another world's id (see"]
+    #[doc = "  \"Ids\" at the top of hgcd.h); NULL_ARGUMENT for a NULL world. Records no"]
+    #[doc = "  message (the world is const). Read-only, O(1)."]
+    pub fn hgcd_mesh_validate(world: *const hgcd_world, mesh: hgcd_mesh) -> hgcd_status;
 }
 #[doc = " Parameters of scene `tetra`. Obtain with hgcd_scene_tetra_desc_default()."]
 #[repr(C)]

@@ -1,4 +1,4 @@
-//! The `tetra` reference scene (SCENES.md) through the safe API.
+//! The `tetra` reference scene (docs/scenes.md) through the safe API.
 //!
 //!     cargo run --example tetra -- [N] [TICKS] [THREADS] [SEED]
 //!

@@ -1,4 +1,4 @@
-//! The reference scenes of SCENES.md (`hgcd_scene_tetra_*`), generated bit
+//! The reference scenes of docs/scenes.md (`hgcd_scene_tetra_*`), generated bit
 //! for bit by the C library.
 
 use hgcd_sys as sys;

@@ -471,6 +471,14 @@ impl World {
         // SAFETY: live world.
         unsafe { sys::hgcd_body_validate(self.raw.as_ptr(), body.to_raw()) == sys::HGCD_OK }
     }
+
+    /// Whether `mesh` is a live mesh of this world (`hgcd_mesh_validate`):
+    /// false for the null id, a destroyed mesh, a forged id or another
+    /// world's mesh.
+    pub fn is_mesh_alive(&self, mesh: MeshId) -> bool {
+        // SAFETY: live world; ids are plain values checked by the library.
+        unsafe { sys::hgcd_mesh_validate(self.raw.as_ptr(), mesh.to_raw()) == sys::HGCD_OK }
+    }
 }
 
 impl Drop for World {

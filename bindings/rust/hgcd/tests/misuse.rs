@@ -102,6 +102,44 @@ fn null_and_forged_ids() {
 }
 
 #[test]
+fn mesh_alive_until_destroyed() {
+    let mut w = world();
+    let m = tetra(&mut w);
+    assert_eq!(m.index(), 0);
+    assert!(w.is_mesh_alive(m));
+    // The null id shares index 0 with the live mesh; a forged generation and
+    // an index beyond the slots are refused too.
+    assert!(!w.is_mesh_alive(MeshId::NULL));
+    let forged = MeshId::from_raw(sys::hgcd_mesh {
+        index: m.index(),
+        generation: m.generation() ^ 1,
+    });
+    assert!(!w.is_mesh_alive(forged));
+    let beyond = MeshId::from_raw(sys::hgcd_mesh {
+        index: 1_000_000,
+        generation: m.generation(),
+    });
+    assert!(!w.is_mesh_alive(beyond));
+    // Destroyed: stale, also once a new mesh takes its index.
+    let n = tetra(&mut w);
+    assert!(w.is_mesh_alive(n));
+    w.destroy_mesh(n).unwrap();
+    assert!(!w.is_mesh_alive(n));
+    let again = tetra(&mut w);
+    assert_eq!(again.index(), n.index());
+    assert!(w.is_mesh_alive(again));
+    assert!(!w.is_mesh_alive(n));
+    // Another world's mesh of the same index.
+    let mut other = world();
+    let foreign = tetra(&mut other);
+    assert_eq!(foreign.index(), m.index());
+    assert!(other.is_mesh_alive(foreign));
+    assert!(!w.is_mesh_alive(foreign));
+    assert!(!other.is_mesh_alive(m));
+    assert_eq!(w.mesh_count(), 2);
+}
+
+#[test]
 fn destroy_mesh_in_use() {
     let mut w = world();
     let m = tetra(&mut w);

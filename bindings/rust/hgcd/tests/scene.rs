@@ -1,5 +1,5 @@
 //! The safe API gives the same results as the raw C API, and as the C demo
-//! and SCENES.md, on the tetra reference scene.
+//! and docs/scenes.md, on the tetra reference scene.
 
 use std::collections::HashSet;
 
@@ -165,10 +165,10 @@ fn tetra_20000_rust_equals_c() {
     assert_eq!(rust[0].2, 1);
 }
 
-/// SCENES.md reference: n = 100000, seed 1, initial poses: 4266 colliding
+/// docs/scenes.md reference: n = 100000, seed 1, initial poses: 4266 colliding
 /// pairs, 30 by containment.
 #[test]
-fn tetra_100000_scenes_md_reference() {
+fn tetra_100000_reference() {
     let mut world = scene::tetra_world(&TetraDesc::new(100_000, 1), 0).unwrap();
     world.detect().unwrap();
     assert_eq!(world.pairs().len(), 4266);

@@ -2137,7 +2137,7 @@ extern "C" {
     ) -> i32;
 }
 extern "C" {
-    #[doc = " The unit sign-pattern tetrahedron of SCENES.md: vertices (1,1,1),"]
+    #[doc = " The unit sign-pattern tetrahedron of docs/scenes.md: vertices (1,1,1),"]
     #[doc = "  (1,-1,-1), (-1,1,-1), (-1,-1,1) into vertices[12] and the faces (0,1,2)"]
     #[doc = "  (0,3,1) (0,2,3) (1,3,2) into triangles[12]. Scaled by r / sqrt(3) it is the"]
     #[doc = "  scene's tetrahedron of circumradius r, bit for bit. NULL pointers are"]
@@ -2147,6 +2147,6 @@ extern "C" {
 extern "C" {
     #[doc = " One tick of the scene's motion for n objects: center += velocity, mirrored"]
     #[doc = "  back into [0, side] per coordinate with that velocity component negated,"]
-    #[doc = "  exactly as SCENES.md writes it. For callers that move bodies themselves."]
+    #[doc = "  exactly as docs/scenes.md writes it. For callers that move bodies themselves."]
     pub fn hgcd_scene_tetra_move(n: u64, side: f64, centers: *mut f64, velocities: *mut f64);
 }

@@ -1,4 +1,4 @@
-// libFuzzer target for the whole C API (issue 6).
+// libFuzzer target for the whole C API.
 //
 // The input bytes are read as a world descriptor and then a sequence of API
 // calls: create/destroy meshes (preset shapes, random small meshes with
@@ -13,11 +13,6 @@
 // observable state; after every call the world must agree with it. After
 // every detect and step, the pairs are compared with the GMP brute-force
 // oracle of tests/oracle.c. Any disagreement aborts (a finding).
-//
-// The first runs found two narrow-phase bugs (convex shortcuts wrong on
-// rounded world vertices, and on meshes flagged convex that bound no volume)
-// and a misaligned grid key (UBSan); all were fixed in commit 8d80b66. See
-// tests/VALIDATION.md.
 //
 // Built by fuzz/build.sh (clang, -fsanitize=fuzzer,address,undefined).
 #include <algorithm>

@@ -152,7 +152,7 @@ N ?= 200000
 TICKS ?= 5
 THREADS ?= 0
 $(BUILD)/demo: examples/demo.c $(SCENE_LIB) $(STATIC) | $(BUILD)
-	$(CC) -std=c99 -O2 -Wall -Iinclude -Iscene $< -o $@ $(SCENE_LIB) $(STATIC) $(CCD_LIBS) $(RUNTIME_LIBS)
+	$(CC) -std=c99 -O2 -Wall -Iinclude -Iscene $< -o $@ $(SCENE_LIB) $(STATIC) $(filter-out -lm,$(CCD_LIBS)) $(RUNTIME_LIBS)
 
 demo:
 	bash scripts/ensure-deps.sh demo

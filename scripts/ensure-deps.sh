@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages a target needs, when it can (root or sudo);
-# otherwise prints exactly what to run. Usage: ensure-deps.sh demo|test|bench
+# otherwise prints exactly what to run. `check` (make check) never installs:
+# it names what is missing and fails. Usage: ensure-deps.sh demo|check|test|bench
 set -euo pipefail
 target=${1:-test}
 
@@ -8,6 +9,9 @@ target=${1:-test}
 need=("g++:g++" "make:make")
 case "$target" in
   demo) ;;
+  check)
+    need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
+           "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/*/gmp.h:libgmp-dev") ;;
   test)
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
            "/usr/include/cmocka.h:libcmocka-dev" "/usr/include/*/gmp.h:libgmp-dev"
@@ -23,7 +27,7 @@ case "$target" in
            "/usr/include/fcl/config.h:libfcl-dev" "/usr/include/bullet/btBulletCollisionCommon.h:libbullet-dev"
            "/usr/include/ode/ode.h:libode-dev" "python3:python3"
            "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev" "/usr/include/assimp/Importer.hpp:libassimp-dev") ;;
-  *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;;
+  *) echo "usage: $0 demo|check|test|bench" >&2; exit 2 ;;
 esac
 
 missing=()
@@ -35,6 +39,11 @@ for item in "${need[@]}"; do
 done
 [[ ${#missing[@]} -eq 0 ]] && exit 0
 
+if [[ $target == check ]]; then
+  echo "hgcd: make check needs these Debian packages: ${missing[*]}. Run:" >&2
+  echo "  sudo apt-get update && sudo apt-get install -y ${missing[*]}" >&2
+  exit 1
+fi
 echo "hgcd: installing missing Debian packages: ${missing[*]}" >&2
 if [[ $(id -u) -eq 0 ]]; then sudo=""
 elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then sudo="sudo"

@@ -61,14 +61,64 @@ elif [ $rc -ne 0 ]; then
     exit $rc
 fi
 
-step "plain Makefile build, install into a staging directory, link a program against it"
+step "plain Makefile build and install into a staging directory; programs built against it through pkg-config"
 make -s lib scene
 stage=$(mktemp -d)
 make -s install DESTDIR="$stage" PREFIX=/usr >/dev/null
-test -f "$stage/usr/lib/pkgconfig/hgcd.pc"
 test -L "$stage/usr/lib/libhgcd.so.0"
-cc -std=c99 -I"$stage/usr/include" -Iscene examples/demo.c -o "$stage/demo" build-make/libhgcd_scene.a -L"$stage/usr/lib" -lhgcd
-LD_LIBRARY_PATH="$stage/usr/lib" "$stage/demo" --n 20000 --ticks 1 --threads 2 | tail -n 2
+# The staged hgcd.pc, its paths under the stage.
+export PKG_CONFIG_PATH="$stage/usr/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$stage"
+# A C program of the public API alone: two touching tetrahedra and a far one.
+cat >"$stage/pairs.c" <<'C'
+#include <hgcd/hgcd.h>
+#include <stdio.h>
+int main(void) {
+    static const double v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+    static const uint32_t t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    hgcd_world *w = NULL;
+    if (hgcd_world_create(&wd, &w) != HGCD_OK) return 1;
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = v, md.triangles = t, md.vertex_count = 4, md.triangle_count = 4;
+    hgcd_mesh mesh;
+    if (hgcd_mesh_create(w, &md, &mesh) != HGCD_OK) return 1;
+    static const double x[] = {0, 1.5, 10};
+    for (int i = 0; i < 3; ++i) {
+        hgcd_body_desc bd = hgcd_body_desc_default();
+        bd.mesh = mesh, bd.position[0] = x[i];
+        hgcd_body body;
+        if (hgcd_body_create(w, &bd, &body) != HGCD_OK) return 1;
+    }
+    const hgcd_pair *pairs;
+    size_t n;
+    if (hgcd_world_detect(w) != HGCD_OK || hgcd_world_pairs(w, &pairs, &n) != HGCD_OK) return 1;
+    printf("hgcd %s: %zu pair(s)\n", hgcd_version_string(), n);
+    hgcd_world_destroy(w);
+    return n == 1 ? 0 : 1;
+}
+C
+# Shared: `pkg-config --libs` alone; the program needs libhgcd.so.0.
+# shellcheck disable=SC2046
+cc -std=c99 "$stage/pairs.c" -o "$stage/pairs" $(pkg-config --cflags --libs hgcd)
+grep -q 'NEEDED.*libhgcd\.so\.0' <<<"$(readelf -d "$stage/pairs")"
+LD_LIBRARY_PATH="$stage/usr/lib" "$stage/pairs"
+# Static: the shared library taken out of the stage, `pkg-config --static`
+# must bring everything libhgcd.a needs (OpenMP, C++ runtime, libccd). The
+# demo links the scene support library too, staged by make install-scene
+# (C++ like libhgcd, so the same list covers it).
+rm "$stage"/usr/lib/libhgcd.so*
+make -s install-scene DESTDIR="$stage" PREFIX=/usr >/dev/null
+# shellcheck disable=SC2046
+cc -std=c99 "$stage/pairs.c" -o "$stage/pairs-static" $(pkg-config --static --cflags --libs hgcd)
+# shellcheck disable=SC2046
+cc -std=c99 examples/demo.c -o "$stage/demo-static" -lhgcd_scene $(pkg-config --static --cflags --libs hgcd)
+if grep -q 'NEEDED.*libhgcd' <<<"$(readelf -d "$stage/pairs-static")"; then
+    echo "pairs-static needs a shared libhgcd" >&2
+    exit 1
+fi
+"$stage/pairs-static"
+"$stage/demo-static" --n 20000 --ticks 1 --threads 2 | tail -n 2
+unset PKG_CONFIG_PATH PKG_CONFIG_SYSROOT_DIR
 rm -rf "$stage"
 
 if [ -x bindings/rust/test.sh ]; then

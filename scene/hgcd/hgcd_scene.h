@@ -1,6 +1,7 @@
 /*
- * hgcd reference scenes (defined in docs/scenes.md), generated bit for bit, for
- * tests, examples, benchmarks and bindings. Included by hgcd.h.
+ * The reference scenes of docs/scenes.md, generated bit for bit: the support
+ * library libhgcd_scene for the tests, examples, benchmarks and bindings. Not
+ * part of libhgcd (`make scene`; `make install-scene` installs it).
  */
 #ifndef HGCD_SCENE_H
 #define HGCD_SCENE_H

@@ -1,0 +1,374 @@
+/* bench_soak: a long run of a churning world through the public C API.
+ *
+ *   bench_soak [--ticks T] [--bodies N] [--churn K] [--check-every C]
+ *              [--threads P] [--seed S]
+ *
+ * A world of about N bodies in a cube, on a few shared meshes (tetrahedron,
+ * box, octahedron) and on meshes of their own (a random small closed mesh
+ * made for the body and destroyed with it). Every tick K bodies are
+ * destroyed and K created, every live body gets a new pose
+ * (hgcd_body_set_pose: a random step and a new orientation), and the world
+ * detects. It checks, and exits 1 at the first failure:
+ *   - no id is ever handed out twice (every (index, generation) ever issued,
+ *     bodies and meshes, is remembered), and a destroyed id is refused;
+ *   - every C-th tick, the pairs equal the brute-force GMP oracle's
+ *     (tests/oracle.c) on every live body;
+ *   - resident memory stays bounded: after the first tenth of the run, the
+ *     resident set never exceeds its value then by more than 25% + 16 MB.
+ * Prints one JSON line: ticks, bodies, churn, ids issued, oracle checks,
+ * pairs checked, RSS at the first tenth and at most after, time per tick.
+ * bench/soak.sh runs it (not part of make test: it takes minutes).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <hgcd/hgcd.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "../tests/oracle.h"
+
+static double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Resident set size in bytes, from /proc/self/statm. */
+static double rss_bytes(void) {
+    FILE *f = fopen("/proc/self/statm", "r");
+    long pages = 0, resident = 0;
+    if (!f) return 0;
+    if (fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    fclose(f);
+    return (double)resident * 4096.0;
+}
+
+static uint64_t rng_state;
+static uint64_t next_u64(void) { /* splitmix64 */
+    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+static double uniform(void) { return (double)(next_u64() >> 11) * 0x1.0p-53; }
+
+#define FAIL(...)                                         \
+    do {                                                  \
+        fprintf(stderr, "bench_soak: FAIL: " __VA_ARGS__); \
+        fprintf(stderr, "\n");                            \
+        exit(1);                                          \
+    } while (0)
+
+#define CHECK(w, call)                                                               \
+    do {                                                                             \
+        hgcd_status s_ = (call);                                                     \
+        if (s_ != HGCD_OK)                                                           \
+            FAIL("%s: %s (%s)", #call, hgcd_status_string(s_), hgcd_world_last_error(w)); \
+    } while (0)
+
+/* Every id ever issued, as (index << 32 | generation), in an open-addressing
+ * set: an id seen twice is an alias. */
+typedef struct {
+    uint64_t *slot;
+    size_t cap, count;
+} id_set;
+
+static int id_set_insert(id_set *s, uint64_t key) { /* 0 if already there */
+    size_t i;
+    if (2 * (s->count + 1) > s->cap) {
+        id_set grown = {calloc(s->cap ? 2 * s->cap : 1024, sizeof(uint64_t)), s->cap ? 2 * s->cap : 1024, 0};
+        if (!grown.slot) FAIL("out of memory");
+        for (i = 0; i < s->cap; ++i)
+            if (s->slot[i]) id_set_insert(&grown, s->slot[i] - 1);
+        free(s->slot);
+        *s = grown;
+    }
+    key += 1; /* 0 marks an empty slot */
+    for (i = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (s->cap - 1);; i = (i + 1) & (s->cap - 1)) {
+        if (s->slot[i] == key) return 0;
+        if (!s->slot[i]) {
+            s->slot[i] = key;
+            ++s->count;
+            return 1;
+        }
+    }
+}
+
+/* A mesh the bench keeps a copy of, for the oracle. */
+typedef struct {
+    double verts[3 * 14];
+    uint32_t tris[3 * 24];
+    oracle_mesh om;
+    hgcd_mesh id;
+} shape;
+
+static void shape_finish(shape *m, uint32_t nv, uint32_t nt) {
+    m->om.verts = m->verts;
+    m->om.tris = m->tris;
+    m->om.vertex_count = nv;
+    m->om.triangle_count = nt;
+    m->om.closed = 1;
+}
+
+static void make_tetra(shape *m) {
+    static const double v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+    static const uint32_t t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+    memcpy(m->verts, v, sizeof v);
+    memcpy(m->tris, t, sizeof t);
+    shape_finish(m, 4, 4);
+}
+
+static void make_box(shape *m, double hx, double hy, double hz) {
+    static const uint32_t t[] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                                 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+    int i;
+    for (i = 0; i < 8; ++i) {
+        m->verts[3 * i + 0] = (i & 1) ? hx : -hx;
+        m->verts[3 * i + 1] = (i & 2) ? hy : -hy;
+        m->verts[3 * i + 2] = (i & 4) ? hz : -hz;
+    }
+    memcpy(m->tris, t, sizeof t);
+    shape_finish(m, 8, 12);
+}
+
+/* An octahedron with its six vertices pushed in or out at random: closed,
+ * usually non-convex, sometimes with coplanar or degenerate faces. */
+static void make_octa(shape *m, int jitter) {
+    static const uint32_t t[] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+    int i;
+    for (i = 0; i < 6; ++i) {
+        const double r = jitter ? 0.3 + 1.2 * uniform() : 1.0;
+        m->verts[3 * i + 0] = m->verts[3 * i + 1] = m->verts[3 * i + 2] = 0;
+        m->verts[3 * i + i / 2] = (i & 1) ? -r : r;
+    }
+    memcpy(m->tris, t, sizeof t);
+    shape_finish(m, 6, 8);
+}
+
+static void create_mesh(hgcd_world *w, shape *m) {
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = m->verts;
+    md.vertex_count = m->om.vertex_count;
+    md.triangles = m->tris;
+    md.triangle_count = m->om.triangle_count;
+    CHECK(w, hgcd_mesh_create(w, &md, &m->id));
+}
+
+/* The bench's view of a live body. */
+typedef struct {
+    hgcd_body id;
+    shape *mesh;
+    int own_mesh;
+    double position[3], orientation[4], scale;
+} body;
+
+static void random_orientation(double q[4]) {
+    double n;
+    do {
+        int k;
+        for (k = 0, n = 0; k < 4; ++k) {
+            q[k] = 2 * uniform() - 1;
+            n += q[k] * q[k];
+        }
+    } while (n < 0.01 || n > 1);
+    n = sqrt(n);
+    q[0] /= n, q[1] /= n, q[2] /= n, q[3] /= n;
+}
+
+int main(int argc, char **argv) {
+    long ticks = 100000, nbodies = 2000, churn = 20, check_every = 1000;
+    int threads = 0, i;
+    uint64_t seed = 1;
+    for (i = 1; i + 1 < argc; i += 2) {
+        if (!strcmp(argv[i], "--ticks")) ticks = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--bodies")) nbodies = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--churn")) churn = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--check-every")) check_every = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--threads")) threads = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--seed")) seed = strtoull(argv[i + 1], NULL, 10);
+        else {
+            fprintf(stderr, "bench_soak: unknown option %s\n", argv[i]);
+            return 2;
+        }
+    }
+    if (i != argc || ticks < 1 || nbodies < 2 || churn < 0 || churn > nbodies || check_every < 1) {
+        fprintf(stderr, "usage: bench_soak [--ticks T] [--bodies N] [--churn K] [--check-every C] "
+                        "[--threads P] [--seed S]\n");
+        return 2;
+    }
+    rng_state = seed;
+    /* The cube holds about one body per 12 unit cubes: many touching pairs. */
+    const double side = cbrt(12.0 * (double)nbodies);
+
+    hgcd_world *w = NULL;
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.thread_count = threads;
+    CHECK(w, hgcd_world_create(&wd, &w));
+
+    shape shared[3];
+    make_tetra(&shared[0]);
+    make_box(&shared[1], 1.0, 0.5, 0.25);
+    make_octa(&shared[2], 0);
+    id_set ids = {0};
+    for (i = 0; i < 3; ++i) {
+        create_mesh(w, &shared[i]);
+        if (!id_set_insert(&ids, (uint64_t)shared[i].id.index << 32 | shared[i].id.generation | 1ull << 63))
+            FAIL("mesh id handed out twice");
+    }
+
+    body *live = calloc((size_t)nbodies, sizeof *live);
+    const oracle_mesh **om = calloc((size_t)nbodies, sizeof *om);
+    double *pos = calloc(3 * (size_t)nbodies, sizeof *pos), *ori = calloc(4 * (size_t)nbodies, sizeof *ori);
+    double *scl = calloc((size_t)nbodies, sizeof *scl);
+    uint32_t *index_of = NULL, *oracle_pairs = NULL;
+    hgcd_pair *lib_pairs = NULL;
+    size_t index_cap = 0, pairs_cap = 0;
+    if (!live || !om || !pos || !ori || !scl) FAIL("out of memory");
+
+    long n = 0, checks = 0;
+    uint64_t pairs_checked = 0;
+    double rss_tenth = 0, rss_max = 0, t0 = now_seconds(), detect_s = 0;
+    long t;
+    for (t = 0; t < ticks; ++t) {
+        /* Destroy K random bodies (none on the first tick). */
+        long k, destroyed = t == 0 ? 0 : churn;
+        for (k = 0; k < destroyed && n > 0; ++k) {
+            long j = (long)(next_u64() % (uint64_t)n);
+            body b = live[j];
+            CHECK(w, hgcd_body_destroy(w, b.id));
+            if (hgcd_body_validate(w, b.id) == HGCD_OK) FAIL("a destroyed body id is still valid");
+            if (b.own_mesh) {
+                CHECK(w, hgcd_mesh_destroy(w, b.mesh->id));
+                if (hgcd_mesh_validate(w, b.mesh->id) == HGCD_OK) FAIL("a destroyed mesh id is still valid");
+                free(b.mesh);
+            }
+            live[j] = live[--n];
+        }
+        /* Create bodies up to N: a quarter on meshes of their own. */
+        while (n < nbodies) {
+            body *b = &live[n];
+            hgcd_body_desc bd = hgcd_body_desc_default();
+            b->own_mesh = next_u64() % 4 == 0;
+            if (b->own_mesh) {
+                b->mesh = malloc(sizeof *b->mesh);
+                if (!b->mesh) FAIL("out of memory");
+                make_octa(b->mesh, 1);
+                create_mesh(w, b->mesh);
+                if (!id_set_insert(&ids, (uint64_t)b->mesh->id.index << 32 | b->mesh->id.generation | 1ull << 63))
+                    FAIL("mesh id {%u, %u} handed out twice", b->mesh->id.index, b->mesh->id.generation);
+            } else {
+                b->mesh = &shared[next_u64() % 3];
+            }
+            for (k = 0; k < 3; ++k) b->position[k] = side * uniform();
+            random_orientation(b->orientation);
+            b->scale = 0.5 + uniform();
+            bd.mesh = b->mesh->id;
+            memcpy(bd.position, b->position, sizeof bd.position);
+            memcpy(bd.orientation, b->orientation, sizeof bd.orientation);
+            bd.scale = b->scale;
+            CHECK(w, hgcd_body_create(w, &bd, &b->id));
+            if (!id_set_insert(&ids, (uint64_t)b->id.index << 32 | b->id.generation))
+                FAIL("body id {%u, %u} handed out twice", b->id.index, b->id.generation);
+            ++n;
+        }
+        /* Every body moves and turns. */
+        for (k = 0; k < n; ++k) {
+            body *b = &live[k];
+            int a;
+            for (a = 0; a < 3; ++a) {
+                b->position[a] += 0.2 * (uniform() - 0.5);
+                if (b->position[a] < 0) b->position[a] = -b->position[a];
+                if (b->position[a] > side) b->position[a] = 2 * side - b->position[a];
+            }
+            random_orientation(b->orientation);
+            CHECK(w, hgcd_body_set_pose(w, b->id, b->position, b->orientation));
+        }
+        const double d0 = now_seconds();
+        CHECK(w, hgcd_world_detect(w));
+        detect_s += now_seconds() - d0;
+
+        if ((t + 1) % check_every == 0 || t + 1 == ticks) {
+            const hgcd_pair *pp;
+            size_t count, expect, m;
+            CHECK(w, hgcd_world_pairs(w, &pp, &count));
+            /* The oracle numbers bodies 0..n-1 in the bench's order; map the
+             * library's slot indices to those. */
+            uint32_t max_index = 0;
+            for (k = 0; k < n; ++k)
+                if (live[k].id.index > max_index) max_index = live[k].id.index;
+            if (max_index + 1 > index_cap) {
+                index_cap = 2 * (size_t)(max_index + 1);
+                index_of = realloc(index_of, index_cap * sizeof *index_of);
+                if (!index_of) FAIL("out of memory");
+            }
+            for (k = 0; k < n; ++k) {
+                index_of[live[k].id.index] = (uint32_t)k;
+                om[k] = &live[k].mesh->om;
+                memcpy(pos + 3 * k, live[k].position, 3 * sizeof *pos);
+                memcpy(ori + 4 * k, live[k].orientation, 4 * sizeof *ori);
+                scl[k] = live[k].scale;
+            }
+            expect = oracle_colliding_pairs((size_t)n, om, pos, ori, scl, NULL, 0);
+            if (expect > pairs_cap || count > pairs_cap) {
+                pairs_cap = 2 * (expect > count ? expect : count) + 16;
+                oracle_pairs = realloc(oracle_pairs, 2 * pairs_cap * sizeof *oracle_pairs);
+                lib_pairs = realloc(lib_pairs, pairs_cap * sizeof *lib_pairs);
+                if (!oracle_pairs || !lib_pairs) FAIL("out of memory");
+            }
+            oracle_colliding_pairs((size_t)n, om, pos, ori, scl, oracle_pairs, pairs_cap);
+            if (count != expect) FAIL("tick %ld: %zu pairs, the oracle finds %zu", t, count, expect);
+            /* Both lists as sorted (i, j) of the bench's numbering. */
+            for (m = 0; m < count; ++m) {
+                uint32_t a = index_of[pp[m].a.index], b = index_of[pp[m].b.index];
+                lib_pairs[m].a.index = a < b ? a : b;
+                lib_pairs[m].b.index = a < b ? b : a;
+            }
+            for (m = 0; m < count; ++m) {
+                size_t q;
+                int found = 0;
+                /* oracle_pairs is sorted: binary search. */
+                size_t lo = 0, hi = expect;
+                while (lo < hi) {
+                    q = (lo + hi) / 2;
+                    if (oracle_pairs[2 * q] < lib_pairs[m].a.index ||
+                        (oracle_pairs[2 * q] == lib_pairs[m].a.index && oracle_pairs[2 * q + 1] < lib_pairs[m].b.index))
+                        lo = q + 1;
+                    else
+                        hi = q;
+                }
+                found = lo < expect && oracle_pairs[2 * lo] == lib_pairs[m].a.index &&
+                        oracle_pairs[2 * lo + 1] == lib_pairs[m].b.index;
+                if (!found) FAIL("tick %ld: pair (%u, %u) is not the oracle's", t, lib_pairs[m].a.index, lib_pairs[m].b.index);
+            }
+            ++checks;
+            pairs_checked += count;
+        }
+        if (t + 1 == (ticks + 9) / 10) rss_tenth = rss_bytes();
+        if (t + 1 > (ticks + 9) / 10 && (t + 1) % 100 == 0) {
+            const double r = rss_bytes();
+            if (r > rss_max) rss_max = r;
+            if (r > 1.25 * rss_tenth + 16e6)
+                FAIL("tick %ld: resident memory %.1f MB, %.1f MB after the first tenth", t, r / 1e6, rss_tenth / 1e6);
+        }
+        if ((t + 1) % 10000 == 0)
+            fprintf(stderr, "bench_soak: tick %ld, %zu ids, %ld oracle checks, RSS %.1f MB\n", t + 1, ids.count, checks,
+                    rss_bytes() / 1e6);
+    }
+    const double total = now_seconds() - t0;
+    printf("{\"bench\":\"soak\",\"ticks\":%ld,\"bodies\":%ld,\"churn\":%ld,\"threads\":%d,\"seed\":%llu,"
+           "\"ids_issued\":%zu,\"oracle_checks\":%ld,\"pairs_checked\":%llu,\"rss_tenth_mb\":%.1f,"
+           "\"rss_max_after_mb\":%.1f,\"tick_ms\":%.3f,\"detect_ms\":%.3f,\"seconds\":%.1f}\n",
+           ticks, nbodies, churn, threads, (unsigned long long)seed, ids.count, checks,
+           (unsigned long long)pairs_checked, rss_tenth / 1e6, rss_max / 1e6, 1e3 * total / (double)ticks,
+           1e3 * detect_s / (double)ticks, total);
+
+    for (i = 0; i < n; ++i)
+        if (live[i].own_mesh) free(live[i].mesh);
+    hgcd_world_destroy(w);
+    free(live), free(om), free(pos), free(ori), free(scl), free(index_of), free(oracle_pairs), free(lib_pairs);
+    free(ids.slot);
+    return 0;
+}

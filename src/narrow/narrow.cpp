@@ -141,12 +141,10 @@ constexpr uint64_t kFaceTestBudget = 4096;
 //
 // World vertices are computed lazily, per pair, for the triangles the
 // traversal reaches (BodyView::vertex), instead of all vertices of both
-// bodies: for two blobs of 5002 vertices in shallow contact, transforming
-// them all costs 17.7 us, more than the whole touching test (10 us). (The
-// other choice, world vertices and node boxes cached per body per tick,
-// would need storage owned by the world; a body takes part in ~2.5 pairs of
-// scene `meshes`, so it would save at most the ~20% of the pair time spent in
-// node boxes and transforms.) Node boxes are conservative world boxes of the
+// bodies: for two large meshes in shallow contact, transforming them all
+// costs more than the whole test. (Caching them per body per tick would need
+// storage owned by the world, for little: a body takes part in few pairs.)
+// Node boxes are conservative world boxes of the
 // mesh-frame node boxes (BodyView::node_box argues the margin), refined above
 // the leaves by a separating-axis test on both rotations' face directions
 // with the same margins (obb_separated), so a node pair is skipped only when
@@ -352,9 +350,9 @@ bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t *meet) {
         // Descend the larger node (or the one that is not a leaf).
         // The child whose centre is farther from the other node's is visited
         // first: where two surfaces cross, each lies near the other's box
-        // boundary, not its middle (measured on the `meshes` scene: 2.6x
+        // boundary, not its middle (on the `meshes` scene, several times
         // fewer node pairs before the first meeting triangles than in a
-        // fixed order, 10x in the shallow contact benchmark).
+        // fixed order).
         if (lb || (!la && box_size(ba) >= box_size(bb))) {
             const uint64_t c = a.nodes[i].first;
             const bool swap = dist2(a.box(c), bb) > dist2(a.box(c + 1), bb);

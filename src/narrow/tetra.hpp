@@ -262,12 +262,11 @@ inline Contact tet_exact(const TetWorld &ta, const TetWorld &tb, TetSides &sab, 
 // A separating axis across an edge of each tetrahedron, tried on the pairs
 // that no face plane keeps apart and no certified sign decides, before the
 // exact path. Two disjoint convex hulls with no separating face plane have
-// a separating plane parallel to an edge of each; on scene tetra 42 k pairs
-// a tick at n = 750000 are such, and their exact path tests up to 16
-// triangle pairs each. Of the 36 edge pairs one is tried: the edge joining
-// the two vertices of each tetrahedron nearest the other's position (its
-// centre); it finds an axis for 83% of those pairs (some pair of the 36 for
-// all of them). The choice is a guess and any axis proves disjointness, so
+// a separating plane parallel to an edge of each, and the exact path would
+// test up to 16 triangle pairs each. Of the 36 edge pairs one is tried: the
+// edge joining the two vertices of each tetrahedron nearest the other's
+// position (its centre); on scene tetra it finds an axis for most such
+// pairs (some pair of the 36 would for all of them). The choice is a guess and any axis proves disjointness, so
 // nothing needs to be exact but the final test.
 //
 // Why that test is certain. On an axis n (any double vector) the
@@ -323,12 +322,12 @@ struct EdgeAxis {
 };
 
 // Separating axis along the line of centres (the bodies' positions), tested
-// before any world vertex is computed: on scene tetra at n = 750000 it rejects
-// 47% of the broad phase's box candidates (the exact vertex boxes after it
-// almost none: the broad phase's boxes are the same, rounded outward to
-// float; with sphere candidates the figures were 56% and 31%). Any axis u proves the hulls
-// of two point sets disjoint when their projections on it are strictly apart,
-// so u = fl(c_b - c_a) need not be exact, and touching sets are never rejected.
+// before any world vertex is computed: on scene tetra it rejects about half
+// of the broad phase's box candidates (the exact vertex boxes after it almost
+// none: the broad phase's boxes are the same, rounded outward to float). Any
+// axis u proves the hulls of two point sets disjoint when their projections
+// on it are strictly apart, so u = fl(c_b - c_a) need not be exact, and
+// touching sets are never rejected.
 // The projection of a world vertex w = fl(c + fl(R l)) (tet_world) is u.c +
 // l.(R^T u), exactly for R as rounded, plus its rounding: at most eps |c|.|u| +
 // 4 eps |l|.(|R|^T |u|) (eps = 2^-53; this bound and those below to first order

@@ -70,8 +70,8 @@ struct FourLaneKernels {
     static HGCD_TET_INLINE void world(const BodyPose &b, const TetRotations &rot, const Local &l, TetWorld &w) {
         const double *c = b.position;
         // Splats of lane L in registers: read back from memory as scalars,
-        // GCC merged them into 32-byte loads of 16-byte stores (a store
-        // forwarding stall: narrow phase 12% slower on tetra 750k).
+        // GCC merges them into 32-byte loads of 16-byte stores (a store
+        // forwarding stall).
         f64x4 r[9];
         for (int k = 0; k < 9; ++k) r[k] = __builtin_shufflevector(rot.m[k], rot.m[k], L, L, L, L);
         const f64x4 lx = l.x, ly = l.y, lz = l.z;

@@ -41,7 +41,7 @@ struct Side4 {
 // halves: (x y z qx) and (qy qz qw scale).
 static inline void load_side(const Placement *const *p, const Mesh *const *mesh, Side4 &s) {
     f64x4 r[4], h[4];
-    for (int k = 0; k < 4; ++k) {  // (memcpy here went through the stack: a store forwarding stall)
+    for (int k = 0; k < 4; ++k) {  // (memcpy here goes through the stack: a store forwarding stall)
         const double *half = reinterpret_cast<const double *>(p[k]);
         r[k] = (f64x4)_mm256_loadu_pd(half);
         h[k] = (f64x4)_mm256_loadu_pd(half + 4);
@@ -118,8 +118,8 @@ static inline void world4(const Side4 &s, f64x4 (*w)[4], f64x4 *lo, f64x4 *hi) {
 // The face planes' signs in float, eight pairs at a time (two groups of
 // four), on vertices that are the double world vertices less the low corner
 // of the box holding both bodies, scaled by a power of two s that brings the
-// box's largest extent below 1, rounded to float. (Double, four lanes, the
-// narrow phase on tetra 750k took 1.3 ms more on 1 thread.) Why a sign is
+// box's largest extent below 1, rounded to float (eight lanes a vector,
+// where double has four). Why a sign is
 // then certain when |d| > bound = 2^-15 P, P = ex ey ez of the scaled
 // extents (each at most 1):
 //  - let U be the world vertices less the corner, scaled, in exact
@@ -154,7 +154,7 @@ struct Sides8 {
     unsigned inner_pos, inner_neg;
 };
 static inline void sides8(f32x8 (*w)[4], f32x8 (*o)[4], const f32x8 &bound, Sides8 &s) {
-    i32x8 ip = i32x8{}, in = i32x8{};
+    i32x8 own_pos = i32x8{}, own_neg = i32x8{};
     const f32x8 minus = -bound;
     for (int f = 0; f < 4; ++f) {
         const int i0 = kFace[f][0], i1 = kFace[f][1], i2 = kFace[f][2];
@@ -164,8 +164,8 @@ static inline void sides8(f32x8 (*w)[4], f32x8 (*o)[4], const f32x8 &bound, Side
         const f32x8 a = e1y * e2z, b = e1z * e2y, c = e1z * e2x, d = e1x * e2z, e = e1x * e2y, g = e1y * e2x;
         const f32x8 nx = a - b, ny = c - d, nz = e - g;
         const f32x8 own = ((w[0][f] - t0x) * nx + (w[1][f] - t0y) * ny) + (w[2][f] - t0z) * nz;  // -orient3d
-        ip |= own < minus;
-        in |= bound < own;
+        own_pos |= own < minus;
+        own_neg |= bound < own;
         i32x8 pos = i32x8{}, neg = i32x8{};
         for (int v = 0; v < 4; ++v) {
             const f32x8 dd = ((o[0][v] - t0x) * nx + (o[1][v] - t0y) * ny) + (o[2][v] - t0z) * nz;
@@ -175,8 +175,8 @@ static inline void sides8(f32x8 (*w)[4], f32x8 (*o)[4], const f32x8 &bound, Side
         s.pos[f] = pos;
         s.neg[f] = neg;
     }
-    s.inner_pos = lanes_of(ip);
-    s.inner_neg = lanes_of(in) & ~s.inner_pos;
+    s.inner_pos = lanes_of(own_pos);
+    s.inner_neg = lanes_of(own_neg) & ~s.inner_pos;
 }
 // From the signs (tet_verdict and TetOuter for a certain inner sign): lanes
 // surely apart, surely Containment, surely Surface.
@@ -283,50 +283,51 @@ __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, cons
     const unsigned valid = (1u << count) - 1;
     Side4 A[2], B[2];
     f64x4 wa[2][3][4], wb[2][3][4], ex[2], ey[2], ez[2];
-    f64x4 la[2][3], ha[2][3], lb[2][3], hb[2][3];
-    unsigned boxed = 0, small = 0;
-    f64x4 lo[2][3], scale[2], bound[2];
+    f64x4 lo_a[2][3], hi_a[2][3], lo_b[2][3], hi_b[2][3];
+    unsigned boxed = 0, tiny = 0;
+    f64x4 corner[2][3], scale[2], bound[2];
     for (int g = 0; g < 2; ++g) {
         const TetraPair *group[4];
         for (int k = 0; k < 4; ++k) group[k] = &pairs[idx[4 * g + k < count ? 4 * g + k : 0]];
         load_pairs(group, A[g], B[g]);
-        world4(A[g], wa[g], la[g], ha[g]);
-        world4(B[g], wb[g], lb[g], hb[g]);
+        world4(A[g], wa[g], lo_a[g], hi_a[g]);
+        world4(B[g], wb[g], lo_b[g], hi_b[g]);
         // The exact vertex boxes (the one-pair test's prefilter).
-        boxed |= (~lanes_of((ha[g][0] < lb[g][0]) | (hb[g][0] < la[g][0]) | (ha[g][1] < lb[g][1]) |
-                            (hb[g][1] < la[g][1]) | (ha[g][2] < lb[g][2]) | (hb[g][2] < la[g][2])) & 0xF)
+        boxed |= (~lanes_of((hi_a[g][0] < lo_b[g][0]) | (hi_b[g][0] < lo_a[g][0]) | (hi_a[g][1] < lo_b[g][1]) |
+                            (hi_b[g][1] < lo_a[g][1]) | (hi_a[g][2] < lo_b[g][2]) | (hi_b[g][2] < lo_a[g][2])) & 0xF)
                  << (4 * g);
-        for (int a = 0; a < 3; ++a) lo[g][a] = min4(la[g][a], lb[g][a]);
-        ex[g] = max4(ha[g][0], hb[g][0]) - lo[g][0];
-        ey[g] = max4(ha[g][1], hb[g][1]) - lo[g][1];
-        ez[g] = max4(ha[g][2], hb[g][2]) - lo[g][2];
+        for (int a = 0; a < 3; ++a) corner[g][a] = min4(lo_a[g][a], lo_b[g][a]);
+        ex[g] = max4(hi_a[g][0], hi_b[g][0]) - corner[g][0];
+        ey[g] = max4(hi_a[g][1], hi_b[g][1]) - corner[g][1];
+        ez[g] = max4(hi_a[g][2], hi_b[g][2]) - corner[g][2];
         // s = 2^-(E's exponent + 1), E the largest extent: E s < 1.
         const i64x4 field = i64x4{} + (int64_t(0x7FF) << 52);
-        const f64x4 big = max4(ex[g], max4(ey[g], ez[g]));
-        scale[g] = (f64x4)((i64x4{} + (int64_t(2045) << 52)) - ((i64x4)big & field));
-        const f64x4 p = ((ex[g] * scale[g]) * (ey[g] * scale[g])) * (ez[g] * scale[g]);
-        small |= lanes_of(p < 0x1p-115) << (4 * g);
-        bound[g] = 0x1p-15 * p;
+        const f64x4 largest = max4(ex[g], max4(ey[g], ez[g]));
+        scale[g] = (f64x4)((i64x4{} + (int64_t(2045) << 52)) - ((i64x4)largest & field));
+        // P of the float bound's argument (above), and the lanes too flat for it.
+        const f64x4 volume = ((ex[g] * scale[g]) * (ey[g] * scale[g])) * (ez[g] * scale[g]);
+        tiny |= lanes_of(volume < 0x1p-115) << (4 * g);
+        bound[g] = 0x1p-15 * volume;
     }
     boxed &= valid;
     if (!boxed) return;
     scratch.exact_tests += unsigned(__builtin_popcount(boxed));
     // Both groups' floats joined in registers (halves stored to memory and
     // read back whole would wait on store forwarding).
-    f32x8 fa[3][4], fb[3][4];
+    f32x8 float_a[3][4], float_b[3][4];
     for (int a = 0; a < 3; ++a)
         for (int v = 0; v < 4; ++v) {
-            fa[a][v] = join8((wa[0][a][v] - lo[0][a]) * scale[0], (wa[1][a][v] - lo[1][a]) * scale[1]);
-            fb[a][v] = join8((wb[0][a][v] - lo[0][a]) * scale[0], (wb[1][a][v] - lo[1][a]) * scale[1]);
+            float_a[a][v] = join8((wa[0][a][v] - corner[0][a]) * scale[0], (wa[1][a][v] - corner[1][a]) * scale[1]);
+            float_b[a][v] = join8((wb[0][a][v] - corner[0][a]) * scale[0], (wb[1][a][v] - corner[1][a]) * scale[1]);
         }
     const f32x8 bound8 = join8(bound[0], bound[1]);
     Sides8 sab, sba;  // b's vertices against a's faces, and a's against b's
-    sides8(fa, fb, bound8, sab);
-    sides8(fb, fa, bound8, sba);
+    sides8(float_a, float_b, bound8, sab);
+    sides8(float_b, float_a, bound8, sba);
     unsigned apart_a, in_a, surf_a, apart_b, in_b, surf_b;
     decide8(sab, apart_a, in_a, surf_a);
     decide8(sba, apart_b, in_b, surf_b);
-    const unsigned oriented = (sab.inner_pos | sab.inner_neg) & (sba.inner_pos | sba.inner_neg) & ~small;
+    const unsigned oriented = (sab.inner_pos | sab.inner_neg) & (sba.inner_pos | sba.inner_neg) & ~tiny;
     const unsigned apart = (apart_a | apart_b) & oriented & boxed;
     const unsigned contained = (in_a | in_b) & oriented & boxed & ~apart;
     const unsigned surface = (surf_a | surf_b) & oriented & boxed & ~apart & ~contained;
@@ -334,6 +335,7 @@ __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, cons
     // Every lane's certified verdict, None where there is none yet (open
     // lanes are written again below): no branch on the verdicts, which are
     // random.
+    // (Indexed by the lane's contained bit | its surface bit << 1.)
     static constexpr Contact kVerdict[4] = {Contact::None, Contact::Containment, Contact::Surface,
                                             Contact::Containment};
     for (int k = 0; k < count; ++k) out[idx[k]] = kVerdict[(contained >> k & 1) | (surface >> k & 1) << 1];
@@ -342,8 +344,8 @@ __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, cons
         if (!left) continue;
         // The one-pair test's u: the body of the larger box (the same sums).
         f64x4 size_a, size_b;
-        tet_box_size(size_a, la[g], ha[g]);
-        tet_box_size(size_b, lb[g], hb[g]);
+        tet_box_size(size_a, lo_a[g], hi_a[g]);
+        tet_box_size(size_b, lo_b[g], hi_b[g]);
         const i64x4 b_is_u = size_b > size_a;
         while (left) {
             const int k = __builtin_ctz(left);

@@ -129,7 +129,7 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, 
 int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
                                 const double *poses, uint32_t pair_count, uint64_t *counts) {
     uint32_t faces[12];
-    hgcd_scene_tetra_unit_mesh(nullptr, faces);  // (SCENES.md's faces)
+    hgcd_scene_tetra_unit_mesh(nullptr, faces);  // (the faces of docs/scenes.md)
     std::vector<hgcd::Mesh> mesh(mesh_count);
     for (uint32_t m = 0; m < mesh_count; ++m) {
         std::string error;

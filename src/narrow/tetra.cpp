@@ -149,7 +149,8 @@ inline int sign_of(const TetSides &s, int f, int v) {
 __attribute__((noinline)) HGCD_TET_CLONES Contact tet_exact_rows(const double (*wa)[3], const double (*wb)[3],
                                                                 TetSides &sab, TetSides &sba,
                                                                 NarrowScratch &scratch) {
-    if (tet_resolve(wa, wb, sab) | tet_resolve(wb, wa, sba)) {
+    const bool any_ab = tet_resolve(wa, wb, sab), any_ba = tet_resolve(wb, wa, sba);  // (both resolved)
+    if (any_ab || any_ba) {
         if (tet_separated(sab) || tet_separated(sba)) return Contact::None;
         const Verdict va = tet_verdict(sab), vb = tet_verdict(sba);
         if (va == Verdict::Surface || vb == Verdict::Surface) return Contact::Surface;

@@ -94,9 +94,9 @@ inline void tet_box_size(T &size, const T *lo, const T *hi) {
 
 // With GCC on x86-64 the two-lane pair test is also compiled for AVX
 // (target_clones: the same operations VEX-encoded, without SSE2's register
-// copies) and a four-lane version for AVX2 (FourLaneKernels), picked at run time;
-// neither uses FMA, so every lane has the same bits. Clang and other targets
-// (NEON) use the two-lane kernels as written.
+// copies) and a four-lane version for AVX2 (tetra_avx2.cpp), picked at run
+// time; neither uses FMA, so every lane has the same bits. Clang and other
+// targets (NEON) use the two-lane kernels as written.
 #if HGCD_AVX2
 #define HGCD_TET_CLONES __attribute__((target_clones("avx", "default")))
 #define HGCD_TET_INLINE inline __attribute__((always_inline))

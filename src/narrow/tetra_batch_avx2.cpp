@@ -304,7 +304,7 @@ __attribute__((target("avx2"))) void collide_tetra8(const TetraPair *pairs, cons
         const i64x4 field = i64x4{} + (int64_t(0x7FF) << 52);
         const f64x4 largest = max4(ex[g], max4(ey[g], ez[g]));
         scale[g] = (f64x4)((i64x4{} + (int64_t(2045) << 52)) - ((i64x4)largest & field));
-        // P of the float bound's argument (above), and the lanes too flat for it.
+        // P of the float bound (the argument above Sides8), and the lanes too flat for it.
         const f64x4 volume = ((ex[g] * scale[g]) * (ey[g] * scale[g])) * (ez[g] * scale[g]);
         tiny |= lanes_of(volume < 0x1p-115) << (4 * g);
         bound[g] = 0x1p-15 * volume;

@@ -48,19 +48,73 @@ struct Builder {
         }
     }
 
+    // The bin of triangle tr's centroid on `axis`: scale = kBins (1 - 1e-9)
+    // / extent of the centroids from cen_lo.
+    int bin_of(uint32_t tr, int axis, double cen_lo, double scale) const {
+        const int b = int((cen[3 * size_t(tr) + axis] - cen_lo) * scale);
+        return std::min(std::max(b, 0), kBins - 1);
+    }
+
+    // Binned SAH on one axis (centroids from cen_lo over extent > 0): lowers
+    // best_cost to the cost of this axis's cheapest cut, if cheaper, and sets
+    // best_axis and best_bin (the last bin of the left part).
+    void try_axis(uint32_t begin, uint32_t end, int axis, double cen_lo, double extent, double &best_cost,
+                  int &best_axis, int &best_bin) const {
+        const double scale = kBins * (1 - 1e-9) / extent;
+        uint32_t bin_count[kBins] = {};
+        double bin_lo[kBins][3], bin_hi[kBins][3];
+        for (int b = 0; b < kBins; ++b)
+            for (int k = 0; k < 3; ++k) bin_lo[b][k] = INFINITY, bin_hi[b][k] = -INFINITY;
+        for (uint32_t i = begin; i < end; ++i) {
+            const uint32_t tr = order[i];
+            const int b = bin_of(tr, axis, cen_lo, scale);
+            ++bin_count[b];
+            for (int k = 0; k < 3; ++k) {
+                bin_lo[b][k] = std::min(bin_lo[b][k], lo[3 * size_t(tr) + k]);
+                bin_hi[b][k] = std::max(bin_hi[b][k], hi[3 * size_t(tr) + k]);
+            }
+        }
+        // Right-to-left sweep of areas and counts, then left to right.
+        double right_area[kBins];
+        uint32_t right_count[kBins];
+        double right_lo[3] = {INFINITY, INFINITY, INFINITY}, right_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        uint32_t right_total = 0;
+        for (int b = kBins - 1; b > 0; --b) {
+            for (int k = 0; k < 3; ++k)
+                right_lo[k] = std::min(right_lo[k], bin_lo[b][k]), right_hi[k] = std::max(right_hi[k], bin_hi[b][k]);
+            right_total += bin_count[b];
+            right_area[b] = right_total ? area(right_lo, right_hi) : 0;
+            right_count[b] = right_total;
+        }
+        double left_lo[3] = {INFINITY, INFINITY, INFINITY}, left_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        uint32_t left_total = 0;
+        for (int b = 0; b + 1 < kBins; ++b) {
+            for (int k = 0; k < 3; ++k)
+                left_lo[k] = std::min(left_lo[k], bin_lo[b][k]), left_hi[k] = std::max(left_hi[k], bin_hi[b][k]);
+            left_total += bin_count[b];
+            if (left_total == 0 || right_count[b + 1] == 0) continue;
+            const double cost = left_total * area(left_lo, left_hi) + right_count[b + 1] * right_area[b + 1];
+            if (cost < best_cost) {
+                best_cost = cost;
+                best_axis = axis;
+                best_bin = b;
+            }
+        }
+    }
+
     // Splits order[begin, end) and returns the first index of the right part
     // (strictly between begin and end).
     uint32_t split(uint32_t begin, uint32_t end, uint32_t level) {
         const uint32_t count = end - begin;
-        double cl[3] = {INFINITY, INFINITY, INFINITY}, ch[3] = {-INFINITY, -INFINITY, -INFINITY};
+        double cen_lo[3] = {INFINITY, INFINITY, INFINITY}, cen_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (uint32_t i = begin; i < end; ++i)
             for (int k = 0; k < 3; ++k) {
-                cl[k] = std::min(cl[k], cen[3 * size_t(order[i]) + k]);
-                ch[k] = std::max(ch[k], cen[3 * size_t(order[i]) + k]);
+                cen_lo[k] = std::min(cen_lo[k], cen[3 * size_t(order[i]) + k]);
+                cen_hi[k] = std::max(cen_hi[k], cen[3 * size_t(order[i]) + k]);
             }
         int wide = 0;
         for (int k = 1; k < 3; ++k)
-            if (ch[k] - cl[k] > ch[wide] - cl[wide]) wide = k;
+            if (cen_hi[k] - cen_lo[k] > cen_hi[wide] - cen_lo[wide]) wide = k;
         const uint32_t mid = begin + count / 2;
         auto median = [&](int axis) {
             std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
@@ -70,60 +124,19 @@ struct Builder {
                              });
             return mid;
         };
-        if (!(ch[wide] > cl[wide]) || level >= kSahDepth) return median(wide);
+        if (!(cen_hi[wide] > cen_lo[wide]) || level >= kSahDepth) return median(wide);
 
         // Binned SAH over the three axes.
         double best_cost = INFINITY;
         int best_axis = -1, best_bin = 0;
         for (int axis = 0; axis < 3; ++axis) {
-            const double extent = ch[axis] - cl[axis];
-            if (!(extent > 0)) continue;
-            const double scale = kBins * (1 - 1e-9) / extent;
-            uint32_t bin_count[kBins] = {};
-            double bl[kBins][3], bh[kBins][3];
-            for (int b = 0; b < kBins; ++b)
-                for (int k = 0; k < 3; ++k) bl[b][k] = INFINITY, bh[b][k] = -INFINITY;
-            for (uint32_t i = begin; i < end; ++i) {
-                const uint32_t tr = order[i];
-                int b = int((cen[3 * size_t(tr) + axis] - cl[axis]) * scale);
-                b = std::min(std::max(b, 0), kBins - 1);
-                ++bin_count[b];
-                for (int k = 0; k < 3; ++k) {
-                    bl[b][k] = std::min(bl[b][k], lo[3 * size_t(tr) + k]);
-                    bh[b][k] = std::max(bh[b][k], hi[3 * size_t(tr) + k]);
-                }
-            }
-            // Right-to-left sweep of areas and counts, then left to right.
-            double right_area[kBins];
-            uint32_t right_count[kBins];
-            double rl[3] = {INFINITY, INFINITY, INFINITY}, rh[3] = {-INFINITY, -INFINITY, -INFINITY};
-            uint32_t rc = 0;
-            for (int b = kBins - 1; b > 0; --b) {
-                for (int k = 0; k < 3; ++k) rl[k] = std::min(rl[k], bl[b][k]), rh[k] = std::max(rh[k], bh[b][k]);
-                rc += bin_count[b];
-                right_area[b] = rc ? area(rl, rh) : 0;
-                right_count[b] = rc;
-            }
-            double ll[3] = {INFINITY, INFINITY, INFINITY}, lh[3] = {-INFINITY, -INFINITY, -INFINITY};
-            uint32_t lc = 0;
-            for (int b = 0; b + 1 < kBins; ++b) {
-                for (int k = 0; k < 3; ++k) ll[k] = std::min(ll[k], bl[b][k]), lh[k] = std::max(lh[k], bh[b][k]);
-                lc += bin_count[b];
-                if (lc == 0 || right_count[b + 1] == 0) continue;
-                const double cost = lc * area(ll, lh) + right_count[b + 1] * right_area[b + 1];
-                if (cost < best_cost) {
-                    best_cost = cost;
-                    best_axis = axis;
-                    best_bin = b;
-                }
-            }
+            const double extent = cen_hi[axis] - cen_lo[axis];
+            if (extent > 0) try_axis(begin, end, axis, cen_lo[axis], extent, best_cost, best_axis, best_bin);
         }
         if (best_axis < 0) return median(wide);
-        const double scale = kBins * (1 - 1e-9) / (ch[best_axis] - cl[best_axis]);
+        const double scale = kBins * (1 - 1e-9) / (cen_hi[best_axis] - cen_lo[best_axis]);
         auto it = std::partition(order.begin() + begin, order.begin() + end, [&](uint32_t tr) {
-            int b = int((cen[3 * size_t(tr) + best_axis] - cl[best_axis]) * scale);
-            b = std::min(std::max(b, 0), kBins - 1);
-            return b <= best_bin;
+            return bin_of(tr, best_axis, cen_lo[best_axis], scale) <= best_bin;
         });
         const uint32_t cut = uint32_t(it - order.begin());
         if (cut == begin || cut == end) return median(wide);
@@ -235,6 +248,40 @@ double offset(uint32_t i) {
 
 constexpr int kRayAttempts = 32;
 
+// How the closed segment pq (box smin, smax) meets the triangle v.
+enum class Crossing {
+    Miss,
+    Through,     // through the triangle's interior: flips the parity
+    Degenerate,  // through an edge or a vertex, or in the plane: try another ray
+};
+
+inline Crossing segment_crossing(const double *p, const double *q, const double *smin, const double *smax,
+                                 const double *const *v) {
+    for (int k = 0; k < 3; ++k) {
+        const double lo = std::min(std::min(v[0][k], v[1][k]), v[2][k]);
+        const double hi = std::max(std::max(v[0][k], v[1][k]), v[2][k]);
+        if (hi < smin[k] || lo > smax[k]) return Crossing::Miss;
+    }
+    const int sp = orient3d(v[0], v[1], v[2], p);
+    const int sq = orient3d(v[0], v[1], v[2], q);
+    if (sp != 0 && sp == sq) return Crossing::Miss;
+    if (sp == 0 && sq == 0) {  // in the plane, or a zero-area triangle
+        if (collinear3d(v[0], v[1], v[2])) return Crossing::Miss;
+        return segment_triangle_intersect(p, q, v[0], v[1], v[2]) ? Crossing::Degenerate : Crossing::Miss;
+    }
+    if (sp == 0 || sq == 0) {  // an endpoint on the plane
+        if (collinear3d(v[0], v[1], v[2])) return Crossing::Miss;
+        const double *x = sp == 0 ? p : q;
+        return segment_triangle_intersect(x, x, v[0], v[1], v[2]) ? Crossing::Degenerate : Crossing::Miss;
+    }
+    const int s0 = orient3d(p, q, v[0], v[1]);
+    const int s1 = orient3d(p, q, v[1], v[2]);
+    const int s2 = orient3d(p, q, v[2], v[0]);
+    if (s0 == s1 && s1 == s2 && s0 != 0) return Crossing::Through;
+    if (!((s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0))) return Crossing::Degenerate;
+    return Crossing::Miss;
+}
+
 }  // namespace
 
 bool point_in_closed_mesh_bvh(const double *p, BodyView &o, std::vector<uint32_t> &stack) {
@@ -300,35 +347,9 @@ bool point_in_closed_mesh_bvh(const double *p, BodyView &o, std::vector<uint32_t
             for (uint32_t i = node.first; i < node.first + node.count; ++i) {
                 const uint32_t *t = &o.tris[3 * size_t(i)];
                 const double *v[3] = {o.vertex(t[0]), o.vertex(t[1]), o.vertex(t[2])};
-                bool away = false;
-                for (int k = 0; k < 3 && !away; ++k) {
-                    const double lo = std::min(std::min(v[0][k], v[1][k]), v[2][k]);
-                    const double hi = std::max(std::max(v[0][k], v[1][k]), v[2][k]);
-                    away = hi < smin[k] || lo > smax[k];
-                }
-                if (away) continue;
-                const int sp = orient3d(v[0], v[1], v[2], p);
-                const int sq = orient3d(v[0], v[1], v[2], q);
-                if (sp != 0 && sp == sq) continue;
-                if (sp == 0 && sq == 0) {  // in the plane, or a zero-area triangle
-                    if (collinear3d(v[0], v[1], v[2])) continue;
-                    if (segment_triangle_intersect(p, q, v[0], v[1], v[2])) degenerate = true;
-                    continue;
-                }
-                if (sp == 0 || sq == 0) {  // an endpoint on the plane
-                    if (collinear3d(v[0], v[1], v[2])) continue;
-                    const double *x = sp == 0 ? p : q;
-                    if (segment_triangle_intersect(x, x, v[0], v[1], v[2])) degenerate = true;
-                    continue;
-                }
-                const int s0 = orient3d(p, q, v[0], v[1]);
-                const int s1 = orient3d(p, q, v[1], v[2]);
-                const int s2 = orient3d(p, q, v[2], v[0]);
-                if (s0 == s1 && s1 == s2 && s0 != 0) {
-                    parity = !parity;
-                } else if (!((s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0))) {
-                    degenerate = true;  // through an edge or a vertex
-                }
+                const Crossing c = segment_crossing(p, q, smin, smax, v);
+                parity ^= c == Crossing::Through;
+                degenerate |= c == Crossing::Degenerate;
             }
         }
         if (!degenerate) return parity;

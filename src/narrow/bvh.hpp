@@ -19,10 +19,9 @@
 namespace hgcd {
 
 // Meshes with at most this many triangles get no tree: the direct path of the
-// narrow phase (all world vertices, all triangle boxes) is faster for them.
-// Measured on scene `meshes` with coarse blobs (n = 3000, side 40, 1 thread,
-// direct path / tree path): 16 triangles 2.9 / 3.7 ms, 36: 6.3 / 9.0 ms,
-// 64: 11.7 / 10.1 ms, 120: 15.5 / 16.1 ms, 224: 29 / 18 ms, 528: 65 / 24 ms.
+// narrow phase (all world vertices, all triangle boxes) is faster for them
+// (on scene `meshes` with coarse blobs the two cross between 36 and 64
+// triangles).
 constexpr uint32_t kBvhMinTriangles = 48;
 // A leaf holds at most this many triangles.
 constexpr uint32_t kBvhLeafSize = 4;

@@ -8,6 +8,7 @@
 #ifdef HGCD_HAVE_CCD
 
 #include "narrow/ccd_narrow.hpp"
+#include "narrow/boxes.hpp"
 
 #include <ccd/ccd.h>
 #include <ccd/config.h>
@@ -19,7 +20,9 @@
 
 namespace hgcd {
 
-// The precision libccd was configured with, as its installed config.h says.
+// The precision libccd was configured with, as its installed config.h says,
+// and libccd's mpr_tolerance and epa_tolerance for a pair relative to the sum
+// of the two bodies' bounding radii (scale * mesh radius).
 #if defined(CCD_DOUBLE) && !defined(CCD_SINGLE)
 static_assert(std::is_same<ccd_real_t, double>::value, "CCD_DOUBLE but ccd_real_t is not double");
 constexpr int kPrecision = 2;
@@ -37,7 +40,6 @@ constexpr double kRelativeTolerance = 1e-4;
 constexpr unsigned long kMaxIterations = 1000;
 
 int libccd_precision() { return kPrecision; }
-double libccd_relative_tolerance() { return kRelativeTolerance; }
 
 namespace {
 
@@ -77,10 +79,6 @@ void first_dir(const void *o1, const void *o2, ccd_vec3_t *dir) {
     const Hull &a = *static_cast<const Hull *>(o1), &b = *static_cast<const Hull *>(o2);
     for (int k = 0; k < 3; ++k) dir->v[k] = b.center.v[k] - a.center.v[k];
     if (dir->v[0] == 0 && dir->v[1] == 0 && dir->v[2] == 0) dir->v[0] = 1;
-}
-
-inline bool boxes_disjoint(const double *a, const double *b) {
-    return a[3] < b[0] || b[3] < a[0] || a[4] < b[1] || b[4] < a[1] || a[5] < b[2] || b[5] < a[2];
 }
 
 // The hull's points as ccd_real_t: in double precision the world vertices

@@ -36,10 +36,6 @@ struct CcdScratch {
 // 1: libccd was compiled with ccd_real_t = float (CCD_SINGLE), 2: double.
 int libccd_precision();
 
-// libccd's mpr_tolerance and epa_tolerance for a pair: this times the sum of
-// the two bodies' bounding radii (scale * mesh radius).
-double libccd_relative_tolerance();
-
 // True if libccd's GJK or MPR says the convex hulls of the world vertices of
 // a and b intersect (pairs whose exact vertex boxes are disjoint are refused
 // first, without libccd). With contact != nullptr and a hit, also fills the
@@ -51,7 +47,6 @@ bool ccd_collide(const BodyPose &a, const BodyPose &b, CcdMethod method, CcdScra
 #else
 
 inline int libccd_precision() { return 0; }
-inline double libccd_relative_tolerance() { return 0; }
 inline bool ccd_collide(const BodyPose &, const BodyPose &, CcdMethod, CcdScratch &, CcdContact *) {
     return false;
 }

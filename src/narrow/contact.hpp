@@ -5,16 +5,15 @@
 #include <cstdint>
 #include <vector>
 
-#include "narrow/ccd_narrow.hpp"
 #include "hgcd/hgcd.h"
+#include "narrow/ccd_narrow.hpp"
 #include "narrow/narrow.hpp"
 
 namespace hgcd {
 
 struct ContactScratch {
     std::vector<double> world_a, world_b;
-    std::vector<double> box_b;
-    std::vector<uint32_t> tri_b;
+    NearTriangles near_b;
 };
 
 // Fills out (all but out->pair) for a pair collide() reported as `hit`

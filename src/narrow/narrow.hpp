@@ -46,21 +46,23 @@ struct Witness {
     bool recorded = false;
 };
 
+// Triangles of one body that reach the other's box, with their exact boxes
+// (6 doubles each): the candidates of the triangle-pair loops.
+struct NearTriangles {
+    std::vector<uint32_t> tri;
+    std::vector<double> box;
+};
+
 // Per-thread buffers, reused across pairs so the hot loop does not allocate.
 struct NarrowScratch {
     std::vector<double> world_a, world_b;
-    std::vector<double> box_b;     // 6 per listed triangle of b: min xyz, max xyz
-    std::vector<uint32_t> tri_b;   // triangles of b that reach a's box
+    NearTriangles near_b;  // triangles of b that reach a's box
     // Tree path (a mesh above kBvhMinTriangles): per side, world vertices and
     // node boxes computed on first use, valid while their stamp is `epoch`
-    // (one epoch per pair test). A scratch made afresh for every detect
-    // allocates these anew: for a 2-body world of 10000-triangle meshes that
-    // is about half of the detect (bench_meshes contact case, touching / just
-    // apart / overlapping: 10.2 / 37.5 / 8.2 us; 5.1 / 33.6 / 4.1 us with the
-    // caches kept across detects), and up to three times more when the
-    // allocator hands back fresh pages that fault in again. A caller that
-    // detects often with few pairs should keep one scratch per thread alive
-    // between detects.
+    // (one epoch per pair test). Allocating these afresh costs about half of
+    // a detect of two 10000-triangle meshes, more when the allocator hands
+    // back fresh pages: a caller that detects often with few pairs should
+    // keep one scratch per thread alive between detects.
     struct Side {
         // Left uninitialised (only the stamps say what is valid): a scratch
         // lives for one detect, and zeroing 300 kB per detect for a pair of
@@ -78,7 +80,7 @@ struct NarrowScratch {
 // Exact: true when the closed solids of a and b share a point (surfaces meet,
 // or one closed mesh holds a component of the other). Pairs of tetrahedra
 // (Mesh::tetra) without a witness request take the tetra path (face-plane
-// signs of both point sets, narrow.cpp); other pairs of small meshes (no
+// signs of both point sets, tetra.cpp); other pairs of small meshes (no
 // tree) the direct path: all world vertices, exact boxes, triangle pairs.
 // The direct path counts exact_tests as pairs whose exact boxes overlap, the
 // tetra path as those that also pass its separating axis along the line of
@@ -100,5 +102,19 @@ void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowS
 
 // World-space vertices of a body into out (3 per vertex) and their box.
 void world_vertices(const BodyPose &body, std::vector<double> &out, double *box);
+
+// The direct path's exact steps on the world vertices (wa, wb) and exact
+// boxes of two meshes, shared with exact_contact (contact.cpp).
+// find_meeting_triangles: a triangle of a and one of b that share a point,
+// into meet[0], meet[1] (mesh indices), or false; near_b is scratch, and
+// each exact triangle test counts in triangle_tests.
+bool find_meeting_triangles(const Mesh &ma, const double *wa, const double *box_a, const Mesh &mb,
+                            const double *wb, const double *box_b, NearTriangles &near_b,
+                            uint64_t &triangle_tests, uint32_t *meet);
+// Is some component of `inner` (world vertices wi) inside the closed mesh
+// `outer` (world vertices wo, exact box outer_box)? Asked only once the
+// surfaces are disjoint, so no tested vertex lies on outer's surface.
+bool holds_component(const Mesh &outer, const double *wo, const double *outer_box, const Mesh &inner,
+                     const double *wi);
 
 }  // namespace hgcd

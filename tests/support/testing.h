@@ -55,7 +55,7 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
  * rounding, or -1 where that kernel does not run (no AVX2). */
 int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint32_t n);
 
-/* The narrow phase's batched tetrahedron test (narrow.cpp,
+/* The narrow phase's batched tetrahedron test (src/narrow/tetra.cpp,
  * collide_tetra_batch) against the one-pair test (collide) on pair_count
  * pairs: meshes holds 12 doubles per mesh (4 vertices x y z, the 4 faces
  * made of them), pair_mesh the two mesh indices of each pair, poses 16

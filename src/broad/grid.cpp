@@ -1537,16 +1537,4 @@ bool Grid::same_state(const Grid &o) const {
     return true;
 }
 
-size_t Grid::memory_bytes() const {
-    size_t bytes = level_.capacity() * sizeof(int16_t) + gen_.capacity() * sizeof(uint32_t) +
-                   cell_.capacity() * sizeof(int64_t) + oversize_.capacity() * sizeof(uint32_t) +
-                   exponent_.capacity() * sizeof(int16_t) + slack_.capacity() * sizeof(float);
-    for (const Level &lv : levels_)
-        for (const List *list : {&lv.residents, &lv.guests})
-            bytes += list->bl.capacity() * 7 * sizeof(float) +
-                     (list->bslot.capacity() + list->spare.capacity()) * sizeof(uint32_t) +
-                     (list->row_keys.capacity() * sizeof(CellKey) + list->row_start.capacity() * sizeof(uint32_t));
-    return bytes;
-}
-
 }  // namespace hgcd

@@ -207,8 +207,6 @@ class Grid {
     // hysteresis). For tests: an incremental update against a rebuild.
     bool same_state(const Grid &other) const;
     uint32_t oversize_count() const { return uint32_t(oversize_.size()); }
-    // Approximate heap bytes held.
-    size_t memory_bytes() const;
 
   private:
     // An entry with its row key and its low x as the lists hold it

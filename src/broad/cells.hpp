@@ -28,8 +28,8 @@ constexpr uint64_t kAxisMask = (uint64_t(1) << kAxisBits) - 1;
 // lie in [-1074, 1024]; tables over them are indexed by e + kExponentBias.
 constexpr int kExponentBias = 1080;
 constexpr int kExponents = 2110;
-// A body is oversize once kOversizeFactor |p|_1 passes its slack (the
-// census, Grid::update, argues the factor).
+// A body is oversize once kOversizeFactor |p|_1 passes its slack
+// (Grid::exponent_of, census.cpp, argues the factor).
 constexpr double kOversizeFactor = 4e-16;
 constexpr size_t kPad = 16;  // readable entries past the end of a list's box arrays (>= two blocks: scan)
 // Rows are 2^kRowShift cells high and deep.

@@ -53,7 +53,7 @@ struct Grid::Census {
     std::vector<uint64_t> histogram;
     std::vector<std::vector<uint32_t>> oversize;
     std::vector<std::vector<Moved>> changed;
-    std::vector<uint64_t> flagged;
+    std::vector<uint64_t> changed_count;
     size_t touched_stride;
     std::vector<uint64_t> touched;
 };
@@ -65,7 +65,7 @@ struct Grid::CensusThread {
     uint64_t *touched;
     std::vector<uint32_t> oversize;
     std::vector<Moved> changed;
-    uint64_t flagged = 0;
+    uint64_t changed_count = 0;
 };
 
 // The level of exponent e (INT_MIN: none, INT_MAX: oversize), by the table
@@ -127,7 +127,7 @@ inline __attribute__((always_inline)) void Grid::census_slot(const CensusInput &
         guard.run([&] {
             mine.changed.push_back(Moved{uint32_t(s), level_[s], li, x, {old[0], old[1]}, {c[0], c[1]}});
         });
-        ++mine.flagged;
+        ++mine.changed_count;
         if (level_[s] >= 0) ++mine.touched[level_[s]];
         if (li >= 0) ++mine.touched[li];
         level_[s] = li;
@@ -146,7 +146,7 @@ void Grid::take_census(Census &census, int threads, const SlotPass *before) {
     // (bodies_unchanged4): on an incremental update whose exponents are not
     // stale. inv: per level, the scale of its rows (0 where cell_coord
     // takes ldexp).
-    const bool quiet = census.in.incremental && !census.in.stale_exponents && use_avx2();
+    const bool try_unchanged4 = census.in.incremental && !census.in.stale_exponents && use_avx2();
     std::vector<double> inv(levels_.size());
     for (size_t l = 0; l < levels_.size(); ++l) inv[l] = cell_scale(levels_[l].exponent + kRowShift);
 #endif
@@ -162,7 +162,7 @@ void Grid::take_census(Census &census, int threads, const SlotPass *before) {
             if (before) before->run(before->context, uint32_t(block * kCensusBlock), block_end);
             for (int64_t s = block * kCensusBlock; s < int64_t(block_end); ++s) {
 #if HGCD_AVX2
-                if (quiet && s % 4 == 0 && s + 4 <= int64_t(block_end)) {
+                if (try_unchanged4 && s % 4 == 0 && s + 4 <= int64_t(block_end)) {
                     int e4[4];
                     if (bodies_unchanged4(size_t(s), in.boxes.pos, in.live_gen, gen_.data(), exponent_.data(),
                                           slack_.data(), level_.data(), cell_.data(), level_of_.data(), inv.data(),
@@ -181,7 +181,7 @@ void Grid::take_census(Census &census, int threads, const SlotPass *before) {
         }
         census.oversize[size_t(me)].swap(mine.oversize);
         census.changed[size_t(me)].swap(mine.changed);
-        census.flagged[size_t(me)] = mine.flagged;
+        census.changed_count[size_t(me)] = mine.changed_count;
     });
 }
 
@@ -217,9 +217,9 @@ uint64_t Grid::apply_moves(const Census &census, int threads) {
         moved_finer += touched[li];
     }
     update_lists(dirty, census.flag, changed, threads);
-    uint64_t flagged = 0;
-    for (const uint64_t f : census.flagged) flagged += f;
-    return flagged;
+    uint64_t changed_count = 0;
+    for (const uint64_t f : census.changed_count) changed_count += f;
+    return changed_count;
 }
 
 GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const uint32_t *live_gen,
@@ -241,7 +241,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     census.histogram.assign(size_t(threads) * kExponents, 0);
     census.oversize.resize(size_t(threads));
     census.changed.resize(size_t(threads));
-    census.flagged.assign(size_t(threads), 0);
+    census.changed_count.assign(size_t(threads), 0);
     census.touched_stride = (levels_.size() + 7) / 8 * 8 + 8;
     census.touched.assign(size_t(threads) * census.touched_stride, 0);
     take_census(census, threads, before);

@@ -46,53 +46,53 @@ void copy_boxes(const Boxes &boxes, const GatherArrays &A, size_t k, size_t e, s
 // Restores the order by low x of the row [row_b, row_e) by insertion sort
 // (between ticks the order barely changes), with each entry's largest high
 // x so far; returns false when the row would take long (many bodies
-// entering one row): the caller then sorts it outright. counts: whether
-// the row's slot jumps count to the disorder (residents), prev: the slot
-// before the row's first in sweep order.
-inline bool insertion_sort_row(const GatherArrays &A, size_t row_b, size_t row_e, uint32_t counts, uint32_t &prev,
+// entering one row): the caller then sorts it outright. count_jumps: 1
+// where the row's slot jumps count to the disorder (residents), else 0;
+// prev: the slot before the row's first in sweep order.
+inline bool insertion_sort_row(const GatherArrays &A, size_t row_b, size_t row_e, uint32_t count_jumps, uint32_t &prev,
                                uint64_t &jumps) {
-    float *L = A.low_x, *HX = A.high_x, *LY = A.low_y, *HY = A.high_y, *LZ = A.low_z, *HZ = A.high_z;
-    float *P = A.reach;
-    uint32_t *S = A.slot;
+    float *low_x = A.low_x, *high_x = A.high_x, *low_y = A.low_y, *high_y = A.high_y, *low_z = A.low_z,
+          *high_z = A.high_z, *reach = A.reach;
+    uint32_t *slots = A.slot;
     size_t budget = 64;  // insertion steps left to the row
     bool whole = false;  // the row needs sorting outright
     float most = -INFINITY;  // the row's largest high x so far
     for (size_t k = row_b; k < row_e; ++k) {
-        const uint32_t slot = S[k];
+        const uint32_t slot = slots[k];
         // A resident more than 64 slots from the one before it (its box is
         // in another stretch of memory).
-        jumps += counts & (uint32_t(slot - prev + 64) > 128);
+        jumps += count_jumps & (uint32_t(slot - prev + 64) > 128);
         prev = slot;
         budget += 8;
-        if (whole || k == row_b || !(L[k] < L[k - 1])) {
-            P[k] = most = std::max(most, HX[k]);
+        if (whole || k == row_b || !(low_x[k] < low_x[k - 1])) {
+            reach[k] = most = std::max(most, high_x[k]);
             continue;
         }
-        const float lx = L[k], hx = HX[k], ly = LY[k], hy = HY[k], lz = LZ[k], hz = HZ[k];
+        const float lx = low_x[k], hx = high_x[k], ly = low_y[k], hy = high_y[k], lz = low_z[k], hz = high_z[k];
         size_t j = k;
-        for (; j > row_b && lx < L[j - 1]; --j) {
-            L[j] = L[j - 1];
-            HX[j] = HX[j - 1];
-            LY[j] = LY[j - 1];
-            HY[j] = HY[j - 1];
-            LZ[j] = LZ[j - 1];
-            HZ[j] = HZ[j - 1];
-            S[j] = S[j - 1];
+        for (; j > row_b && lx < low_x[j - 1]; --j) {
+            low_x[j] = low_x[j - 1];
+            high_x[j] = high_x[j - 1];
+            low_y[j] = low_y[j - 1];
+            high_y[j] = high_y[j - 1];
+            low_z[j] = low_z[j - 1];
+            high_z[j] = high_z[j - 1];
+            slots[j] = slots[j - 1];
             if (--budget == 0) {
                 whole = true;
                 break;
             }
         }
-        L[j] = lx;
-        HX[j] = hx;
-        LY[j] = ly;
-        HY[j] = hy;
-        LZ[j] = lz;
-        HZ[j] = hz;
-        S[j] = slot;
+        low_x[j] = lx;
+        high_x[j] = hx;
+        low_y[j] = ly;
+        high_y[j] = hy;
+        low_z[j] = lz;
+        high_z[j] = hz;
+        slots[j] = slot;
         // The largest high x again from where the order changed.
-        most = j > row_b ? P[j - 1] : -INFINITY;
-        for (size_t t = j; t <= k; ++t) P[t] = most = std::max(most, HX[t]);
+        most = j > row_b ? reach[j - 1] : -INFINITY;
+        for (size_t t = j; t <= k; ++t) reach[t] = most = std::max(most, high_x[t]);
     }
     return !whole;
 }
@@ -159,23 +159,23 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
 
 // Sorts the entries [b, e) of a row outright by low x (then slot).
 void Grid::sort_row(List &list, size_t b, size_t e) {
-    uint32_t *S = list.slot.data();
-    float *A[6] = {list.low_x.data(),  list.high_x.data(), list.low_y.data(),
-                   list.high_y.data(), list.low_z.data(),  list.high_z.data()};
-    const float *L = A[0];
+    uint32_t *slots = list.slot.data();
+    float *arrays[6] = {list.low_x.data(),  list.high_x.data(), list.low_y.data(),
+                        list.high_y.data(), list.low_z.data(),  list.high_z.data()};
+    const float *low_x = arrays[0];
     std::vector<uint32_t> order(e - b);
     for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
     std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) {
-        return L[b + p] < L[b + q] || (L[b + p] == L[b + q] && S[b + p] < S[b + q]);
+        return low_x[b + p] < low_x[b + q] || (low_x[b + p] == low_x[b + q] && slots[b + p] < slots[b + q]);
     });
-    std::vector<float> t(order.size());
+    std::vector<float> values(order.size());
     for (int a = 0; a < 6; ++a) {
-        for (size_t k = 0; k < order.size(); ++k) t[k] = A[a][b + order[k]];
-        std::copy(t.begin(), t.end(), A[a] + b);
+        for (size_t k = 0; k < order.size(); ++k) values[k] = arrays[a][b + order[k]];
+        std::copy(values.begin(), values.end(), arrays[a] + b);
     }
-    std::vector<uint32_t> ts(order.size());
-    for (size_t k = 0; k < order.size(); ++k) ts[k] = S[b + order[k]];
-    std::copy(ts.begin(), ts.end(), S + b);
+    std::vector<uint32_t> sorted_slots(order.size());
+    for (size_t k = 0; k < order.size(); ++k) sorted_slots[k] = slots[b + order[k]];
+    std::copy(sorted_slots.begin(), sorted_slots.end(), slots + b);
     float most = -INFINITY;
     for (size_t k = b; k < e; ++k) list.reach[k] = most = std::max(most, list.high_x[k]);
 }

@@ -87,7 +87,6 @@ struct GridLimits {
 class alignas(64) PairBuffer {
   public:
     size_t size() const { return size_; }
-    size_t capacity() const { return capacity_; }
     const uint64_t *begin() const { return data_.get(); }
     const uint64_t *end() const { return data_.get() + size_; }
     uint64_t operator[](size_t k) const { return data_[k]; }

@@ -135,51 +135,51 @@ namespace {
 // gather for the others, so that gather's insertion sort has little left to
 // do). Appends the part's rows as they come out, (key, entries), to
 // out_rows; returns false when the part's entries do not fill its room
-// exactly (the plan is out of step with the lists).
-// (A template so that it can name Grid's private ListPart.)
+// exactly (the plan is out of step with the lists). (A template so that
+// it can name Grid's private ListPart.)
 template <class Part>
-bool merge_part(const Part &wk, const uint8_t *flag, std::vector<std::pair<CellKey, uint32_t>> &out_rows) {
-    const auto &list = *wk.list;
-    const uint32_t *S = list.slot.data();
-    const float *X = list.low_x.data();  // the entries' low x, as of the last gather
+bool merge_part(const Part &part, const uint8_t *flag, std::vector<std::pair<CellKey, uint32_t>> &out_rows) {
+    const auto &list = *part.list;
+    const uint32_t *slots = list.slot.data();
+    const float *low_x = list.low_x.data();  // the entries' low x, as of the last gather
     const uint32_t *start = list.row_start.data();
-    const auto *A = wk.add->data();
-    uint32_t *O = wk.list->spare.data();
-    size_t a = wk.add_b, w = wk.out_b;
+    const auto *enter = part.add->data();
+    uint32_t *out = part.list->spare.data();
+    size_t a = part.add_b, w = part.out_b;
     bool full = false;  // more entries than the part's room
     // The entering entries of row keys below `until` (all, when not
     // bounded) that form rows of their own (rows that were empty).
     auto new_rows = [&](bool bounded, CellKey until) {
-        while (a < wk.add_e && (!bounded || CellKey(A[a].key) < until) && w < wk.out_e) {
-            const CellKey key = A[a].key;
+        while (a < part.add_e && (!bounded || CellKey(enter[a].key) < until) && w < part.out_e) {
+            const CellKey key = enter[a].key;
             const size_t first = w;
-            while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
+            while (a < part.add_e && CellKey(enter[a].key) == key && w < part.out_e) out[w++] = enter[a++].slot;
             out_rows.push_back({key, uint32_t(w - first)});
         }
     };
-    for (size_t r = wk.row_b; r < wk.row_e && !full; ++r) {
+    for (size_t r = part.row_b; r < part.row_e && !full; ++r) {
         const CellKey key = list.row_keys[r];
         new_rows(true, key);
         // The row's entries that stay, merged with those that enter it.
         const size_t first = w;
         for (size_t i = start[r]; i < start[r + 1]; ++i) {
-            const uint32_t slot = S[i];
+            const uint32_t slot = slots[i];
             if (flag[slot]) continue;  // (entries of changed bodies leave)
-            const float x = X[i];
-            while (a < wk.add_e && CellKey(A[a].key) == key && (A[a].x < x || (A[a].x == x && A[a].slot < slot)) &&
-                   w < wk.out_e)
-                O[w++] = A[a++].slot;
-            if (w == wk.out_e) {
+            const float x = low_x[i];
+            while (a < part.add_e && CellKey(enter[a].key) == key &&
+                   (enter[a].x < x || (enter[a].x == x && enter[a].slot < slot)) && w < part.out_e)
+                out[w++] = enter[a++].slot;
+            if (w == part.out_e) {
                 full = true;
                 break;
             }
-            O[w++] = slot;
+            out[w++] = slot;
         }
-        while (a < wk.add_e && CellKey(A[a].key) == key && w < wk.out_e) O[w++] = A[a++].slot;
+        while (a < part.add_e && CellKey(enter[a].key) == key && w < part.out_e) out[w++] = enter[a++].slot;
         if (w > first) out_rows.push_back({key, uint32_t(w - first)});
     }
     new_rows(false, 0);
-    return !full && a == wk.add_e && w == wk.out_e;
+    return !full && a == part.add_e && w == part.out_e;
 }
 
 }  // namespace

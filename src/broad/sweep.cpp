@@ -132,7 +132,7 @@ HGCD_SWEEP_INLINE void scan(const Lanes &lanes, const Grid::BoxArrays &B, size_t
 
 // Which neighbouring rows a box of a row can reach (kReach* bits): every
 // body of this level has its point p in its row and its box within w / 2 of
-// p (the level's cells fit it, see Grid::update), so a body of row y - 1 has
+// p (the level's cells fit it, see Grid::exponent_of), so a body of row y - 1 has
 // its box below the row's lower face plus w / 2, and the box [lo, hi] meets
 // it only if lo_y is below that too (for the float box, which holds the
 // box: float-only overlaps may be skipped). Compared in row units, where v - c is

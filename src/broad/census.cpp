@@ -26,6 +26,10 @@ using namespace broad;
 namespace {
 // Slots the census takes at a time (and hands to a SlotPass).
 constexpr int64_t kCensusBlock = 256;
+// The census's exponents of a body that has no level: an empty slot, and an
+// oversize body.
+constexpr int kNoExponent = INT_MIN;
+constexpr int kOversizeExponent = INT_MAX;
 }  // namespace
 
 // What the census reads (a copy in each thread's frame: the compiler then
@@ -68,15 +72,16 @@ struct Grid::CensusThread {
     uint64_t changed_count = 0;
 };
 
-// The level of exponent e (INT_MIN: none, INT_MAX: oversize), by the table
-// of the last update (level_of_, replaced once the census is in).
+// The level of exponent e (kNone for kNoExponent, kOversize for
+// kOversizeExponent), by the table of the last update (level_of_, replaced
+// once the census is in).
 inline int16_t Grid::level_index(int e) const {
-    return e == INT_MIN ? kNone : e == INT_MAX ? kOversize : level_of_[e + kExponentBias];
+    return e == kNoExponent ? kNone : e == kOversizeExponent ? kOversize : level_of_[e + kExponentBias];
 }
 
 // The level exponent of a live body: the smallest e with 2^e at least
 // 2 r_level (kept per slot while the body is the same, with the slack
-// 2^e - 2 r_level), or oversize (INT_MAX) when the rounding of p + offset,
+// 2^e - 2 r_level), or kOversizeExponent when the rounding of p + offset,
 // which grows with p, could take its box farther than 2^e / 2 from p: each
 // coordinate of fl(p + offset) is within 2^-53 (|p| + r_level) of exact,
 // which 4e-16 |p|_1 < slack and r_level's own inflation (the world's,
@@ -85,7 +90,7 @@ inline int Grid::exponent_of(const Boxes &boxes, size_t s, int max_exponent) con
     const int e = exponent_[s];
     const double *p = boxes.point(s);
     return e > max_exponent || kOversizeFactor * (std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2])) > slack_[s]
-               ? INT_MAX
+               ? kOversizeExponent
                : e;
 }
 
@@ -96,7 +101,7 @@ inline int Grid::exponent_of(const Boxes &boxes, size_t s, int max_exponent) con
 // only changed bodies touch the lists (moves along x never do).
 inline __attribute__((always_inline)) void Grid::census_slot(const CensusInput &in, CensusThread &mine, int64_t s,
                                                              RegionGuard &guard) {
-    int e = INT_MIN;
+    int e = kNoExponent;
     if (in.live_gen[s]) {
         if (gen_[s] != in.live_gen[s] || in.stale_exponents) {
             const double h2 = 2 * in.r_level[s];
@@ -107,7 +112,7 @@ inline __attribute__((always_inline)) void Grid::census_slot(const CensusInput &
             slack_[s] = std::max(float_at_most(slack), 0.0f);
         }
         e = exponent_of(in.boxes, size_t(s), in.max_exponent);
-        if (e == INT_MAX) guard.run([&] { mine.oversize.push_back(uint32_t(s)); });
+        if (e == kOversizeExponent) guard.run([&] { mine.oversize.push_back(uint32_t(s)); });
         else ++mine.histogram[e + kExponentBias];
     }
     if (!in.incremental) {
@@ -192,7 +197,7 @@ void Grid::enter_all(const Boxes &boxes, const uint32_t *live_gen, uint32_t slot
     parallel_region(threads, [&](RegionGuard &) {
 #pragma omp for schedule(static)
         for (int64_t s = 0; s < int64_t(slot_count); ++s) {
-            level_[s] = level_index(live_gen[s] ? exponent_of(boxes, size_t(s), max_exponent) : INT_MIN);
+            level_[s] = level_index(live_gen[s] ? exponent_of(boxes, size_t(s), max_exponent) : kNoExponent);
             gen_[s] = live_gen[s];
             if (level_[s] >= 0) row_cell(boxes.point(size_t(s)), levels_[size_t(level_[s])].exponent, &cell_[2 * s]);
         }

@@ -1,45 +1,21 @@
-// Broad phase: the hierarchical grid of the paper, stored as sorted arrays,
-// over each body's axis-aligned box.
-//
-// A body is a reference point p (its position) and a box of offsets from p
-// that holds its solid, fixed while its orientation is (the world computes
-// it once per pose: the exact box of the world vertices' offsets for small
-// meshes). Levels have cells of width w = 2^e. A body lives on the finest
-// level whose width is at least twice a bound r_level on its offsets in any
-// orientation, so its box lies within w / 2 of p and every body it can
-// overlap on its own level has p within one cell width of its own. It is also entered as a
-// "guest" in every coarser level (the paper's "noted in every level with
-// larger size") and compared there with that level's residents. Each pair is
-// produced exactly once: same-level pairs from the earlier entry of the
-// sorted order, cross-level pairs from the finer body. Bodies too large for
-// the coarsest allowed level form an oversize set, compared with the
-// residents of every level by range queries and with each other by a sweep
-// on x. A level whose bodies are very few beside those of the finer levels
-// keeps no guests; its residents query the finer levels by range instead.
-// Where the world says bodies are sparse (GridLimits::coarsen), the levels at
-// most a factor 4 below the coarsest level that keeps guests join it.
-//
-// Within a level the grid is sparse in y and z and swept along x: a body is
-// keyed by its row, the (z, y) cell of p for cells two widths high and deep,
-// and each level keeps its residents and its guests as arrays of bodies
-// sorted by row and, within a row, by the box's low x, with an index of the
-// occupied rows (their keys and where each starts), beside the
-// boxes rounded outward to float (supersets, so every pair of overlapping
-// boxes still overlaps, and the rows and windows derived from a float box
-// only widen; half the bytes of doubles). Within its row a body meets the
-// later bodies up to its high x (sweep and prune); in the 3x3 rows around
-// it, only those its box comes within w / 2 of, within a window along x
-// from the first entry whose row's largest high x so far reaches its low
-// x. Rows are found by cursors that only move forward while rows are
-// visited in order, and windows are tested four boxes at a time (SSE2,
-// NEON) or eight (AVX2, picked at run time). No
-// hashing, no pointer chasing, and the parallel pair search only reads.
-// Motion updates the arrays incrementally: bodies whose row did not change
-// keep their entries (moves along x never re-key), the rest leave and
-// re-enter in one pass that rewrites each list in parallel parts of rows, and
-// an insertion sort during the copy of the boxes restores the x order within
-// rows. The world keeps its bodies' storage in the residents' order (order(),
-// renumber()), so the update's reads run nearly in sequence.
+// Broad phase: the hierarchical grid of the paper over each body's box, as
+// sorted arrays. Levels have cells of width w = 2^e; a body lives on the
+// finest level with w at least twice a bound r_level on its offsets from its
+// point p (so its box lies within w / 2 of p) and is a guest on every
+// coarser level, met there by the residents. Each pair comes once:
+// same-level pairs from the earlier entry in sweep order, cross-level pairs
+// from the finer body. Bodies too large for the coarsest level are oversize
+// (range queries, and a sweep on x among themselves); a level with very few
+// bodies beside the finer ones keeps no guests and queries them instead.
+// Within a level, a body's row is the (z, y) cell of p for cells 2w high
+// and deep; each list (residents, guests) holds its bodies sorted by row and
+// low x, an index of the occupied rows, and the boxes rounded outward to
+// float (supersets: no overlapping pair is lost). A body meets the later
+// bodies of its row up to its high x, and those of the 3x3 rows around it
+// within reach, by cursors that only move forward, four or eight boxes a
+// test. Motion moves only the bodies whose row or level changed; an
+// insertion sort restores the x order; the world keeps its storage in the
+// residents' order (order(), renumber()) so the update reads in sequence.
 #pragma once
 #include <algorithm>
 #include <cfloat>
@@ -47,10 +23,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace hgcd {
 
+class RegionGuard;
 using CellKey = unsigned __int128;
 
 // x rounded to a float at most x, or at least x (the nearest float, moved
@@ -92,11 +70,6 @@ inline uint64_t pair_key(uint32_t a, uint32_t b) {
     return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
 
-// How many of the bodies 0..n-1 get other bits from the gather's
-// four-at-a-time box kernel than from the one-body rounding (float_box), or
-// -1 where that kernel does not run (no AVX2): for tests.
-int64_t float_boxes_mismatches(const Boxes &boxes, uint32_t n);
-
 struct GridLimits {
     int min_exponent;  // INT32_MIN: none
     int max_exponent;  // INT32_MAX: none
@@ -114,7 +87,6 @@ struct GridLimits {
 class alignas(64) PairBuffer {
   public:
     size_t size() const { return size_; }
-    size_t capacity() const { return capacity_; }
     const uint64_t *begin() const { return data_.get(); }
     const uint64_t *end() const { return data_.get() + size_; }
     uint64_t operator[](size_t k) const { return data_[k]; }
@@ -199,18 +171,17 @@ class Grid {
     uint64_t disorder() const { return disorder_; }
 
     uint32_t level_count() const { return uint32_t(levels_.size()); }
-    // Whether this grid holds what `other` holds for the same bodies: the
-    // same levels, each slot on the same level and row, the same oversize
-    // bodies, and each list the same slots in each row (the order within a
-    // row aside: ties in x are ordered by history; guests aside where one
-    // grid's level keeps them and the other's does not, a choice with
-    // hysteresis). For tests: an incremental update against a rebuild.
-    bool same_state(const Grid &other) const;
     uint32_t oversize_count() const { return uint32_t(oversize_.size()); }
-    // Approximate heap bytes held.
-    size_t memory_bytes() const;
+
+    // A list's boxes as the sweeps read them (see List).
+    struct BoxArrays {
+        const float *low_x, *high_x, *low_y, *high_y, *low_z, *high_z;
+        const float *reach;  // largest high x so far in the row
+        const uint32_t *slot;  // the entry's body
+    };
 
   private:
+    friend struct GridTestAccess;  // (tests/support/testing.cpp)
     // An entry with its row key and its low x as the lists hold it
     // (float_box), where entries are sorted before they have box arrays (a
     // list built, entries entering one). Packed: the key is only ever read
@@ -220,60 +191,88 @@ class Grid {
         uint32_t slot;
         float x;
     };
-  public:
-    struct BoxArrays {
-        const float *l, *hx, *ly, *hy, *lz, *hz;  // box: l is the low x (sweep order)
-        const float *reach;  // largest high x so far in the row
-        const uint32_t *slot;  // the entry's body
-    };
-
-  private:
     struct List {
         // The entries' bodies (slots), sorted by row and within a row by
-        // (low x, slot), padded at the end: an entry's row is known from
-        // the row index below, so it carries no key (20-byte entries of key
-        // and slot, and a spare copy, took 40 bytes a body and a pass of
-        // their own each tick).
-        std::vector<uint32_t> bslot;
+        // (low x, slot), padded at the end. An entry carries no key: its row
+        // is known from the row index below.
+        std::vector<uint32_t> slot;
         std::vector<uint32_t> spare;  // what update_lists writes the next slots into
         // Boxes of entries rounded outward to float, same order, as arrays
         // (padded at the end), and the largest high x of the entries of the
         // row up to each (a floor for the sweeps that does not depend on the
         // largest box).
-        std::vector<float> bl, bhx, bly, bhy, blz, bhz, breach;
+        std::vector<float> low_x, high_x, low_y, high_y, low_z, high_z, reach;
         // The occupied rows: distinct keys in order, and where each row's
         // entries start (one more than rows, ending with count()).
         std::vector<CellKey> row_keys;
         std::vector<uint32_t> row_start;
         size_t count() const { return row_start.empty() ? 0 : row_start.back(); }
         BoxArrays arrays() const {
-            return BoxArrays{bl.data(),  bhx.data(), bly.data(),    bhy.data(),
-                             blz.data(), bhz.data(), breach.data(), bslot.data()};
+            return BoxArrays{low_x.data(), high_x.data(), low_y.data(), high_y.data(),
+                             low_z.data(), high_z.data(), reach.data(),  slot.data()};
         }
     };
     struct Level {
         int exponent;
         List residents;
         List guests;  // bodies of finer levels, keyed by their row here
-        bool down = false;  // no guests: the residents query the finer levels
+        bool queries_finer = false;  // no guests: the residents query the finer levels
     };
     static constexpr int16_t kNone = -1;
     static constexpr int16_t kOversize = -2;
 
-    void rebuild(const Boxes &boxes, uint32_t slot_count, int threads);
-    // A body flagged by an update: its slot, and its level and row before.
-    // (And its level, row and low x now, taken by the census while the
-    // body's point is in cache: looked up afterwards, by slot at random,
-    // they cost a cache miss each, 0.65 ms a tick at tetra 750k.)
+    // What the census finds of a body against the last update (flag, per
+    // slot): only changed bodies touch the lists.
+    enum Change : uint8_t {
+        kSameRow = 0,        // same level and row: every coarser row is the same too
+        kNewRow = 1,         // another row of the same level
+        kNewMembership = 2,  // new, destroyed, slot reused, or another level
+    };
+    // A changed body: its slot, and its level and row before. (And its
+    // level, row and low x now, taken by the census while the body's point
+    // is in cache: looked up afterwards, by slot at random, they cost a
+    // cache miss each.)
     struct Moved {
         uint32_t slot;
         int16_t old_level, level;
         float x;  // low x as the lists hold it (float_box)
         int64_t old_cell[2], cell[2];
     };
+    struct CensusInput;   // what the census reads (census.cpp)
+    struct Census;        // its input and findings
+    struct CensusThread;  // what one thread of the census collects
+    // The levels a census calls for: (exponent, bodies) ascending, each
+    // exponent's level (by exponent + kExponentBias, as level_of_), and
+    // which levels keep no guests.
+    struct LevelPlan {
+        std::vector<std::pair<int, uint64_t>> levels;
+        std::vector<int16_t> level_of;
+        std::vector<uint8_t> queries_finer;
+    };
+
+    // census.cpp: the census of the bodies and what follows from it.
+    void take_census(Census &census, int threads, const SlotPass *before);
+    void census_slot(const CensusInput &in, CensusThread &mine, int64_t s, RegionGuard &guard);
+    int16_t level_index(int exponent) const;
+    int exponent_of(const Boxes &boxes, size_t s, int max_exponent) const;
+    void enter_all(const Boxes &boxes, const uint32_t *live_gen, uint32_t slot_count, int max_exponent,
+                   int threads);
+    uint64_t apply_moves(const Census &census, int threads);
+    // levels.cpp: the levels from the census's histogram of exponents (a
+    // count per exponent and thread).
+    LevelPlan plan_levels(const std::vector<uint64_t> &histogram, int threads, const GridLimits &limits) const;
+    std::vector<uint8_t> few_bodies(const std::vector<std::pair<int, uint64_t>> &levels) const;
+
+    // lists.cpp: the lists built afresh, or brought to the changed bodies.
+    void rebuild(const Boxes &boxes, uint32_t slot_count, int threads);
+    CellKey key_of(uint32_t slot, int level_index) const;
+    struct ListPart;  // a part of a list's rows that update_lists rewrites
+    std::vector<ListPart> plan_list_update(const std::vector<uint8_t> &dirty, const std::vector<Moved> &changed,
+                                           std::vector<std::vector<Keyed>> &adds);
     void update_lists(const std::vector<uint8_t> &dirty, const std::vector<uint8_t> &flag,
                       const std::vector<Moved> &changed, int threads);
-    // Returns the residents' disorder (see disorder()).
+    // gather.cpp: the box arrays brought to the current boxes; returns the
+    // residents' disorder (see disorder()).
     static uint64_t gather(const std::vector<List *> &lists, const Boxes &boxes, int threads);
     static void sort_row(List &list, size_t begin, size_t end);
     // The residents of level k / 2 for even k, its guests for odd k (the
@@ -284,21 +283,15 @@ class Grid {
         for (size_t k = 0; k < 2 * levels_.size(); ++k) lists.push_back(&list_at(k));
         return lists;
     }
-    // The row key at level level_index of a body of level `own` whose row at
-    // its own level is cell (y, z); key_of: of the body in slot as of now.
-    CellKey key_at(const int64_t *cell, int own, int level_index) const;
-    CellKey key_of(uint32_t slot, int level_index) const;
-    // The row (y, z) at level level_index of point p.
-    void cell_at(const double *p, int level_index, int64_t *cell) const;
-    // Pairs of the rows [begin, end) of a level's residents (or guests).
-    void sweep_residents(const Level &lv, size_t begin, size_t end,
-                         PairBuffer &out) const;
-    void sweep_guests(const Level &lv, size_t begin, size_t end,
-                      PairBuffer &out) const;
-    // Pairs of the box [lo, hi] (body slot) with the residents of levels
-    // [0, level_end), by range queries over their rows.
+    // sweep.cpp: pairs of the rows [begin, end) of a level's residents (or
+    // guests).
+    void sweep_residents(const Level &lv, size_t begin, size_t end, PairBuffer &out) const;
+    void sweep_guests(const Level &lv, size_t begin, size_t end, PairBuffer &out) const;
+    // pairs.cpp: pairs of the box [lo, hi] (body slot) with the residents
+    // of levels [0, level_end), by range queries over their rows.
     void query_levels(const double *lo, const double *hi, uint32_t slot, size_t level_end,
                       PairBuffer &out) const;
+    void sweep_oversize(const Boxes &boxes, PairBuffer &out) const;
 
     std::vector<Level> levels_;       // ascending exponent
     std::vector<uint32_t> oversize_;  // slots, ascending

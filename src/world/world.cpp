@@ -1048,22 +1048,4 @@ hgcd_status World::step() {
     return s;
 }
 
-size_t World::memory_bytes() const {
-    size_t bytes = grid_.memory_bytes() + pairs_.capacity() * sizeof(hgcd_pair);
-    for (const PairBuffer &c : candidates_) bytes += c.capacity() * sizeof(uint64_t);
-    for (const auto *lists : {&hits_, &sort_scratch_})
-        for (const auto &c : *lists) bytes += c.capacity() * sizeof(uint64_t);
-    bytes += contacts_.capacity() * sizeof(hgcd_contact);
-    bytes += place_.capacity() * sizeof(Placement);
-    bytes += (velocity_.capacity() + point_.capacity() + r_level_.capacity()) * sizeof(double) +
-             box_off_.capacity() * sizeof(float);
-    bytes += (body_mesh_.capacity() + body_gen_.capacity() + live_gen_.capacity() + at_.capacity() +
-              slot_of_.capacity() + stored_gen_.capacity()) *
-             sizeof(uint32_t);
-    bytes += user_data_.capacity() * sizeof(uint64_t);
-    for (const Mesh &m : meshes_)
-        bytes += m.vertices.capacity() * sizeof(double) + m.triangles.capacity() * sizeof(uint32_t);
-    return bytes;
-}
-
 }  // namespace hgcd

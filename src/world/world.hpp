@@ -73,10 +73,6 @@ class World {
     hgcd_status fail(hgcd_status status, std::string message) const;
     const char *last_error() const { return last_error_.c_str(); }
 
-    // Every mesh and position-independent state of the body in slot s, for
-    // the narrow phase and tests.
-    size_t memory_bytes() const;
-
   private:
     int64_t live_body(hgcd_body id) const;
     int64_t live_mesh(hgcd_mesh id) const;

@@ -32,7 +32,7 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
                           const uint32_t *tris, uint32_t tri_count,
                           int inward_sign);
 
-/* The broad phase alone (src/grid.cpp): n bodies given as 4 doubles each
+/* The broad phase alone (src/broad): n bodies given as 4 doubles each
  * (x, y, z, r): position (x, y, z) and offsets -r and r on every axis, each
  * rounded outward to float (the nearest float, moved one step out when it
  * falls inside), so body i's box is [x + lo, x + hi] per axis, evaluated in
@@ -44,11 +44,11 @@ int hgcdi_point_in_convex(const double p[3], const double *verts,
  * reported pair (i << 32 | j, i < j), sorted, to out (room for cap); returns
  * the count (which may exceed cap), -1 on an error, or -2 when the grid
  * brought to after incrementally holds other levels, rows, oversize bodies
- * or list rows than one built from after afresh (Grid::same_state). */
+ * or list rows than one built from after afresh. */
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
                          int threads, int coarsen, uint64_t *out, uint64_t cap);
 
-/* The grid's box rounding (src/grid.cpp): body i has position
+/* The grid's box rounding (src/broad/float_box.hpp): body i has position
  * points[3 i .. 3 i + 2] and offsets offsets[6 i .. 6 i + 5] (low x y z,
  * high x y z). Returns how many of the first n - n % 4 bodies get other
  * float bits from the gather's four-at-a-time kernel than from the one-body

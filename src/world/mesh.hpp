@@ -9,6 +9,9 @@
 
 namespace hgcd {
 
+// The coordinate range of hgcd.h, for vertices, positions and moves.
+constexpr double kMaxCoordinate = 1e15;
+
 struct Mesh {
     std::vector<double> vertices;     // xyz per vertex, mesh frame
     std::vector<uint32_t> triangles;  // 3 indices per triangle

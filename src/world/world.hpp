@@ -19,8 +19,7 @@ namespace hgcd {
 
 // An allocator whose value-initialisation leaves the value uninitialised:
 // the tick's pair (and contact) lists are resized, then written whole in
-// parallel, and zeroing them first was a serial pass of its own (238 k
-// pairs, 3.8 MB, at tetra 750k).
+// parallel, and zeroing them first was a serial pass of its own.
 template <class T>
 struct UninitAllocator : std::allocator<T> {
     template <class U>

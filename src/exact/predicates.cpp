@@ -454,6 +454,25 @@ int orient2d_expansion(const double *x /*6*/) {
     return expansion_sign(n, r);
 }
 
+// The sign of a determinant of the count coordinates x, exact: expansions
+// when the inputs lie in their safe range or scale into it, big integers
+// otherwise (see classify). Scales x in place.
+int exact_sign(double *x, int count, int (*expansion)(const double *), int (*big)(const double *)) {
+    int se = 0;
+    switch (classify(x, count, se)) {
+    case Range::kZero:
+        return 0;
+    case Range::kDirect:
+        return expansion(x);
+    case Range::kScaled:
+        for (int i = 0; i < count; ++i) x[i] = std::ldexp(x[i], se);
+        return expansion(x);
+    case Range::kBig:
+        break;
+    }
+    return big(x);
+}
+
 }  // namespace
 
 HGCD_NOINLINE int orient3d_exact(const double *a, const double *b,
@@ -465,37 +484,13 @@ HGCD_NOINLINE int orient3d_exact(const double *a, const double *b,
         x[6 + k] = c[k];
         x[9 + k] = d[k];
     }
-    int se = 0;
-    switch (classify(x, 12, se)) {
-    case Range::kZero:
-        return 0;
-    case Range::kDirect:
-        return orient3d_expansion(x);
-    case Range::kScaled:
-        for (double &v : x) v = std::ldexp(v, se);
-        return orient3d_expansion(x);
-    case Range::kBig:
-        break;
-    }
-    return orient3d_big(x);
+    return exact_sign(x, 12, orient3d_expansion, orient3d_big);
 }
 
 HGCD_NOINLINE int orient2d_exact(double ax, double ay, double bx, double by,
                                  double cx, double cy) {
     double x[6] = {ax, ay, bx, by, cx, cy};
-    int se = 0;
-    switch (classify(x, 6, se)) {
-    case Range::kZero:
-        return 0;
-    case Range::kDirect:
-        return orient2d_expansion(x);
-    case Range::kScaled:
-        for (double &v : x) v = std::ldexp(v, se);
-        return orient2d_expansion(x);
-    case Range::kBig:
-        break;
-    }
-    return orient2d_big(x);
+    return exact_sign(x, 6, orient2d_expansion, orient2d_big);
 }
 
 }  // namespace predicates

@@ -203,6 +203,19 @@ inline bool tri_tri_finish(const double *const *p, const double *const *q,
     return orient3d_filtered(pa, phi, qa, qlo) <= 0;
 }
 
+// The plane filter a prepared triangle holds.
+inline PlaneFilter plane_of(const PreparedTriangle &t) {
+    PlaneFilter pf;
+    pf.t0 = t.v[0];
+    pf.t1 = t.v[1];
+    pf.t2 = t.v[2];
+    for (int k = 0; k < 3; ++k) {
+        pf.n[k] = t.n[k];
+        pf.an[k] = t.an[k];
+    }
+    return pf;
+}
+
 inline bool all_same_nonzero(const int *s) {
     return (s[0] == s[1]) & (s[1] == s[2]) & (s[0] != 0);
 }
@@ -299,28 +312,12 @@ bool tri_tri_intersect(const PreparedTriangle &p, const PreparedTriangle &q) {
         apart |= (p.hi[k] < q.lo[k]) | (q.hi[k] < p.lo[k]);
     }
     if (apart) return false;
-    PlaneFilter pq;
-    pq.t0 = q.v[0];
-    pq.t1 = q.v[1];
-    pq.t2 = q.v[2];
-    for (int k = 0; k < 3; ++k) {
-        pq.n[k] = q.n[k];
-        pq.an[k] = q.an[k];
-    }
     int sp[3];
-    plane_sides3(pq, p.v[0], p.v[1], p.v[2], sp);
+    plane_sides3(plane_of(q), p.v[0], p.v[1], p.v[2], sp);
     if (all_same_nonzero(sp)) return false;
     if ((sp[0] == 0) & (sp[1] == 0) & (sp[2] == 0)) return tri_tri_general(p.v, q.v);
-    PlaneFilter pp;
-    pp.t0 = p.v[0];
-    pp.t1 = p.v[1];
-    pp.t2 = p.v[2];
-    for (int k = 0; k < 3; ++k) {
-        pp.n[k] = p.n[k];
-        pp.an[k] = p.an[k];
-    }
     int sq[3];
-    plane_sides3(pp, q.v[0], q.v[1], q.v[2], sq);
+    plane_sides3(plane_of(p), q.v[0], q.v[1], q.v[2], sq);
     if (all_same_nonzero(sq)) return false;
     return tri_tri_finish(p.v, q.v, sp, sq);
 }

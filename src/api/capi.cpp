@@ -17,8 +17,6 @@ struct hgcd_world {
 
 namespace {
 
-constexpr double kMaxCoordinate = 1e15;
-
 // Records a refusal on the world and returns its status, without ever
 // throwing: composing the message needs memory, and an exception must not
 // leave an extern "C" function. If the message cannot be built, the fixed
@@ -57,7 +55,7 @@ bool initialised(const D *d) {
     return d->struct_size == sizeof(D) && d->init_tag == hgcd::kInitTag;
 }
 
-bool finite_in_range(double x) { return std::isfinite(x) && std::fabs(x) <= kMaxCoordinate; }
+bool finite_in_range(double x) { return std::isfinite(x) && std::fabs(x) <= hgcd::kMaxCoordinate; }
 
 }  // namespace
 

@@ -1,8 +1,7 @@
-// Whether the AVX2 kernels (grid.cpp's 8-box sweeps, four-body census and
-// four-box gather, narrow.cpp's four-lane tetrahedron test and its batch,
-// whose face planes go eight lanes in float) may run: the CPU has AVX2 and POPCNT, and HGCD_NO_AVX2
-// is not set (any value keeps the SSE2 kernels on AVX2 machines too, so
-// that the tests cover both: scripts/run-tests.sh). Decided once.
+// Whether the AVX2 kernels (the `*_avx2` files beside the broad and narrow
+// phases) may run: the CPU has AVX2 and POPCNT, and HGCD_NO_AVX2 is not set
+// (any value keeps the SSE2 kernels on AVX2 machines too, so that the tests
+// cover both: scripts/run-tests.sh). Decided once.
 #pragma once
 #include <cstdlib>
 

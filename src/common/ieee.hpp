@@ -1,13 +1,12 @@
 // Every library source includes this. Their results rest on IEEE double
 // rounding and on NaN and infinity behaving as IEEE says: the exact
-// predicates and their filters (geometry.cpp, narrow.cpp, bvh.cpp), the
-// grid's window, floor and reach margins (grid.cpp), the bodies' boxes and
-// the motion formula of SCENES.md (world.cpp, mesh.cpp), the
-// scene generator's bit-exact arithmetic (scene.cpp), and the refusal of
-// non-finite input (std::isfinite in capi.cpp, world.cpp, mesh.cpp,
-// ccd_narrow.cpp, which -ffinite-math-only may fold to true). -ffast-math
-// (and -Ofast) would let the compiler reorder, contract and drop those
-// roundings and checks, so the reported pairs would depend on the compiler.
+// predicates and their filters (src/exact, and the narrow phase's own), the
+// broad phase grid's window, floor and reach margins, the bodies' boxes and
+// the motion formula of docs/scenes.md (src/world), the scene generator's
+// bit-exact arithmetic, and the refusal of non-finite input (std::isfinite,
+// which -ffinite-math-only may fold to true). -ffast-math (and -Ofast)
+// would let the compiler reorder, contract and drop those roundings and
+// checks, so the reported pairs would depend on the compiler.
 // meson.build and the Makefile put flags undoing them (and -ffp-contract=off)
 // after the user's, so a build with CXXFLAGS=-Ofast is still IEEE, and
 // scripts/check-ieee.sh checks that it gives the same results. A build that
@@ -30,11 +29,11 @@ namespace hgcd {
 // round to nearest, no trap. A host may run otherwise: -ffast-math's start-up
 // code sets flush-to-zero and denormals-are-zero (a subnormal coordinate then
 // reads as 0), fesetround changes the rounding, feenableexcept turns an
-// underflow in a filter into SIGFPE. So every entry point (capi.cpp) and every
-// parallel region sets that mode on its thread for its duration and gives
-// the caller's back after (OpenMP's threads keep whatever mode they had:
-// they inherit the mode of the thread that started them). x86-64: MXCSR;
-// arm64: FPCR; elsewhere nothing is done.
+// underflow in a filter into SIGFPE. So every entry point (the C shim) and
+// every parallel region (parallel.hpp) sets that mode on its thread for its
+// duration and gives the caller's back after (OpenMP's threads keep whatever
+// mode they had: they inherit the mode of the thread that started them).
+// x86-64: MXCSR; arm64: FPCR; elsewhere nothing is done.
 class IeeeMode {
   public:
     IeeeMode() noexcept : saved_(read()) {

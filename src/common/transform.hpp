@@ -11,7 +11,7 @@ struct Rotation {
 };
 
 // Rotation matrix of quaternion (x, y, z, w), each entry evaluated as written
-// in SCENES.md. The build uses -ffp-contract=off so no FMA changes the bits.
+// in docs/scenes.md. The build uses -ffp-contract=off so no FMA changes the bits.
 // T is double, or a vector of doubles with one quaternion per lane (the same
 // operations lane by lane, so the same bits).
 template <class T>

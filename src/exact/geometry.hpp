@@ -1,4 +1,6 @@
-// Exact geometric predicates and tests on world-space double coordinates.
+// Exact geometric predicates and tests on world-space double coordinates:
+// the orientation predicates (predicates.cpp), the triangle-triangle and
+// segment-triangle tests (tri_tri.cpp) and point in mesh (point_in_mesh.cpp).
 // Every function here is exact: it decides with orientation predicates whose
 // sign is computed exactly (floating-point filter, exact fallback), never with
 // a tolerance.

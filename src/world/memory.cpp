@@ -25,9 +25,8 @@ size_t round_up(size_t v, size_t to) { return (v + to - 1) & ~(to - 1); }
 // An array in huge pages starts this far into its first one (a multiple of
 // 64 bytes, at least 64: the 8 bytes before the array keep it), different
 // from one array to the next: arrays all at one offset from a 2 MiB
-// boundary share cache sets (the seven box arrays of a grid list, read at
-// one index together, took the broad phase from 28.3 to 30.2 ms on tetra
-// 750k).
+// boundary share cache sets (the seven box arrays of a grid list are read
+// at one index together, and conflicted so).
 size_t next_colour() {
     static std::atomic<unsigned> counter{0};
     return (counter.fetch_add(1, std::memory_order_relaxed) % 29 + 1) * (kPage + 64);

@@ -6,9 +6,8 @@
 // gather reads points and offsets where bodies that changed rows left them,
 // and the pairs look their slots up at random: with 4 KiB pages a 750k-body
 // world's 114 MB of these arrays span 28 k pages, far more than the TLB
-// holds (tetra 750k, 1 thread: tick 106.6 -> 104.7 ms, narrow and update
-// 0.7 ms less each). The grid's lists and the candidate buffers, read in
-// sequence, gained nothing so. Only whole huge pages are marked (the last,
+// holds. The grid's lists and the candidate buffers, read in sequence,
+// gained nothing so. Only whole huge pages are marked (the last,
 // partly used, stays in small pages), so resident memory does not grow.
 // Elsewhere, and below 2 MiB, operator new.
 #pragma once

@@ -1,8 +1,11 @@
+// Mesh creation: the arrays checked, and what hgcd works out about the shape
+// once (mesh.hpp).
 #include "world/mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
 
 #include "exact/geometry.hpp"
 #include "common/ieee.hpp"
@@ -12,7 +15,6 @@ namespace hgcd {
 namespace {
 
 constexpr uint32_t kMaxCount = 1u << 26;
-constexpr double kMaxCoordinate = 1e15;
 // Exact convexity costs triangles x vertices orientation tests; beyond this
 // a mesh is treated as non-convex (still exact, only without the shortcut).
 constexpr uint64_t kConvexCheckBudget = 50'000'000;
@@ -35,50 +37,31 @@ bool is_degenerate(const double *a, const double *b, const double *c) {
     return true;
 }
 
-}  // namespace
-
-bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
-                uint32_t triangle_count, Mesh *out, std::string *error) {
-    if (triangle_count == 0) {
-        *error = "mesh has no triangles";
-        return false;
-    }
-    if (vertex_count == 0) {
-        *error = "mesh has no vertices";
-        return false;
-    }
-    if (triangle_count > kMaxCount || vertex_count > kMaxCount) {
-        *error = "mesh too large: at most 2^26 vertices and 2^26 triangles";
-        return false;
-    }
+// The reason the arrays are refused, or "" when they are accepted.
+std::string check_arrays(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
+                         uint32_t triangle_count) {
+    if (triangle_count == 0) return "mesh has no triangles";
+    if (vertex_count == 0) return "mesh has no vertices";
+    if (triangle_count > kMaxCount || vertex_count > kMaxCount)
+        return "mesh too large: at most 2^26 vertices and 2^26 triangles";
     for (uint32_t i = 0; i < 3 * vertex_count; ++i) {
         const double x = vertices[i];
-        if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate) {
-            *error = "vertex " + std::to_string(i / 3) + " coordinate " +
-                     std::to_string(i % 3) +
-                     (std::isfinite(x) ? " is beyond 1e15" : " is not finite");
-            return false;
-        }
+        if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate)
+            return "vertex " + std::to_string(i / 3) + " coordinate " + std::to_string(i % 3) +
+                   (std::isfinite(x) ? " is beyond 1e15" : " is not finite");
     }
-    for (uint32_t i = 0; i < 3 * triangle_count; ++i) {
-        if (triangles[i] >= vertex_count) {
-            *error = "triangle " + std::to_string(i / 3) + " index " +
-                     std::to_string(triangles[i]) + " >= vertex_count " +
-                     std::to_string(vertex_count);
-            return false;
-        }
-    }
-    Mesh m;
-    m.vertex_count = vertex_count;
-    m.triangle_count = triangle_count;
-    m.vertices.assign(vertices, vertices + 3 * size_t(vertex_count));
-    m.triangles.assign(triangles, triangles + 3 * size_t(triangle_count));
+    for (uint32_t i = 0; i < 3 * triangle_count; ++i)
+        if (triangles[i] >= vertex_count)
+            return "triangle " + std::to_string(i / 3) + " index " + std::to_string(triangles[i]) +
+                   " >= vertex_count " + std::to_string(vertex_count);
+    return "";
+}
 
-    // Bounding sphere about the centre of the vertex box of the used vertices.
-    std::vector<char> used(vertex_count, 0);
-    for (uint32_t v : m.triangles) used[v] = 1;
+// Bounding sphere about the centre of the vertex box of the used vertices.
+void set_bounding_sphere(Mesh &m, const std::vector<char> &used) {
+    const double *vertices = m.vertices.data();
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t v = 0; v < vertex_count; ++v) {
+    for (uint32_t v = 0; v < m.vertex_count; ++v) {
         if (!used[v]) continue;
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::min(lo[k], vertices[3 * v + k]);
@@ -87,7 +70,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     }
     for (int k = 0; k < 3; ++k) m.center[k] = 0.5 * lo[k] + 0.5 * hi[k];
     double r2 = 0;
-    for (uint32_t v = 0; v < vertex_count; ++v) {
+    for (uint32_t v = 0; v < m.vertex_count; ++v) {
         if (!used[v]) continue;
         double d2 = 0;
         for (int k = 0; k < 3; ++k) {
@@ -98,11 +81,14 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     }
     // Inflate by a relative margin far above the rounding of the sum above.
     m.radius = std::sqrt(r2) * (1 + 1e-12);
+}
 
-    // Degenerate triangles and connected components (union-find on vertices).
-    std::vector<uint32_t> parent(vertex_count);
+// Degenerate triangles and connected components (union-find on vertices).
+void set_components(Mesh &m, const std::vector<char> &used) {
+    const double *vertices = m.vertices.data();
+    std::vector<uint32_t> parent(m.vertex_count);
     std::iota(parent.begin(), parent.end(), 0u);
-    for (uint32_t t = 0; t < triangle_count; ++t) {
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
         const uint32_t *f = &m.triangles[3 * t];
         if (is_degenerate(&vertices[3 * f[0]], &vertices[3 * f[1]], &vertices[3 * f[2]]))
             ++m.degenerate_count;
@@ -111,13 +97,15 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
             if (a != b) parent[std::max(a, b)] = std::min(a, b);
         }
     }
-    for (uint32_t v = 0; v < vertex_count; ++v)
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
         if (used[v] && find_root(parent, v) == v) m.component_vertices.push_back(v);
+}
 
-    // Closed: every undirected edge appears an even number of times.
+// Closed: every undirected edge appears an even number of times.
+bool is_closed(const Mesh &m) {
     std::vector<uint64_t> edges;
-    edges.reserve(3 * size_t(triangle_count));
-    for (uint32_t t = 0; t < triangle_count; ++t) {
+    edges.reserve(3 * size_t(m.triangle_count));
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
         const uint32_t *f = &m.triangles[3 * t];
         for (int k = 0; k < 3; ++k) {
             uint32_t a = f[k], b = f[(k + 1) % 3];
@@ -134,40 +122,66 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
         if ((j - i) % 2) closed = false;
         i = j;
     }
-    m.closed = closed;
+    return closed;
+}
 
-    // Convex: closed, and every vertex on one consistent side of every face.
-    if (closed && m.degenerate_count < triangle_count &&
-        uint64_t(triangle_count) * vertex_count <= kConvexCheckBudget) {
-        int sign = 0;
-        bool convex = true;
-        for (uint32_t t = 0; t < triangle_count && convex; ++t) {
-            const uint32_t *f = &m.triangles[3 * t];
-            const double *a = &vertices[3 * f[0]], *b = &vertices[3 * f[1]], *c = &vertices[3 * f[2]];
-            for (uint32_t v = 0; v < vertex_count && convex; ++v) {
-                if (!used[v]) continue;
-                const int s = orient3d(a, b, c, &vertices[3 * v]);
-                if (s == 0) continue;
-                if (sign == 0) sign = s;
-                else if (s != sign) convex = false;
-            }
-        }
-        m.convex = convex && sign != 0;
-        m.inward_sign = m.convex ? sign : 0;
-    }
-    if (vertex_count == 4 && triangle_count == 4) {
-        unsigned seen = 0;  // bit (6 - sum of the indices): the vertex a face misses
-        for (uint32_t t = 0; t < 4; ++t) {
-            const uint32_t *f = &m.triangles[3 * t];
-            if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) seen |= 1u << (6 - (f[0] + f[1] + f[2]));
-        }
-        m.tetra = seen == 0xF;
-        for (int v = 0; v < 4; ++v) {
-            for (int k = 0; k < 3; ++k) m.tetra_local[4 * k + v] = vertices[3 * v + k];
-            const double *p = &vertices[3 * v];
-            m.tetra_reach = std::max(m.tetra_reach, std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2]));
+// Convex: closed, and every vertex on one consistent side of every face.
+void set_convexity(Mesh &m, const std::vector<char> &used) {
+    if (!m.closed || m.degenerate_count >= m.triangle_count ||
+        uint64_t(m.triangle_count) * m.vertex_count > kConvexCheckBudget)
+        return;
+    const double *vertices = m.vertices.data();
+    int sign = 0;
+    bool convex = true;
+    for (uint32_t t = 0; t < m.triangle_count && convex; ++t) {
+        const uint32_t *f = &m.triangles[3 * t];
+        const double *a = &vertices[3 * f[0]], *b = &vertices[3 * f[1]], *c = &vertices[3 * f[2]];
+        for (uint32_t v = 0; v < m.vertex_count && convex; ++v) {
+            if (!used[v]) continue;
+            const int s = orient3d(a, b, c, &vertices[3 * v]);
+            if (s == 0) continue;
+            if (sign == 0) sign = s;
+            else if (s != sign) convex = false;
         }
     }
+    m.convex = convex && sign != 0;
+    m.inward_sign = m.convex ? sign : 0;
+}
+
+// A tetrahedron: 4 vertices, and 4 triangles that are its 4 vertex triples.
+void set_tetra(Mesh &m) {
+    if (m.vertex_count != 4 || m.triangle_count != 4) return;
+    unsigned seen = 0;  // bit (6 - sum of the indices): the vertex a face misses
+    for (uint32_t t = 0; t < 4; ++t) {
+        const uint32_t *f = &m.triangles[3 * t];
+        if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) seen |= 1u << (6 - (f[0] + f[1] + f[2]));
+    }
+    m.tetra = seen == 0xF;
+    for (int v = 0; v < 4; ++v) {
+        const double *p = &m.vertices[3 * v];
+        for (int k = 0; k < 3; ++k) m.tetra_local[4 * k + v] = p[k];
+        m.tetra_reach = std::max(m.tetra_reach, std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2]));
+    }
+}
+
+}  // namespace
+
+bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
+                uint32_t triangle_count, Mesh *out, std::string *error) {
+    *error = check_arrays(vertices, vertex_count, triangles, triangle_count);
+    if (!error->empty()) return false;
+    Mesh m;
+    m.vertex_count = vertex_count;
+    m.triangle_count = triangle_count;
+    m.vertices.assign(vertices, vertices + 3 * size_t(vertex_count));
+    m.triangles.assign(triangles, triangles + 3 * size_t(triangle_count));
+    std::vector<char> used(vertex_count, 0);
+    for (uint32_t v : m.triangles) used[v] = 1;
+    set_bounding_sphere(m, used);
+    set_components(m, used);
+    m.closed = is_closed(m);
+    set_convexity(m, used);
+    set_tetra(m);
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
     *out = std::move(m);

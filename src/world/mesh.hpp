@@ -9,6 +9,9 @@
 
 namespace hgcd {
 
+// The coordinate range of hgcd.h, for vertices, positions and moves.
+constexpr double kMaxCoordinate = 1e15;
+
 struct Mesh {
     std::vector<double> vertices;     // xyz per vertex, mesh frame
     std::vector<uint32_t> triangles;  // 3 indices per triangle
@@ -26,7 +29,7 @@ struct Mesh {
     // 4 vertices whose 4 triangles are the 4 distinct vertex triples (any
     // order and orientation): the surface is the boundary of the 4 points'
     // hull (or the hull itself when they are coplanar) in any pose, and the
-    // narrow phase takes a dedicated exact path (narrow.cpp, tetra pairs).
+    // narrow phase takes a dedicated exact path (its tetra pairs).
     bool tetra = false;
     double tetra_local[12] = {};  // x0..x3, y0..y3, z0..z3 (mesh frame)
     double tetra_reach = 0;       // max over the 4 vertices of |x| + |y| + |z|

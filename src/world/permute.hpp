@@ -1,5 +1,5 @@
 // Reordering per-body arrays by a permutation: what renumbering the bodies'
-// storage needs (world.cpp, grid.cpp).
+// storage needs (the world's arrays and the grid's per-body ones).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -18,7 +18,7 @@ constexpr size_t kPermuteScratch = 32;
 // region must call it, in the same order (each loop ends with a barrier).
 // The loads of the gather are independent, so many are in flight at once:
 // following the permutation's cycles in place waited for each read before
-// the next, and a renumbering at tetra 750k took 80 ms on 2 threads.
+// the next.
 template <size_t kBytes>
 void permute_part(void *base, size_t stride, const uint32_t *old_of_new, size_t n, void *scratch) {
     static_assert(kBytes <= kPermuteScratch, "scratch too small");

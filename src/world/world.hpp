@@ -19,8 +19,7 @@ namespace hgcd {
 
 // An allocator whose value-initialisation leaves the value uninitialised:
 // the tick's pair (and contact) lists are resized, then written whole in
-// parallel, and zeroing them first was a serial pass of its own (238 k
-// pairs, 3.8 MB, at tetra 750k).
+// parallel, and zeroing them first was a serial pass of its own.
 template <class T>
 struct UninitAllocator : std::allocator<T> {
     template <class U>
@@ -74,6 +73,11 @@ class World {
     const char *last_error() const { return last_error_.c_str(); }
 
   private:
+    // Ids: generation = world tag (8 bits) << 24 | counter (24 bits, >= 1).
+    static constexpr uint32_t kCounterBits = 24;
+    static constexpr uint32_t kCounterMask = (1u << kCounterBits) - 1;
+    static constexpr uint32_t kMaxSlots = 0x7FFFFFFEu;
+
     int64_t live_body(hgcd_body id) const;
     int64_t live_mesh(hgcd_mesh id) const;
     hgcd_status check_body(hgcd_body id, const char *what, int64_t *slot) const;
@@ -88,6 +92,23 @@ class World {
     // what the grid update's census runs on each range of slots first (see
     // Grid::update).
     hgcd_status detect_with(bool renumbered, const SlotPass *motion = nullptr);
+    // detect_with's stages (detect.cpp).
+    struct NarrowChunk;
+    struct NarrowPlan;
+    struct NarrowThread;
+    GridUpdateStats update_grid(int threads, const SlotPass *motion);
+    // Fills candidates_ and cuts them into chunks; returns their count.
+    size_t find_candidates(int threads, std::vector<NarrowChunk> &chunks);
+    void plan_narrow(int threads, NarrowPlan &plan) const;
+    // Each thread's colliding pairs, sorted, into hits_ (and hit_contacts).
+    void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts);
+    void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;
+    size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
+                        NarrowThread &t) const;
+    static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, bool want_contacts,
+                                NarrowThread &t, hgcd_contact *contact);
+    // The threads' hits into pairs_ (and contacts_).
+    void merge_hits(int threads, bool want_contacts, const std::vector<std::vector<hgcd_contact>> &hit_contacts);
     // Moves every body's storage to the grid's sweep order (see at_); false,
     // changing nothing, when there is no memory for it.
     bool renumber();
@@ -98,8 +119,7 @@ class World {
     // positions' box; -1 when there is no such box.
     double estimated_candidates_per_body(int threads) const;
 
-    // Ids: generation = world tag (8 bits) << 24 | counter (24 bits, >= 1).
-    uint32_t tag_;
+    uint32_t tag_;  // of the ids' generations
     uint32_t thread_count_;
     double time_step_;
     bool reflect_;

@@ -1,0 +1,255 @@
+// Bodies: creation and destruction in the structure of arrays (world.hpp),
+// poses and velocities, and the boxes' offsets that follow a pose.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/ieee.hpp"
+#include "common/transform.hpp"
+#include "world/world.hpp"
+
+namespace hgcd {
+
+namespace {
+
+constexpr double kUnitTolerance = 1e-6;
+// Level radius: the largest stretch an accepted quaternion can give is
+// 1 + 2e-6 (see rotation_stretch), the offsets' rounding to float adds
+// 2^-23 at most; the rest is slack for the rounding of the offsets.
+constexpr double kLevelInflation = 1 + 4e-6;
+
+std::string vec_text(const char *name, int k) {
+    return std::string(name) + "[" + std::to_string(k) + "]";
+}
+
+}  // namespace
+
+int64_t World::live_body(hgcd_body id) const {
+    if (id.index >= live_gen_.size() || live_gen_[id.index] == 0 || live_gen_[id.index] != id.generation)
+        return -1;
+    return id.index;
+}
+
+hgcd_status World::check_body(hgcd_body id, const char *what, int64_t *slot) const {
+    *slot = live_body(id);
+    if (*slot < 0)
+        return fail(HGCD_ERROR_STALE_ID, std::string(what) + ": body {" + std::to_string(id.index) +
+                                             ", " + std::to_string(id.generation) +
+                                             "} is not a live body of this world");
+    return HGCD_OK;
+}
+
+hgcd_status World::check_pose(const char *what, const double *position,
+                              const double *orientation) const {
+    if (position)
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(position[k]) || std::fabs(position[k]) > kMaxCoordinate)
+                return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                            std::string(what) + ": " + vec_text("position", k) +
+                                (std::isfinite(position[k]) ? " is beyond 1e15" : " is not finite"));
+    if (orientation) {
+        double n2 = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!std::isfinite(orientation[k]))
+                return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                            std::string(what) + ": " + vec_text("orientation", k) + " is not finite");
+            n2 += orientation[k] * orientation[k];
+        }
+        if (!(std::fabs(n2 - 1.0) <= kUnitTolerance))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                        std::string(what) + ": orientation is not a unit quaternion (squared norm " +
+                            std::to_string(n2) + ", must be within 1e-6 of 1)");
+    }
+    return HGCD_OK;
+}
+
+// ---------------------------------------------------------------- bodies --
+
+hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
+    const int64_t mesh = live_mesh(d.mesh);
+    if (mesh < 0) return fail(HGCD_ERROR_STALE_ID, "body_create: desc.mesh is not a live mesh of this world");
+    if (hgcd_status s = check_pose("body_create", d.position, d.orientation)) return s;
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(d.velocity[k]))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_create: " + vec_text("velocity", k) + " is not finite");
+    const Mesh &m = meshes_[mesh];
+    const double reach = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
+    if (!std::isfinite(d.scale) || !(d.scale > 0) || d.scale * reach > kMaxCoordinate)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    "body_create: scale must be finite, > 0 and keep the mesh within 1e15");
+    if (live_bodies_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "body_create: too many bodies");
+
+    uint32_t slot;
+    const bool reuse = !body_free_.empty();
+    if (reuse) {
+        slot = body_free_.back();
+    } else {
+        // Reserve everything first (growing geometrically): a failed
+        // allocation then changes nothing.
+        const size_t n = live_gen_.size() + 1;
+        if (live_gen_.capacity() < n) {
+            const size_t cap = std::max<size_t>(16, 2 * live_gen_.capacity());
+            place_.reserve(cap);
+            velocity_.reserve(3 * cap);
+            body_mesh_.reserve(cap);
+            user_data_.reserve(cap);
+            body_gen_.reserve(cap);
+            box_off_.reserve(6 * cap);
+            r_level_.reserve(cap);
+            point_.reserve(3 * cap);
+            at_.reserve(cap);
+            slot_of_.reserve(cap);
+            stored_gen_.reserve(cap);
+            live_gen_.reserve(cap);  // last: its capacity says all are reserved
+        }
+        // A new slot comes with a new storage index; a freed slot keeps its own.
+        slot = uint32_t(live_gen_.size());
+        place_.resize(n);
+        velocity_.resize(3 * n);
+        body_mesh_.resize(n);
+        user_data_.resize(n);
+        body_gen_.resize(n, tag_ << kCounterBits);
+        live_gen_.resize(n, 0);
+        box_off_.resize(6 * n);
+        r_level_.resize(n);
+        point_.resize(3 * n);
+        at_.push_back(slot);
+        slot_of_.push_back(slot);
+        stored_gen_.push_back(0);
+    }
+    if (reuse) body_free_.pop_back();
+    const size_t i = at_[slot];
+    for (int k = 0; k < 3; ++k) {
+        place_[i].position[k] = point_[3 * i + k] = d.position[k];
+        velocity_[3 * i + k] = d.velocity[k];
+    }
+    for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
+    place_[i].scale = d.scale;
+    body_mesh_[i] = uint32_t(mesh);
+    user_data_[i] = d.user_data;
+    // (Every vertex is within |centre| + radius of the mesh origin.)
+    const double centre = std::sqrt(m.center[0] * m.center[0] + m.center[1] * m.center[1] + m.center[2] * m.center[2]);
+    r_level_[i] = d.scale * (centre + m.radius) * kLevelInflation;
+    set_box_offsets(i);
+    body_gen_[slot] = (tag_ << kCounterBits) | ((body_gen_[slot] + 1) & kCounterMask);
+    live_gen_[slot] = body_gen_[slot];
+    stored_gen_[i] = body_gen_[slot];
+    ++mesh_users_[mesh];
+    ++live_bodies_;
+    *out = hgcd_body{slot, body_gen_[slot]};
+    return HGCD_OK;
+}
+
+hgcd_status World::destroy_body(hgcd_body id) {
+    int64_t slot;
+    if (hgcd_status s = check_body(id, "body_destroy", &slot)) return s;
+    if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
+    live_gen_[slot] = 0;
+    stored_gen_[at_[slot]] = 0;
+    --mesh_users_[body_mesh_[at_[slot]]];
+    --live_bodies_;
+    if ((body_gen_[slot] & kCounterMask) != kCounterMask) body_free_.push_back(uint32_t(slot));
+    return HGCD_OK;
+}
+
+hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {
+    int64_t slot;
+    if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
+    if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
+    Placement &pl = place_[at_[slot]];
+    if (position)
+        for (int k = 0; k < 3; ++k) pl.position[k] = point_[3 * size_t(at_[slot]) + k] = position[k];
+    if (orientation) {
+        for (int k = 0; k < 4; ++k) pl.orientation[k] = orientation[k];
+        set_box_offsets(at_[slot]);
+    }
+    return HGCD_OK;
+}
+
+hgcd_status World::set_velocity(hgcd_body id, const double *velocity) {
+    int64_t slot;
+    if (hgcd_status s = check_body(id, "body_set_velocity", &slot)) return s;
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(velocity[k]))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_set_velocity: " + vec_text("velocity", k) + " is not finite");
+    for (int k = 0; k < 3; ++k) velocity_[3 * size_t(at_[slot]) + k] = velocity[k];
+    return HGCD_OK;
+}
+
+hgcd_status World::get_pose(hgcd_body id, double *position, double *orientation) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    const Placement &pl = place_[at_[slot]];
+    if (position)
+        for (int k = 0; k < 3; ++k) position[k] = pl.position[k];
+    if (orientation)
+        for (int k = 0; k < 4; ++k) orientation[k] = pl.orientation[k];
+    return HGCD_OK;
+}
+
+hgcd_status World::get_velocity(hgcd_body id, double *velocity) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    for (int k = 0; k < 3; ++k) velocity[k] = velocity_[3 * size_t(at_[slot]) + k];
+    return HGCD_OK;
+}
+
+hgcd_status World::get_mesh(hgcd_body id, hgcd_mesh *out) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    const uint32_t m = body_mesh_[at_[slot]];
+    *out = hgcd_mesh{m, mesh_gen_[m]};
+    return HGCD_OK;
+}
+
+hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    *out = user_data_[at_[slot]];
+    return HGCD_OK;
+}
+
+// Offsets d of the world vertices from the position, by transform_point's
+// operations with a zero position (so c + d is the world vertex as every
+// path computes it, and fl(c + min d) <= fl(c + d): rounding is monotone),
+// rounded outward to float, over the vertices the triangles use (those the
+// mesh's bounding sphere, and so r_level, bounds). Meshes of more triangles
+// than kExactBoxTriangles take the cube around their bounding sphere instead
+// (a pose set costs no more than a few hundred vertex transforms), widened
+// past the rounding of R.
+void World::set_box_offsets(size_t s) {
+    constexpr uint32_t kExactBoxTriangles = 128;
+    const Placement &pl = place_[s];
+    const Mesh &m = meshes_[body_mesh_[s]];
+    const Rotation r = rotation_of(pl.orientation);
+    const double zero[3] = {0, 0, 0};
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    if (m.triangle_count <= kExactBoxTriangles) {
+        for (const uint32_t v : m.triangles) {  // (a vertex of several triangles is seen again)
+            double d[3];
+            transform_point(r, zero, pl.scale, &m.vertices[3 * size_t(v)], d);
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], d[k]);
+                hi[k] = std::max(hi[k], d[k]);
+            }
+        }
+    } else {
+        // |R (s v) - R (s c)| <= stretch s radius for every vertex v; each
+        // computed offset is within 8 eps (|R| |s v|) of R (s v), |R| <= 2.
+        double c[3];
+        transform_point(r, zero, pl.scale, m.center, c);
+        const double local = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
+        const double reach = pl.scale * (rotation_stretch(pl.orientation) * m.radius + 1e-14 * local);
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = c[k] - reach * (1 + 1e-12);
+            hi[k] = c[k] + reach * (1 + 1e-12);
+        }
+    }
+    float *o = &box_off_[6 * s];
+    for (int k = 0; k < 3; ++k) {
+        o[k] = float_at_most(lo[k]);
+        o[3 + k] = float_at_least(hi[k]);
+    }
+}
+
+}  // namespace hgcd

@@ -1,0 +1,506 @@
+// Detection, stage by stage: the grid update (with a step's motion inside
+// it), the candidate pairs, the narrow phase over them on every thread, and
+// the merge of the threads' hits into the reported pairs, in (a, b) order
+// whatever the thread count. Also the grid's limits for each detect.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "common/ieee.hpp"
+#include "common/parallel.hpp"
+#include "narrow/ccd_narrow.hpp"
+#include "narrow/contact.hpp"
+#include "narrow/narrow.hpp"
+#include "world/world.hpp"
+
+namespace hgcd {
+
+namespace {
+
+// Candidate pairs per unit of the narrow phase's dynamic schedule.
+constexpr size_t kNarrowChunk = 512;
+
+// Per mesh slot, what the narrow phase loop reads.
+constexpr uint8_t kCcdUse = 1;    // convex and set to GJK or MPR: libccd
+constexpr uint8_t kCcdGjk = 2;    // set to GJK
+constexpr uint8_t kCcdAsked = 4;  // set to GJK or MPR, convex or not
+
+// Sorts pair keys (a << 32 | b) ascending: least significant digit first,
+// on the keys packed as a << w | b (w the bits of the largest b: 40 bits in
+// all for slots below 2^20), kDigit bits a pass, with every pass's counts
+// taken in the one pass that packs. (A comparison sort of a tick's pairs
+// cost more than the rest of the merge; 10-bit digits beat 8 and 11.)
+void sort_keys(std::vector<uint64_t> &keys, std::vector<uint64_t> &tmp) {
+    constexpr int kDigit = 10, kBuckets = 1 << kDigit;
+    const size_t n = keys.size();
+    if (n < 2) return;
+    uint64_t high = 0, low = 0;
+    for (const uint64_t k : keys) {
+        high |= k >> 32;
+        low |= uint32_t(k);
+    }
+    const int w = low ? 64 - __builtin_clzll(low) : 0;
+    const int bits = (high ? 64 - __builtin_clzll(high) : 0) + w;
+    const int passes = (bits + kDigit - 1) / kDigit;
+    if (passes == 0) return;
+    std::vector<uint32_t> count(size_t(passes) * kBuckets, 0);
+    for (uint64_t &k : keys) {
+        k = (k >> 32) << w | uint32_t(k);
+        for (int p = 0; p < passes; ++p) ++count[size_t(p) * kBuckets + ((k >> (p * kDigit)) & (kBuckets - 1))];
+    }
+    tmp.resize(n);
+    const uint64_t low_mask = (uint64_t(1) << w) - 1;  // (w < 64)
+    for (int p = 0; p < passes; ++p) {
+        uint32_t *c = &count[size_t(p) * kBuckets];
+        uint32_t at = 0;
+        for (int d = 0; d < kBuckets; ++d) {
+            const uint32_t m = c[d];
+            c[d] = at;
+            at += m;
+        }
+        const int shift = p * kDigit;
+        if (p + 1 < passes) {
+            for (const uint64_t k : keys) tmp[c[(k >> shift) & (kBuckets - 1)]++] = k;
+        } else {  // the last pass unpacks
+            for (const uint64_t k : keys)
+                tmp[c[(k >> shift) & (kBuckets - 1)]++] = (k >> w) << 32 | (k & low_mask);
+        }
+        keys.swap(tmp);
+    }
+}
+
+// Sorts a thread's hit keys, and its contacts with them.
+void sort_with_contacts(std::vector<uint64_t> &keys, std::vector<hgcd_contact> &contacts) {
+    std::vector<uint32_t> order(keys.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = uint32_t(k);
+    std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return keys[x] < keys[y]; });
+    std::vector<uint64_t> sorted_keys(keys.size());
+    std::vector<hgcd_contact> sorted(keys.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+        sorted_keys[k] = keys[order[k]];
+        sorted[k] = contacts[order[k]];
+    }
+    keys.swap(sorted_keys);
+    contacts.swap(sorted);
+}
+
+}  // namespace
+
+// A run of one thread's candidate list: the unit of the narrow phase's
+// dynamic schedule (pairs cost very different amounts).
+struct World::NarrowChunk {
+    uint32_t list;
+    size_t begin, end;
+};
+
+// What every thread of the narrow phase reads.
+struct World::NarrowPlan {
+    std::vector<NarrowChunk> chunks;
+    bool want_contacts = false;
+    // Per mesh slot (kCcd* bits): libccd or exact, read only if any_ccd.
+    std::vector<uint8_t> ccd_mode;
+    bool any_ccd = false;
+    // Pairs of tetrahedra (without contacts or libccd) go to the batched
+    // test a chunk at a time (narrow.hpp), through per-thread arrays on the
+    // heap, from before the region (thread 0 runs on the caller's stack).
+    bool batch = false;
+    // Every live mesh a tetrahedron: every pair goes to the batch, no mesh
+    // need be looked at per pair.
+    bool all_tetra = false;
+    std::unique_ptr<TetraPair[]> batch_pairs;
+    std::unique_ptr<Contact[]> batch_verdicts;
+};
+
+// One thread's narrow phase. Its hits sit in a vector of the thread's own
+// stack frame while it pushes (the storage of hits_[thread], kept across
+// detects): the vectors of hits_ share cache lines, and every push writes
+// the vector's end.
+struct World::NarrowThread {
+    NarrowScratch scratch;
+    CcdScratch ccd_scratch;
+    ContactScratch contact_scratch;
+    std::vector<uint64_t> hits;          // pair keys, slot a << 32 | slot b
+    std::vector<hgcd_contact> contacts;  // parallel to hits (contacts on)
+    uint64_t containment = 0, ccd_fallback = 0;
+    TetraPair *tetra = nullptr;  // this thread's batch (plan.batch)
+    Contact *verdict = nullptr;
+    uint32_t hit_index[kNarrowChunk];
+};
+
+Boxes World::boxes() const { return Boxes{point_.data(), box_off_.data()}; }
+
+// The grid's limits for this detect. Coarsening (GridLimits::coarsen) is
+// decided from the previous detect's candidate pairs per body, a count that
+// does not depend on the grid's shape: below 3 (sparse, as scene tetra at
+// its reference density, 1.4) the levels close below the coarsest join it,
+// above 6 they part again: sparse scenes are much faster coarsened, while
+// denser ones (11 and 32 candidates per body) are faster with the paper's
+// finer levels.
+//
+// Before the first detect there is no count yet: it is estimated from the
+// boxes as if their positions were spread evenly over their bounding box
+// (estimated_candidates_per_body), which the real count soon corrects.
+// Without it the first detect built the finer levels and the first step
+// rebuilt the grid coarsened, both far slower.
+GridLimits World::grid_limits(int threads) {
+    const double per_body = candidates_per_body_ >= 0 ? candidates_per_body_ : estimated_candidates_per_body(threads);
+    if (per_body >= 0) coarse_grid_ = coarse_grid_ ? per_body <= 6 : per_body < 3;
+    GridLimits limits = limits_;
+    limits.coarsen = coarse_grid_;
+    return limits;
+}
+
+double World::estimated_candidates_per_body(int threads) const {
+    const int64_t n = int64_t(stored_gen_.size());
+    // Per thread, merged here on the calling thread: an OpenMP reduction
+    // would merge the workers' shares after their IeeeMode has ended.
+    struct Sums {
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        double a1 = 0, a2 = 0, a3 = 0, count = 0;
+    };
+    std::vector<Sums> sums(static_cast<size_t>(threads));
+    parallel_region(threads, [&](RegionGuard &) {
+        Sums mine;
+#pragma omp for schedule(static) nowait
+        for (int64_t s = 0; s < n; ++s) {
+            if (!stored_gen_[s]) continue;
+            const double *p = &point_[3 * s];
+            const float *o = &box_off_[6 * s];
+            for (int k = 0; k < 3; ++k) {
+                mine.lo[k] = std::min(mine.lo[k], p[k]);
+                mine.hi[k] = std::max(mine.hi[k], p[k]);
+            }
+            // Half the box's mean side.
+            const double a = ((double(o[3]) - o[0]) + (double(o[4]) - o[1]) + (double(o[5]) - o[2])) / 6;
+            mine.a1 += a;
+            mine.a2 += a * a;
+            mine.a3 += a * a * a;
+            mine.count += 1;
+        }
+        sums[size_t(omp_get_thread_num())] = mine;
+    });
+    Sums all;
+    for (const Sums &t : sums) {
+        for (int k = 0; k < 3; ++k) {
+            all.lo[k] = std::min(all.lo[k], t.lo[k]);
+            all.hi[k] = std::max(all.hi[k], t.hi[k]);
+        }
+        all.a1 += t.a1;
+        all.a2 += t.a2;
+        all.a3 += t.a3;
+        all.count += t.count;
+    }
+    const double a1 = all.a1, a2 = all.a2, a3 = all.a3, count = all.count;
+    const double volume = (all.hi[0] - all.lo[0]) * (all.hi[1] - all.lo[1]) * (all.hi[2] - all.lo[2]);
+    if (count < 2 || !(volume > 0) || !std::isfinite(volume)) return -1;  // no estimate
+    // Cubes of half sides a_i, a_j meet when within a_i + a_j on every
+    // axis: (n / V) E[8 (a_i + a_j)^3] / 2 pairs per body.
+    const double e1 = a1 / count, e2 = a2 / count, e3 = a3 / count;
+    return count / volume * 8 * (e3 + 3 * e2 * e1);
+}
+
+hgcd_status World::detect() { return detect_with(false); }
+
+hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
+    pairs_.clear();
+    contacts_.clear();
+    contacts_recorded_ = contacts_on_;
+    const uint32_t struct_size = stats_.struct_size;
+    stats_ = hgcd_stats{};
+    stats_.struct_size = struct_size;
+    const int T = threads();
+    const double t0 = omp_get_wtime();
+    try {
+        if (!renumbered) renumber_if_disordered();
+        const GridUpdateStats us = update_grid(T, motion);
+        const double t1 = omp_get_wtime();
+        NarrowPlan plan;
+        const size_t total = find_candidates(T, plan.chunks);
+        const double t2 = omp_get_wtime();
+        plan_narrow(T, plan);
+        std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // per thread, parallel to hits_
+        narrow_phase(T, plan, hit_contacts);
+        merge_hits(T, plan.want_contacts, hit_contacts);
+        const double t3 = omp_get_wtime();
+
+        stats_.level_count = grid_.level_count();
+        stats_.oversize_count = grid_.oversize_count();
+        stats_.thread_count = uint32_t(T);
+        stats_.moved_bodies = us.moved;
+        stats_.candidate_pairs = uint64_t(total);
+        candidates_per_body_ = live_bodies_ ? double(total) / live_bodies_ : -1;
+        stats_.colliding_pairs = pairs_.size();
+        stats_.update_seconds = t1 - t0;
+        stats_.broad_seconds = t2 - t1;
+        stats_.narrow_seconds = t3 - t2;
+        stats_.total_seconds = t3 - t0;
+    } catch (...) {
+        // The grid may be half updated: drop it, the next detect rebuilds it.
+        grid_ = Grid();
+        pairs_.clear();
+        contacts_.clear();
+        stats_ = hgcd_stats{};
+        stats_.struct_size = struct_size;
+        throw;
+    }
+    return HGCD_OK;
+}
+
+GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
+    const bool first_detect = candidates_per_body_ < 0;
+    // (On a step that is the world's first detect, grid_limits estimates the
+    // density from the positions before this tick's moves, which run inside
+    // the update: a heuristic, off by one tick's motion.)
+    const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(),
+                                            uint32_t(stored_gen_.size()), grid_limits(threads), threads, motion);
+    grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)
+    return us;
+}
+
+size_t World::find_candidates(int threads, std::vector<NarrowChunk> &chunks) {
+    // Kept across detects: a tick's candidates need not grow fresh buffers
+    // (and fault in fresh pages) every time.
+    std::vector<PairBuffer> &found = candidates_;
+    found.resize(size_t(threads));
+    for (auto &f : found) f.clear();
+    grid_.find_pairs(boxes(), threads, found);
+    // The narrow phase runs straight over every thread's candidate list.
+    size_t total = 0;
+    for (int t = 0; t < threads; ++t) {
+        total += found[t].size();
+        for (size_t b = 0; b < found[t].size(); b += kNarrowChunk)
+            chunks.push_back({uint32_t(t), b, std::min(found[t].size(), b + kNarrowChunk)});
+    }
+    return total;
+}
+
+void World::plan_narrow(int threads, NarrowPlan &plan) const {
+    plan.want_contacts = contacts_on_;
+    plan.ccd_mode.assign(meshes_.size(), 0);
+    for (size_t m = 0; m < meshes_.size(); ++m) {
+        if (!mesh_alive_[m]) continue;
+        const int32_t set = mesh_narrow_[m] == HGCD_NARROW_WORLD ? narrow_phase_ : mesh_narrow_[m];
+        if (set != HGCD_NARROW_GJK && set != HGCD_NARROW_MPR) continue;
+        plan.ccd_mode[m] = uint8_t(kCcdAsked | (set == HGCD_NARROW_GJK ? kCcdGjk : 0) |
+                                   (meshes_[m].convex ? kCcdUse : 0));
+        plan.any_ccd = true;
+    }
+    plan.batch = !plan.want_contacts && !plan.any_ccd;
+    plan.all_tetra = plan.batch;
+    for (size_t m = 0; m < meshes_.size() && plan.all_tetra; ++m)
+        plan.all_tetra = !mesh_alive_[m] || meshes_[m].tetra;
+    if (plan.batch) {
+        plan.batch_pairs.reset(new TetraPair[size_t(threads) * kNarrowChunk]);
+        plan.batch_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
+    }
+}
+
+void World::narrow_phase(int threads, const NarrowPlan &plan,
+                         std::vector<std::vector<hgcd_contact>> &hit_contacts) {
+    // Kept across detects, as the candidates: fresh buffers would grow (and
+    // fault in pages) every tick.
+    hits_.resize(size_t(threads));
+    sort_scratch_.resize(size_t(threads));
+    for (auto &h : hits_) h.clear();
+    struct Counts {
+        uint64_t narrow_tests, triangle_tests, containment, libccd_tests, libccd_fallback;
+    };
+    std::vector<Counts> counts(size_t(threads), Counts{0, 0, 0, 0, 0});
+    parallel_region(threads, [&](RegionGuard &guard) {
+        const int me = omp_get_thread_num();
+        NarrowThread t;
+        t.hits.swap(hits_[me]);
+        if (plan.batch) {
+            t.tetra = plan.batch_pairs.get() + size_t(me) * kNarrowChunk;
+            t.verdict = plan.batch_verdicts.get() + size_t(me) * kNarrowChunk;
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t c = 0; c < int64_t(plan.chunks.size()); ++c)
+            guard.run([&] { narrow_chunk(plan, plan.chunks[size_t(c)], t); });
+        counts[me] = Counts{t.scratch.exact_tests, t.scratch.triangle_tests, t.containment,
+                            t.ccd_scratch.tests, t.ccd_fallback};
+        if (plan.want_contacts)
+            guard.run([&] { sort_with_contacts(t.hits, t.contacts); });
+        else
+            guard.run([&] { sort_keys(t.hits, sort_scratch_[me]); });  // each thread its own share
+        hits_[me].swap(t.hits);
+        hit_contacts[me].swap(t.contacts);
+    });
+    for (const Counts &c : counts) {
+        stats_.narrow_tests += c.narrow_tests;
+        stats_.triangle_tests += c.triangle_tests;
+        stats_.containment_pairs += c.containment;
+        stats_.libccd_tests += c.libccd_tests;
+        stats_.libccd_fallback_tests += c.libccd_fallback;
+    }
+}
+
+void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const {
+    const PairBuffer &list = candidates_[chunk.list];
+    size_t tetras = 0;
+    if (plan.all_tetra) {
+        const Mesh *meshes = meshes_.data();
+        const Placement *place = place_.data();
+        const uint32_t *body_mesh = body_mesh_.data();
+        for (size_t k = chunk.begin; k < chunk.end; ++k, ++tetras) {
+            const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
+            t.tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b};
+        }
+    } else {
+        tetras = narrow_pairs(plan, list, chunk, t);
+    }
+    if (tetras) collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
+    // The batch's hits listed first without a branch (a branch per pair on
+    // its verdict mispredicted often: hits are 28% of the pairs).
+    size_t hit_count = 0;
+    for (size_t k = 0; k < tetras; ++k) {
+        t.hit_index[hit_count] = uint32_t(k);
+        hit_count += t.verdict[k] != Contact::None;
+        t.containment += t.verdict[k] == Contact::Containment;
+    }
+    const size_t at = t.hits.size();
+    t.hits.resize(at + hit_count);
+    uint64_t *to = t.hits.data() + at;
+    if (plan.all_tetra) {  // (the batch's pairs are the chunk's, in order)
+        const uint64_t *keys = list.begin() + chunk.begin;
+        for (size_t h = 0; h < hit_count; ++h) {
+            const uint64_t key = keys[t.hit_index[h]];
+            to[h] = pair_key(slot_of_[key >> 32], slot_of_[uint32_t(key)]);
+        }
+    } else {
+        for (size_t h = 0; h < hit_count; ++h) {
+            const TetraPair &p = t.tetra[t.hit_index[h]];
+            to[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
+        }
+    }
+}
+
+// The pairs of a chunk whose meshes are not all tetrahedra: each tested here,
+// or queued for the batch if both are tetrahedra and the plan batches.
+// Returns the count queued.
+size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
+                           NarrowThread &t) const {
+    const bool want_contacts = plan.want_contacts, any_ccd = plan.any_ccd, batch = plan.batch;
+    const size_t end = chunk.end;
+    size_t tetras = 0;
+    for (size_t k = chunk.begin; k < end; ++k) {
+        // The meshes of a later pair, to hide the latency, and its placements
+        // unless the batched test will read them (it asks for them itself:
+        // asked for here, 512 pairs before their use, they held up this loop).
+        if (k + 8 < end) {
+            const uint64_t ahead = list[k + 8];
+            __builtin_prefetch(&body_mesh_[ahead >> 32]);
+            __builtin_prefetch(&body_mesh_[uint32_t(ahead)]);
+            if (!batch) {
+                __builtin_prefetch(&place_[ahead >> 32]);
+                __builtin_prefetch(&place_[uint32_t(ahead)]);
+            }
+        }
+        // Storage indices. The exact verdict does not depend on the order of
+        // the two bodies, so only contacts (which follow the pair's order as
+        // reported) and libccd (whose tolerances might) take them in slot
+        // order, and only hits look their slots up (28% of the pairs on tetra).
+        uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
+        if ((want_contacts || any_ccd) && slot_of_[a] > slot_of_[b]) std::swap(a, b);
+        const Placement &la = place_[a], &lb = place_[b];
+        const Mesh *mesh_a = &meshes_[body_mesh_[a]], *mesh_b = &meshes_[body_mesh_[b]];
+        if (batch && mesh_a->tetra && mesh_b->tetra) {
+            t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb};
+            continue;
+        }
+        const BodyPose pa = pose_of(mesh_a, la), pb = pose_of(mesh_b, lb);
+        hgcd_contact contact;
+        const uint8_t ma = any_ccd ? plan.ccd_mode[body_mesh_[a]] : 0;
+        const uint8_t mb = any_ccd ? plan.ccd_mode[body_mesh_[b]] : 0;
+        const Contact hit = collide_pair(pa, pb, ma, mb, want_contacts, t, &contact);
+        if (hit != Contact::None) {
+            t.hits.push_back(pair_key(slot_of_[a], slot_of_[b]));
+            if (want_contacts) t.contacts.push_back(contact);
+            if (hit == Contact::Containment) ++t.containment;
+        }
+    }
+    return tetras;
+}
+
+// One pair by libccd (both meshes convex and set to it) or by the exact test,
+// with its contact if asked for; ma, mb: the meshes' kCcd* bits.
+Contact World::collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, bool want_contacts,
+                            NarrowThread &t, hgcd_contact *contact) {
+    Contact hit;
+    if (ma & mb & kCcdUse) {
+        const CcdMethod method = ((ma | mb) & kCcdGjk) ? CcdMethod::Gjk : CcdMethod::Mpr;
+        CcdContact cc;
+        hit = ccd_collide(pa, pb, method, t.ccd_scratch, want_contacts ? &cc : nullptr) ? Contact::Surface
+                                                                                       : Contact::None;
+        if (want_contacts && hit != Contact::None) penetration_contact(cc, contact);
+    } else if (want_contacts) {
+        if (ma & mb & kCcdAsked) ++t.ccd_fallback;
+        Witness witness;
+        hit = collide(pa, pb, t.scratch, &witness);
+        if (hit != Contact::None) exact_contact(pa, pb, hit, witness, t.contact_scratch, contact);
+    } else {
+        if (ma & mb & kCcdAsked) ++t.ccd_fallback;
+        hit = collide(pa, pb, t.scratch);
+    }
+    return hit;
+}
+
+// Merges the threads' sorted shares into pairs_ (and contacts_): the output
+// is in (a, b) order whatever the thread count, so identical bit for bit. In
+// T parts of the key range at once (splitters from the longest share), each
+// merging its range of every share into its place.
+void World::merge_hits(int threads, bool want_contacts, const std::vector<std::vector<hgcd_contact>> &hit_contacts) {
+    const int T = threads;
+    const std::vector<std::vector<uint64_t>> &hits = hits_;
+    size_t count = 0, longest = 0;
+    for (int t = 0; t < T; ++t) {
+        count += hits[t].size();
+        if (hits[t].size() > hits[longest].size()) longest = size_t(t);
+    }
+    pairs_.resize(count);
+    if (want_contacts) contacts_.resize(count);
+    const int parts = count >= 4096 ? T : 1;
+    // first[p * T + t]: where part p starts in share t (p = parts: the end).
+    std::vector<size_t> first(size_t(parts + 1) * T), out_at(parts + 1, 0);
+    for (int p = 0; p <= parts; ++p) {
+        const std::vector<uint64_t> &l = hits[longest];
+        // (no pair key is 0 or UINT64_MAX: slots are below 2^31 and a < b)
+        const uint64_t splitter = p == 0 ? 0 : p == parts ? UINT64_MAX : l[l.size() * size_t(p) / size_t(parts)];
+        for (int t = 0; t < T; ++t) {
+            const std::vector<uint64_t> &h = hits[t];
+            first[size_t(p) * T + t] = size_t(std::lower_bound(h.begin(), h.end(), splitter) - h.begin());
+            out_at[p] += first[size_t(p) * T + t];
+        }
+    }
+    parallel_region(parts, [&](RegionGuard &guard) {
+#pragma omp for schedule(static, 1)
+        for (int p = 0; p < parts; ++p) guard.run([&] {
+            std::vector<size_t> head(T), end(T);
+            for (int t = 0; t < T; ++t) {
+                head[t] = first[size_t(p) * T + t];
+                end[t] = first[size_t(p + 1) * T + t];
+            }
+            for (size_t k = out_at[p]; k < out_at[p + 1]; ++k) {
+                int best = -1;
+                for (int t = 0; t < T; ++t)
+                    if (head[t] < end[t] && (best < 0 || hits[t][head[t]] < hits[best][head[best]])) best = t;
+                const size_t at = head[best]++;
+                const uint64_t key = hits[best][at];
+                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                // The second slots are in no order: ask for a later pair's
+                // generation early.
+                if (at + 16 < end[best]) __builtin_prefetch(&live_gen_[uint32_t(hits[best][at + 16])]);
+                pairs_[k] = hgcd_pair{{a, live_gen_[a]}, {b, live_gen_[b]}};
+                if (want_contacts) {
+                    contacts_[k] = hit_contacts[best][at];
+                    contacts_[k].pair = pairs_[k];
+                }
+            }
+        });
+    });
+}
+
+}  // namespace hgcd

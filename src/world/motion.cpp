@@ -1,0 +1,198 @@
+// A tick's motion (step) and the renumbering of the bodies' storage into the
+// grid's sweep order.
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <new>
+#include <vector>
+
+#include "common/ieee.hpp"
+#include "common/parallel.hpp"
+#include "world/permute.hpp"
+#include "world/world.hpp"
+
+namespace hgcd {
+
+namespace {
+
+// One tick's motion, applied a range of slots at a time (a SlotPass).
+struct Motion {
+    bool reflect;
+    double dt, lo[3], hi[3];
+    Placement *place;
+    double *velocity, *point;
+    const uint32_t *live;
+    uint32_t count;  // of storage
+    std::atomic<bool> applied{false};  // some range has moved
+
+    static void run(void *context, uint32_t begin, uint32_t end) {
+        Motion &m = *static_cast<Motion *>(context);
+        if (!m.applied.load(std::memory_order_relaxed)) m.applied.store(true, std::memory_order_relaxed);
+        // Locals, so the compiler need not reload them after each store.
+        const bool reflect = m.reflect;
+        const double dt = m.dt, lo[3] = {m.lo[0], m.lo[1], m.lo[2]}, hi[3] = {m.hi[0], m.hi[1], m.hi[2]};
+        Placement *place = m.place;
+        double *velocity = m.velocity, *point = m.point;
+        for (uint32_t s = begin; s < end; ++s) {
+            // The placement 16 bodies on (past this range too: the thread's
+            // next range follows it): the hardware's prefetch left the
+            // motion waiting on every placement line (the velocities and
+            // points need no such request).
+            if (s + 16 < m.count) __builtin_prefetch(&place[s + 16], 1);
+            if (!m.live[s]) continue;
+            for (int k = 0; k < 3; ++k) {
+                double &c = place[s].position[k];
+                double &v = velocity[3 * size_t(s) + k];
+                double x = c + v * dt;
+                if (reflect) {
+                    if (x < lo[k]) {
+                        x = 2 * lo[k] - x;
+                        v = -v;
+                    } else if (x > hi[k]) {
+                        x = 2 * hi[k] - x;
+                        v = -v;
+                    }
+                    // A move longer than the box is clamped rather than leaving it.
+                    x = std::min(std::max(x, lo[k]), hi[k]);
+                }
+                c = point[3 * size_t(s) + k] = x;
+            }
+        }
+    }
+};
+
+}  // namespace
+
+hgcd_status World::step() {
+    const int T = threads();
+    const double t0 = omp_get_wtime();
+    const int64_t n = int64_t(stored_gen_.size());
+    const double dt = time_step_;
+    // Unless the world reflects (every move then ends inside its box), first
+    // check that every move stays finite and in range, then move: a refused
+    // step moves nothing.
+    if (!reflect_) {
+        // Per thread, the largest slot of a body that would leave (-1: none).
+        std::vector<int64_t> bad_of(size_t(T), -1);
+        parallel_region(T, [&](RegionGuard &) {  // (the moves' own arithmetic, in IEEE mode)
+            int64_t mine = -1;
+#pragma omp for schedule(static) nowait
+            for (int64_t s = 0; s < n; ++s) {
+                if (!stored_gen_[s]) continue;
+                for (int k = 0; k < 3; ++k) {
+                    const double x = point_[3 * s + k] + velocity_[3 * s + k] * dt;
+                    if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate)
+                        mine = std::max(mine, int64_t(slot_of_[s]));
+                }
+            }
+            bad_of[size_t(omp_get_thread_num())] = mine;
+        });
+        const int64_t bad = *std::max_element(bad_of.begin(), bad_of.end());
+        if (bad >= 0)
+            return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_step: body " + std::to_string(bad) +
+                                                         " would leave the coordinate range (|x| <= 1e15)");
+    }
+    renumber_if_disordered();  // (before the motion: it then moves storage in order)
+    // The moves run inside the grid update's census, a range of slots at a
+    // time right before it reads their points (Grid::update), so those are
+    // read while in cache.
+    Motion motion;
+    motion.reflect = reflect_;
+    motion.dt = dt;
+    for (int k = 0; k < 3; ++k) {
+        motion.lo[k] = bounds_min_[k];
+        motion.hi[k] = bounds_max_[k];
+    }
+    motion.place = place_.data();
+    motion.velocity = velocity_.data();
+    motion.point = point_.data();
+    motion.live = stored_gen_.data();
+    motion.count = uint32_t(n);
+    const SlotPass pass{&Motion::run, &motion};
+    const double motion_seconds = omp_get_wtime() - t0;
+    hgcd_status s;
+    try {
+        s = detect_with(true, &pass);
+    } catch (...) {
+        // Failed before its census began: the motion is still owed.
+        if (!motion.applied.load(std::memory_order_relaxed)) Motion::run(&motion, 0, uint32_t(n));
+        throw;
+    }
+    stats_.motion_seconds = motion_seconds;
+    stats_.total_seconds += motion_seconds;
+    return s;
+}
+
+// Storage in the grid's sweep order again once two fifths of it are out of
+// order (bodies that changed rows since, or the order of creation the first
+// time); before the motion, so that it moves storage in order. Not right
+// after the grid was rebuilt: its levels may still be settling
+// (coarsening), and each new set of levels is a new order; but right after
+// the first detect, whose levels come from an estimate that is usually right
+// (grid_limits), so that the first ticks read in sequence too, and a world
+// detected only once never pays for it. Storage in the order of creation
+// costs a tick much more than the disorder that moves leave, and a
+// renumbering costs more than half a tick: hence the wait for 40% (at 20%
+// the mean tick was longer, at 60% no shorter).
+void World::renumber_if_disordered() {
+    if (!grid_rebuilt_ && grid_.disorder() * 5 > 2 * uint64_t(live_bodies_)) renumber();
+}
+
+bool World::renumber() {
+    const size_t n = stored_gen_.size();
+    std::vector<uint32_t> old_of_new, new_of_old;
+    std::unique_ptr<unsigned char[]> scratch;
+    try {
+        old_of_new.reserve(n);
+        new_of_old.resize(n);
+        scratch.reset(new unsigned char[kPermuteScratch * std::max<size_t>(n, 1)]);
+        // The grid may need to grow its per-slot arrays (slots made since
+        // the last detect); after this nothing below allocates.
+        grid_.reserve_slots(n);
+    } catch (const std::bad_alloc &) {
+        return false;  // renumbering only saves time; nothing has changed
+    }
+    // The grid's order (as of the last detect), then everything else:
+    // bodies made since, and free storage. new_of_old marks what is placed.
+    grid_.order(old_of_new);
+    std::fill(new_of_old.begin(), new_of_old.end(), UINT32_MAX);
+    size_t placed = 0;
+    for (const uint32_t i : old_of_new)
+        if (new_of_old[i] == UINT32_MAX) {
+            new_of_old[i] = uint32_t(placed);
+            old_of_new[placed++] = i;
+        }
+    old_of_new.resize(placed);
+    for (size_t i = 0; i < n; ++i)
+        if (new_of_old[i] == UINT32_MAX) {
+            new_of_old[i] = uint32_t(old_of_new.size());
+            old_of_new.push_back(uint32_t(i));
+        }
+    // Every per-storage array, one after the other (placements in halves:
+    // the scratch holds kPermuteScratch bytes a body), all threads on each.
+    const uint32_t *perm = old_of_new.data();
+    void *tmp = scratch.get();
+    parallel_region(threads(), [&](RegionGuard &) {
+        grid_.renumber(old_of_new, new_of_old, tmp);
+        static_assert(sizeof(Placement) == 2 * kPermuteScratch, "placements move in two halves");
+        permute_part<kPermuteScratch>(place_.data(), sizeof(Placement), perm, n, tmp);
+        permute_part<kPermuteScratch>(reinterpret_cast<unsigned char *>(place_.data()) + kPermuteScratch,
+                                      sizeof(Placement), perm, n, tmp);
+        permute_records<3>(velocity_.data(), perm, n, tmp);
+        permute_records<3>(point_.data(), perm, n, tmp);
+        permute_records<6>(box_off_.data(), perm, n, tmp);
+        permute_records<1>(user_data_.data(), perm, n, tmp);
+        permute_records<1>(r_level_.data(), perm, n, tmp);
+        permute_records<1>(body_mesh_.data(), perm, n, tmp);
+        permute_records<1>(stored_gen_.data(), perm, n, tmp);
+        permute_records<1>(slot_of_.data(), perm, n, tmp);
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < int64_t(n); ++k) at_[slot_of_[k]] = uint32_t(k);
+    });
+    return true;
+}
+
+}  // namespace hgcd

@@ -1,6 +1,6 @@
 /* Independent brute-force oracle (see oracle.h). Plain C99 + GMP.
  *
- * Formulations (deliberately different from src/geometry.cpp):
+ * Formulations (deliberately different from src/exact):
  *  - orientation: a generous double filter (relative bound 1e-12, far above
  *    the true rounding error), otherwise the determinant in mpq_t;
  *  - segment/triangle: the rational intersection point of the segment with

@@ -6,7 +6,7 @@
 //    later direction must give the right answer;
 //  - random points against non-convex meshes (the blob of scene `meshes`, a
 //    posed one, and a hollow shell): same answer as the tree-less
-//    point_in_closed_mesh of geometry.cpp and as the GMP oracle.
+//    point_in_closed_mesh of src/exact and as the GMP oracle.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -1,4 +1,4 @@
-/* Tests of hgcd's exact geometry (src/geometry.cpp through src/testing.h)
+/* Tests of hgcd's exact geometry (src/exact through tests/support/testing.h)
  * against hand-known answers and against the independent GMP oracle. */
 #include <math.h>
 #include <setjmp.h>

@@ -1,4 +1,4 @@
-/* The broad phase alone (src/grid.cpp through src/testing.h) against brute
+/* The broad phase alone (src/broad through tests/support/testing.h) against brute
  * force: every pair of bodies whose boxes overlap (closed intervals on every
  * axis; a body (x, y, z, r) is the box [x + lo, x + hi] per axis with lo, hi
  * = -r, r rounded outward to float, as the hook builds it) must be reported,

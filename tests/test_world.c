@@ -608,7 +608,7 @@ static void test_tetra_reference_counts(void **state) {
 
 
 /* The dedicated path for pairs of 4-vertex meshes whose triangles are the 4
- * faces (narrow.cpp, collide_tetra): proper, flat, collinear and repeated-point
+ * faces (narrow/tetra.hpp, collide_tetra): proper, flat, collinear and repeated-point
  * tetrahedra, and one whose orientation only the exact orient3d tells, with
  * faces in several orders and orientations, placed to touch
  * exactly (shared vertex, edge and face, coplanar faces, one inside the other,
@@ -780,7 +780,7 @@ static void test_tetra_path_degenerate(void **state) {
 }
 
 /* The tetra path's separating-axis prefilter along the line of centres
- * (narrow.cpp, collide_tetra_with) on pairs whose contact normal is that
+ * (narrow/tetra.hpp, collide_tetra_with) on pairs whose contact normal is that
  * line, so that the test is tight: the regular tetrahedron T (scale 3) and
  * -T with one rotation, B placed at A's position plus the rotated offset
  * (computed as a world vertex) where they touch vertex on vertex, edge across
@@ -843,7 +843,7 @@ static void test_tetra_axis_prefilter(void **state) {
     tv_free(&sc);
 }
 
-/* The batched tetrahedron test (four pairs per AVX2 lane group, narrow.cpp
+/* The batched tetrahedron test (four pairs per AVX2 lane group, narrow/tetra_batch_avx2.cpp
  * collide_tetra_batch) against the one-pair test, pair by pair: verdicts and
  * the work counters (exact tests, triangle tests) must be equal. Pairs of
  * every shape of the degenerate scenes (flat, collinear, repeated-point,
@@ -886,7 +886,7 @@ static void test_tetra_batch_matches_one_pair(void **state) {
     free(poses);
 }
 
-/* The batched test's float signs (narrow.cpp, sides8) where the box holding
+/* The batched test's float signs (narrow/tetra_batch_avx2.cpp, sides8) where the box holding
  * a pair is nearly flat: tetrahedra 1 wide and h high (h = 2^-90 .. 2^-160,
  * apex up or down), each pair with a vertex of b placed on a's slanted face
  * z = 2 h (1 - x - y) in double, then moved by up to 4 ulps of z, half of

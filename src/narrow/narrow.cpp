@@ -90,7 +90,7 @@ namespace {
 // which meshes are worth trying. A sign is trusted when the determinant
 // exceeds the rounding error bound of its evaluation (Shewchuk's orient3d
 // bound (7 + 56 eps) eps * permanent, rounded up to 1e-15 * permanent, plus
-// 2^-960 for underflowed products, as in geometry.cpp); an uncertain sign on
+// 2^-960 for underflowed products, as in exact/predicates.hpp); an uncertain sign on
 // the other body's side makes the face prove nothing, an uncertain sign on
 // the own side is settled by the exact orient3d. So this test never changes
 // an answer.

@@ -251,7 +251,7 @@ void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowS
     if (use_avx2()) return tet::collide_tetra_batch_avx2(pairs, n, out, scratch);
 #endif
     for (size_t k = 0; k < n; ++k) {
-        if (k + 8 < n) {  // (the placements of a later pair: see world.cpp)
+        if (k + 8 < n) {  // (the placements of a later pair: see world/detect.cpp)
             __builtin_prefetch(pairs[k + 8].a);
             __builtin_prefetch(pairs[k + 8].b);
         }

@@ -38,7 +38,7 @@ namespace tet {
 // per tetrahedron, 0 when it is flat.
 //
 // Every sign is exact: a face plane is evaluated at two points per vector
-// with the arithmetic and error bound of geometry.cpp's plane_sides3
+// with the arithmetic and error bound of exact/predicates.hpp's plane_sides3
 // (|det| > 2^-50 perm + 2^-960 certifies the sign), except that the
 // permanent is replaced by a bound of it, the same for every face of both
 // bodies (tet_plane_bound): each factor |fl(x - t0)| is at most the extent

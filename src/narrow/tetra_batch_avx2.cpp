@@ -134,7 +134,7 @@ static inline void world4(const Side4 &s, f64x4 (*w)[4], f64x4 *lo, f64x4 *hi) {
 //    each difference at most e_k (both points in the box), so moving every
 //    difference so changes it by at most 3 * 6 * 2^-23 P = 36 * 2^-24 P (to
 //    first order; the rest is below 2^-40 P);
-//  - evaluated in float the same way as the double filters (geometry.cpp's
+//  - evaluated in float the same way as the double filters (exact/predicates.hpp's
 //    plane_sides3), the computed value is within (7 + 56 eps) eps of the
 //    permanent, eps = 2^-24, and the permanent is at most 6 P (1 + 2^-21):
 //    42.01 * 2^-24 P;
@@ -423,7 +423,7 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
         const size_t end = std::min(n, begin + kStage);
         size_t kept = 0;
         for (size_t k = begin; k < end; k += 4) {
-            if (k + 20 <= n)  // (the placements four groups ahead: see world.cpp)
+            if (k + 20 <= n)  // (the placements four groups ahead: see world/detect.cpp)
                 for (size_t l = 0; l < 4; ++l) {
                     __builtin_prefetch(pairs[k + 16 + l].a);
                     __builtin_prefetch(pairs[k + 16 + l].b);

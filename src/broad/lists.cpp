@@ -197,14 +197,17 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     const std::vector<ListPart> work = plan_list_update(dirty, changed, adds);
     // Each part's rows as they come out: (key, entries).
     std::vector<std::vector<std::pair<CellKey, uint32_t>>> part_rows(work.size());
-    bool out_of_step = false;
+    // (A flag per part, not a reduction: clang refuses an orphaned reduction
+    // on a variable the lambda captures.)
+    std::vector<uint8_t> out_of_step(work.size(), 0);
     parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(dynamic, 1) reduction(|| : out_of_step)
+#pragma omp for schedule(dynamic, 1)
         for (int64_t k = 0; k < int64_t(work.size()); ++k) guard.run([&] {
-            out_of_step |= !merge_part(work[size_t(k)], flag.data(), part_rows[size_t(k)]);
+            out_of_step[size_t(k)] = !merge_part(work[size_t(k)], flag.data(), part_rows[size_t(k)]);
         });
     });
-    if (out_of_step) throw std::logic_error("grid: a list update is out of step with its rows");
+    if (std::find(out_of_step.begin(), out_of_step.end(), 1) != out_of_step.end())
+        throw std::logic_error("grid: a list update is out of step with its rows");
     // The new row index of each list from its parts' rows (consecutive in work, in order).
     for (size_t k = 0; k < work.size();) {
         List &list = *work[k].list;

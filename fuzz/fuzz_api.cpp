@@ -202,6 +202,7 @@ struct MMesh {
     std::vector<uint32_t> t;
     uint32_t users = 0;
     hgcd_mesh_info info{};
+    double reach = 0;  // the model's own: largest vertex norm of a used vertex
 };
 
 struct MBody {
@@ -225,7 +226,12 @@ struct Model {
 
 enum { kMaxLiveBodies = 12, kMaxLiveMeshes = 8 };
 
+// The coordinate limits as hgcd.h states them ("Coordinate limits").
 bool finite_in_range(double x) { return std::isfinite(x) && std::fabs(x) <= 1e15; }
+double vertex_norm(const double *v) { return std::sqrt((v[0] * v[0] + v[1] * v[1]) + v[2] * v[2]); }
+bool vertex_ok(const double *v) {
+    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) && vertex_norm(v) <= 1e15;
+}
 
 bool pose_ok(const double *p, const double *q) {
     if (p)
@@ -388,6 +394,7 @@ void check_state(Model &m) {
         EXPECT(info.body_count == mm.users, "mesh users %u != %u", info.body_count, mm.users);
         EXPECT(!std::memcmp(&info.center, &mm.info.center, sizeof info.center) && info.radius == mm.info.radius,
                "mesh info changed");
+        EXPECT(info.reach == mm.reach, "mesh reach %.17g, the model's %.17g", info.reach, mm.reach);
     }
     if (m.detected) {  // the last tick's pairs stay until the next detect
         const hgcd_pair *got;
@@ -501,8 +508,8 @@ void op_mesh_create(Input &in, Model &m) {
     }
     if (expect == HGCD_OK) {
         if (d.triangle_count == 0 || d.vertex_count == 0) expect = HGCD_ERROR_INVALID_MESH;
-        for (double x : mm.v)
-            if (!finite_in_range(x)) expect = HGCD_ERROR_INVALID_MESH;
+        for (size_t k = 0; k + 2 < mm.v.size(); k += 3)
+            if (!vertex_ok(&mm.v[k])) expect = HGCD_ERROR_INVALID_MESH;
         for (uint32_t x : mm.t)
             if (x >= d.vertex_count) expect = HGCD_ERROR_INVALID_MESH;
         if (expect == HGCD_OK && m.live_meshes >= kMaxLiveMeshes) return;  // keep the oracle cheap
@@ -520,6 +527,7 @@ void op_mesh_create(Input &in, Model &m) {
            out.generation);
     mm.id = out;
     mm.live = true;
+    for (uint32_t x : mm.t) mm.reach = std::max(mm.reach, vertex_norm(&mm.v[3 * size_t(x)]));
     mm.info.struct_size = sizeof mm.info;
     EXPECT(hgcd_mesh_get_info(m.w, out, &mm.info) == HGCD_OK, "info");
     check_mesh_info(mm);
@@ -561,8 +569,7 @@ void op_body_create(Input &in, Model &m, const Ctx &cx) {
     } else {
         for (int k = 0; k < 3; ++k)
             if (!std::isfinite(d.velocity[k])) expect = HGCD_ERROR_INVALID_ARGUMENT;
-        const hgcd_mesh_info &i = m.meshes[mk].info;
-        const double reach = std::fabs(i.center[0]) + std::fabs(i.center[1]) + std::fabs(i.center[2]) + i.radius;
+        const double reach = m.meshes[mk].reach;
         if (!std::isfinite(d.scale) || !(d.scale > 0) || d.scale * reach > 1e15) expect = HGCD_ERROR_INVALID_ARGUMENT;
     }
     const uint8_t corrupt = in.u8();
@@ -767,7 +774,7 @@ bool make_world(Input &in, Model &m, Ctx &cx) {
     bool valid = std::isfinite(d.time_step) && d.time_step >= 0;
     const double mn = d.min_cell_size, mx = d.max_cell_size;
     valid = valid && std::isfinite(mn) && std::isfinite(mx) && mn >= 0 && mx >= 0 && !(mn > 0 && mx > 0 && mn > mx);
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 3 && d.reflect_at_bounds; ++k)  // (bounds are read only when reflecting)
         valid = valid && finite_in_range(d.bounds_min[k]) && finite_in_range(d.bounds_max[k]) &&
                 d.bounds_min[k] < d.bounds_max[k];
     hgcd_world *w = reinterpret_cast<hgcd_world *>(0x1);

@@ -128,6 +128,7 @@ static void test_world_create_errors(void **state) {
     bad.max_cell_size = INFINITY;
     assert_int_equal(hgcd_world_create(&bad, &w), HGCD_ERROR_INVALID_ARGUMENT);
     bad = d;
+    bad.reflect_at_bounds = 1; /* (bounds are read only when reflecting: test_limits.c) */
     bad.bounds_min[1] = 5;
     bad.bounds_max[1] = 5;
     assert_int_equal(hgcd_world_create(&bad, &w), HGCD_ERROR_INVALID_ARGUMENT);

@@ -51,6 +51,20 @@
  * Memory: the library owns everything it returns a pointer to; the caller
  *   frees nothing but the world itself (hgcd_world_destroy). Input arrays
  *   are read during the call only (meshes are copied in).
+ *
+ * Coordinate limits (checked exactly as stated; a value past one is refused
+ * with HGCD_ERROR_INVALID_ARGUMENT, or INVALID_MESH for vertices)
+ * -----------------
+ * Vertex: finite, and its norm sqrt((x*x + y*y) + z*z), evaluated in IEEE
+ *   double as written, is <= 1e15.
+ * Position: each component finite and |x| <= 1e15; also where
+ *   hgcd_world_step would move a body (without reflection).
+ * Scale: finite, > 0, and scale * reach <= 1e15 (the product in double), where
+ *   reach is the largest vertex norm over the vertices the mesh's triangles
+ *   use (hgcd_mesh_info.reach).
+ * Reflection bounds: read only when reflect_at_bounds is set; then each
+ *   component finite, |x| <= 1e15, and bounds_min < bounds_max per axis.
+ * So every world-space vertex component stays within about 2e15.
  */
 #ifndef HGCD_H
 #define HGCD_H
@@ -90,7 +104,8 @@ enum hgcd_status_code {
      *  world. */
     HGCD_ERROR_STALE_ID = -4,
     /** Mesh data rejected: no triangles, an index out of range, a vertex not
-     *  finite or beyond 1e15, more than 2^26 vertices or triangles. */
+     *  finite or farther than 1e15 from the mesh origin ("Coordinate
+     *  limits" above), more than 2^26 vertices or triangles. */
     HGCD_ERROR_INVALID_MESH = -5,
     /** hgcd_mesh_destroy on a mesh that live bodies still use. */
     HGCD_ERROR_MESH_IN_USE = -6,
@@ -217,9 +232,10 @@ typedef struct hgcd_world_desc {
     /** Time step of hgcd_world_step: position += velocity * time_step.
      *  Finite and >= 0; default 1. */
     double time_step;
-    /** Lower corner of the reflection box (used only with
-     *  reflect_at_bounds). Finite, |x| <= 1e15, bounds_min < bounds_max on
-     *  each axis. Default (0, 0, 0). */
+    /** Lower corner of the reflection box, read only with
+     *  reflect_at_bounds (then finite, |x| <= 1e15 and bounds_min <
+     *  bounds_max on each axis: "Coordinate limits" above; otherwise any
+     *  value is ignored). Default (0, 0, 0). */
     double bounds_min[3];
     /** Upper corner of the reflection box. Same rules; default (1, 1, 1). */
     double bounds_max[3];
@@ -472,7 +488,8 @@ typedef struct hgcd_mesh_desc {
     /** Set by hgcd_mesh_desc_default(); catches uninitialised descriptors. */
     uint32_t init_tag;
     /** vertex_count * 3 doubles (x, y, z per vertex) in the mesh's own
-     *  frame; finite, each |coordinate| <= 1e15. Copied in: the caller may
+     *  frame; each finite and at most 1e15 from the origin ("Coordinate
+     *  limits" above). Copied in: the caller may
      *  free it when hgcd_mesh_create returns. Default NULL (refused). */
     const double *vertices;
     /** triangle_count * 3 vertex indices, each < vertex_count. Copied in.
@@ -544,6 +561,9 @@ typedef struct hgcd_mesh_info {
      *  WORLD): the setting, else the world's, and EXACT for a mesh that is
      *  not convex. A pair uses libccd only when both meshes say GJK or MPR. */
     int32_t narrow_phase;
+    /** The largest norm sqrt((x*x + y*y) + z*z) of a vertex the triangles
+     *  use: a body of this mesh needs scale * reach <= 1e15. */
+    double reach;
 } hgcd_mesh_info;
 
 /** Fills *out_info about a live mesh; the caller sets out_info->struct_size
@@ -590,8 +610,8 @@ typedef struct hgcd_body_desc {
     /** Velocity used by hgcd_world_step. Finite. Default (0, 0, 0). */
     double velocity[3];
     /** Uniform scale applied to the mesh's vertices before the rotation, so
-     *  one mesh can serve bodies of many sizes. Finite, > 0, and small
-     *  enough that the scaled mesh stays within 1e15 of its origin.
+     *  one mesh can serve bodies of many sizes. Finite, > 0, and
+     *  scale * hgcd_mesh_info.reach <= 1e15 ("Coordinate limits" above).
      *  Default 1. */
     double scale;
     /** Any caller value, returned by hgcd_body_get_user_data. Default 0. */

@@ -55,8 +55,6 @@ bool initialised(const D *d) {
     return d->struct_size == sizeof(D) && d->init_tag == hgcd::kInitTag;
 }
 
-bool finite_in_range(double x) { return std::isfinite(x) && std::fabs(x) <= hgcd::kMaxCoordinate; }
-
 }  // namespace
 
 extern "C" {
@@ -112,8 +110,8 @@ hgcd_status hgcd_world_create(const hgcd_world_desc *desc, hgcd_world **out_worl
     if (!initialised(desc)) return HGCD_ERROR_BAD_DESCRIPTOR;
     if (!std::isfinite(desc->time_step) || desc->time_step < 0) return HGCD_ERROR_INVALID_ARGUMENT;
     if (desc->thread_count > 4096) return HGCD_ERROR_INVALID_ARGUMENT;
-    for (int k = 0; k < 3; ++k)
-        if (!finite_in_range(desc->bounds_min[k]) || !finite_in_range(desc->bounds_max[k]) ||
+    for (int k = 0; k < 3 && desc->reflect_at_bounds; ++k)  // (the bounds serve the reflection only)
+        if (!hgcd::coordinate_ok(desc->bounds_min[k]) || !hgcd::coordinate_ok(desc->bounds_max[k]) ||
             !(desc->bounds_min[k] < desc->bounds_max[k]))
             return HGCD_ERROR_INVALID_ARGUMENT;
     const double lo = desc->min_cell_size, hi = desc->max_cell_size;

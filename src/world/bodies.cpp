@@ -43,7 +43,7 @@ hgcd_status World::check_pose(const char *what, const double *position,
                               const double *orientation) const {
     if (position)
         for (int k = 0; k < 3; ++k)
-            if (!std::isfinite(position[k]) || std::fabs(position[k]) > kMaxCoordinate)
+            if (!coordinate_ok(position[k]))
                 return fail(HGCD_ERROR_INVALID_ARGUMENT,
                             std::string(what) + ": " + vec_text("position", k) +
                                 (std::isfinite(position[k]) ? " is beyond 1e15" : " is not finite"));
@@ -72,11 +72,10 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     for (int k = 0; k < 3; ++k)
         if (!std::isfinite(d.velocity[k]))
             return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_create: " + vec_text("velocity", k) + " is not finite");
-    const Mesh &m = meshes_[mesh];
-    const double reach = std::fabs(m.center[0]) + std::fabs(m.center[1]) + std::fabs(m.center[2]) + m.radius;
-    if (!std::isfinite(d.scale) || !(d.scale > 0) || d.scale * reach > kMaxCoordinate)
+    if (!scale_ok(d.scale, meshes_[mesh].reach))
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
-                    "body_create: scale must be finite, > 0 and keep the mesh within 1e15");
+                    "body_create: scale must be finite, > 0 and keep the mesh within 1e15 of its position "
+                    "(scale * mesh reach <= 1e15)");
     if (live_bodies_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "body_create: too many bodies");
 
     uint32_t slot;
@@ -128,6 +127,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     body_mesh_[i] = uint32_t(mesh);
     user_data_[i] = d.user_data;
     // (Every vertex is within |centre| + radius of the mesh origin.)
+    const Mesh &m = meshes_[mesh];
     const double centre = std::sqrt(m.center[0] * m.center[0] + m.center[1] * m.center[1] + m.center[2] * m.center[2]);
     r_level_[i] = d.scale * (centre + m.radius) * kLevelInflation;
     set_box_offsets(i);

@@ -44,11 +44,12 @@ std::string check_arrays(const double *vertices, uint32_t vertex_count, const ui
     if (vertex_count == 0) return "mesh has no vertices";
     if (triangle_count > kMaxCount || vertex_count > kMaxCount)
         return "mesh too large: at most 2^26 vertices and 2^26 triangles";
-    for (uint32_t i = 0; i < 3 * vertex_count; ++i) {
-        const double x = vertices[i];
-        if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate)
-            return "vertex " + std::to_string(i / 3) + " coordinate " + std::to_string(i % 3) +
-                   (std::isfinite(x) ? " is beyond 1e15" : " is not finite");
+    for (uint32_t v = 0; v < vertex_count; ++v) {
+        if (vertex_ok(vertices + 3 * v)) continue;
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(vertices[3 * v + k]))
+                return "vertex " + std::to_string(v) + " coordinate " + std::to_string(k) + " is not finite";
+        return "vertex " + std::to_string(v) + " is beyond 1e15 from the mesh origin";
     }
     for (uint32_t i = 0; i < 3 * triangle_count; ++i)
         if (triangles[i] >= vertex_count)
@@ -57,7 +58,8 @@ std::string check_arrays(const double *vertices, uint32_t vertex_count, const ui
     return "";
 }
 
-// Bounding sphere about the centre of the vertex box of the used vertices.
+// Bounding sphere about the centre of the vertex box of the used vertices,
+// and the reach that limits a body's scale.
 void set_bounding_sphere(Mesh &m, const std::vector<char> &used) {
     const double *vertices = m.vertices.data();
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -70,8 +72,10 @@ void set_bounding_sphere(Mesh &m, const std::vector<char> &used) {
     }
     for (int k = 0; k < 3; ++k) m.center[k] = 0.5 * lo[k] + 0.5 * hi[k];
     double r2 = 0;
+    m.reach = 0;
     for (uint32_t v = 0; v < m.vertex_count; ++v) {
         if (!used[v]) continue;
+        m.reach = std::max(m.reach, vertex_norm(vertices + 3 * v));
         double d2 = 0;
         for (int k = 0; k < 3; ++k) {
             const double d = vertices[3 * v + k] - m.center[k];

@@ -6,11 +6,9 @@
 #include <vector>
 
 #include "narrow/bvh.hpp"
+#include "world/limits.hpp"
 
 namespace hgcd {
-
-// The coordinate range of hgcd.h, for vertices, positions and moves.
-constexpr double kMaxCoordinate = 1e15;
 
 struct Mesh {
     std::vector<double> vertices;     // xyz per vertex, mesh frame
@@ -26,6 +24,7 @@ struct Mesh {
     std::vector<uint32_t> component_vertices;
     double center[3] = {0, 0, 0};  // centre of the vertex box
     double radius = 0;             // reaches every vertex from center
+    double reach = 0;              // largest vertex_norm of a used vertex (limits.hpp)
     // 4 vertices whose 4 triangles are the 4 distinct vertex triples (any
     // order and orientation): the surface is the boundary of the 4 points'
     // hull (or the hull itself when they are coplanar) in any pose, and the

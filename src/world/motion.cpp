@@ -83,8 +83,7 @@ hgcd_status World::step() {
             for (int64_t s = 0; s < n; ++s) {
                 if (!stored_gen_[s]) continue;
                 for (int k = 0; k < 3; ++k) {
-                    const double x = point_[3 * s + k] + velocity_[3 * s + k] * dt;
-                    if (!std::isfinite(x) || std::fabs(x) > kMaxCoordinate)
+                    if (!coordinate_ok(point_[3 * s + k] + velocity_[3 * s + k] * dt))
                         mine = std::max(mine, int64_t(slot_of_[s]));
                 }
             }

@@ -149,6 +149,7 @@ hgcd_status World::mesh_info(hgcd_mesh id, hgcd_mesh_info *out) const {
     info.body_count = mesh_users_[slot];
     for (int k = 0; k < 3; ++k) info.center[k] = m.center[k];
     info.radius = m.radius;
+    info.reach = m.reach;
     info.narrow_phase_setting = mesh_narrow_[slot];
     info.narrow_phase = effective_narrow_phase(uint32_t(slot));
     *out = info;

@@ -25,7 +25,8 @@ pub const HGCD_ERROR_BAD_DESCRIPTOR: hgcd_status_code = -3;
 #[doc = "  world."]
 pub const HGCD_ERROR_STALE_ID: hgcd_status_code = -4;
 #[doc = " Mesh data rejected: no triangles, an index out of range, a vertex not"]
-#[doc = "  finite or beyond 1e15, more than 2^26 vertices or triangles."]
+#[doc = "  finite or farther than 1e15 from the mesh origin (\"Coordinate"]
+#[doc = "  limits\" above), more than 2^26 vertices or triangles."]
 pub const HGCD_ERROR_INVALID_MESH: hgcd_status_code = -5;
 #[doc = " hgcd_mesh_destroy on a mesh that live bodies still use."]
 pub const HGCD_ERROR_MESH_IN_USE: hgcd_status_code = -6;
@@ -286,9 +287,10 @@ pub struct hgcd_world_desc {
     #[doc = " Time step of hgcd_world_step: position += velocity * time_step."]
     #[doc = "  Finite and >= 0; default 1."]
     pub time_step: f64,
-    #[doc = " Lower corner of the reflection box (used only with"]
-    #[doc = "  reflect_at_bounds). Finite, |x| <= 1e15, bounds_min < bounds_max on"]
-    #[doc = "  each axis. Default (0, 0, 0)."]
+    #[doc = " Lower corner of the reflection box, read only with"]
+    #[doc = "  reflect_at_bounds (then finite, |x| <= 1e15 and bounds_min <"]
+    #[doc = "  bounds_max on each axis: \"Coordinate limits\" above; otherwise any"]
+    #[doc = "  value is ignored). Default (0, 0, 0)."]
     pub bounds_min: [f64; 3usize],
     #[doc = " Upper corner of the reflection box. Same rules; default (1, 1, 1)."]
     pub bounds_max: [f64; 3usize],
@@ -1209,7 +1211,8 @@ pub struct hgcd_mesh_desc {
     #[doc = " Set by hgcd_mesh_desc_default(); catches uninitialised descriptors."]
     pub init_tag: u32,
     #[doc = " vertex_count * 3 doubles (x, y, z per vertex) in the mesh's own"]
-    #[doc = "  frame; finite, each |coordinate| <= 1e15. Copied in: the caller may"]
+    #[doc = "  frame; each finite and at most 1e15 from the origin (\"Coordinate"]
+    #[doc = "  limits\" above). Copied in: the caller may"]
     #[doc = "  free it when hgcd_mesh_create returns. Default NULL (refused)."]
     pub vertices: *const f64,
     #[doc = " triangle_count * 3 vertex indices, each < vertex_count. Copied in."]
@@ -1402,12 +1405,15 @@ pub struct hgcd_mesh_info {
     #[doc = "  WORLD): the setting, else the world's, and EXACT for a mesh that is"]
     #[doc = "  not convex. A pair uses libccd only when both meshes say GJK or MPR."]
     pub narrow_phase: i32,
+    #[doc = " The largest norm sqrt((x*x + y*y) + z*z) of a vertex the triangles"]
+    #[doc = "  use: a body of this mesh needs scale * reach <= 1e15."]
+    pub reach: f64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_mesh_info() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_mesh_info>(),
-        72usize,
+        80usize,
         concat!("Size of: ", stringify!(hgcd_mesh_info))
     );
     assert_eq!(
@@ -1619,6 +1625,23 @@ fn bindgen_test_layout_hgcd_mesh_info() {
         );
     }
     test_field_narrow_phase();
+    fn test_field_reach() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_info>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).reach) as usize - ptr as usize
+            },
+            72usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_mesh_info),
+                "::",
+                stringify!(reach)
+            )
+        );
+    }
+    test_field_reach();
 }
 extern "C" {
     #[doc = " Fills *out_info about a live mesh; the caller sets out_info->struct_size"]
@@ -1668,8 +1691,8 @@ pub struct hgcd_body_desc {
     #[doc = " Velocity used by hgcd_world_step. Finite. Default (0, 0, 0)."]
     pub velocity: [f64; 3usize],
     #[doc = " Uniform scale applied to the mesh's vertices before the rotation, so"]
-    #[doc = "  one mesh can serve bodies of many sizes. Finite, > 0, and small"]
-    #[doc = "  enough that the scaled mesh stays within 1e15 of its origin."]
+    #[doc = "  one mesh can serve bodies of many sizes. Finite, > 0, and"]
+    #[doc = "  scale * hgcd_mesh_info.reach <= 1e15 (\"Coordinate limits\" above)."]
     #[doc = "  Default 1."]
     pub scale: f64,
     #[doc = " Any caller value, returned by hgcd_body_get_user_data. Default 0."]

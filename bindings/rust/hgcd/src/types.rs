@@ -165,7 +165,8 @@ pub struct WorldDesc {
     pub reflect_at_bounds: bool,
     /// `position += velocity * time_step` per step. Finite, >= 0.
     pub time_step: f64,
-    /// Bounds used when `reflect_at_bounds` is set. Finite, min < max.
+    /// Bounds read only when `reflect_at_bounds` is set: then finite,
+    /// |x| <= 1e15, min < max per axis; otherwise ignored.
     pub bounds_min: [f64; 3],
     pub bounds_max: [f64; 3],
     /// Broad-phase grid overrides (0 = adapt to the bodies); see the header.
@@ -323,6 +324,8 @@ pub struct MeshInfo {
     /// The test the mesh's pairs get now: the setting or the world's, and
     /// `Exact` for a mesh that is not convex.
     pub narrow_phase: NarrowPhase,
+    /// The largest norm of a used vertex: a body needs `scale * reach <= 1e15`.
+    pub reach: f64,
 }
 
 impl From<&sys::hgcd_mesh_info> for MeshInfo {
@@ -339,6 +342,7 @@ impl From<&sys::hgcd_mesh_info> for MeshInfo {
             radius: i.radius,
             narrow_phase_setting: NarrowPhase::from_raw(i.narrow_phase_setting),
             narrow_phase: NarrowPhase::from_raw(i.narrow_phase),
+            reach: i.reach,
         }
     }
 }

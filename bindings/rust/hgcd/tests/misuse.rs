@@ -325,6 +325,7 @@ fn invalid_world_descriptors() {
             ..WorldDesc::default()
         },
         WorldDesc {
+            reflect_at_bounds: true,
             bounds_min: [1.0; 3],
             bounds_max: [0.0; 3],
             ..WorldDesc::default()
@@ -342,6 +343,13 @@ fn invalid_world_descriptors() {
         let e = World::new(&desc).unwrap_err();
         assert_eq!(e.kind(), ErrorKind::InvalidArgument, "{desc:?}");
     }
+    // Bounds are read only when the world reflects.
+    let ignored = WorldDesc {
+        bounds_min: [1.0; 3],
+        bounds_max: [f64::NAN; 3],
+        ..WorldDesc::default()
+    };
+    assert!(World::new(&ignored).is_ok());
 }
 
 #[test]

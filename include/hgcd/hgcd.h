@@ -10,7 +10,8 @@
  *   hgcd_mesh_create        each shape: vertices and triangles, copied in
  *   hgcd_body_create        each placed instance of a mesh
  *   every tick:
- *     hgcd_body_set_pose    move the bodies (or set velocities and call
+ *     hgcd_world_set_poses  move the bodies (all at once; hgcd_body_set_pose
+ *                           for one; or set velocities and call
  *                           hgcd_world_step, which moves them and detects)
  *     hgcd_world_detect     find the colliding pairs
  *     hgcd_world_pairs      read them: each pair of bodies whose closed solids
@@ -647,6 +648,54 @@ HGCD_API hgcd_status hgcd_body_destroy(hgcd_world *world, hgcd_body body);
 HGCD_API hgcd_status hgcd_body_set_pose(hgcd_world *world, hgcd_body body,
                                         const double *position,
                                         const double *orientation);
+
+/** Sets the poses of many bodies in one call, as count calls of
+ *  hgcd_body_set_pose would, but checked whole first and applied in
+ *  parallel.
+ *  bodies: count ids, each at most once; or NULL, meaning entry k is the
+ *  body of index k (every index below count must hold a live body: on a
+ *  fresh world without destroyed bodies, creation order).
+ *  positions: entry k's 3 doubles start at byte k * position_stride
+ *  (0 = packed, 3 * sizeof(double)); orientations likewise, 4 doubles
+ *  (x, y, z, w), orientation_stride 0 = packed. Either array may be NULL
+ *  to keep that part of every pose, not both. Strides let an array of the
+ *  caller's own structs be passed without a copy (stride = the struct's size,
+ *  each pointer at its first body's field); a stride must be a multiple of
+ *  sizeof(double), and, when not 0, at least the entry's size.
+ *  Errors (nothing changes; the message names the first bad entry k):
+ *  NULL_ARGUMENT (world, or both arrays), STALE_ID (an id not live, or with
+ *  bodies NULL an index below count without a live body), INVALID_ARGUMENT
+ *  (a value as hgcd_body_set_pose refuses it, an id twice, a bad stride).
+ *  Cost: O(count) on the world's threads, plus, per new orientation, the
+ *  box of the mesh's distinct vertices (as hgcd_body_set_pose). */
+HGCD_API hgcd_status hgcd_world_set_poses(hgcd_world *world,
+                                          const hgcd_body *bodies, size_t count,
+                                          const double *positions,
+                                          size_t position_stride,
+                                          const double *orientations,
+                                          size_t orientation_stride);
+
+/** Sets the velocities of many bodies, as hgcd_world_set_poses sets poses:
+ *  bodies (or NULL for indices 0 .. count-1), velocities of 3 finite doubles
+ *  each, velocity_stride bytes apart (0 = packed).
+ *  Errors: as hgcd_world_set_poses (NULL_ARGUMENT for velocities).
+ *  Cost: O(count). */
+HGCD_API hgcd_status hgcd_world_set_velocities(hgcd_world *world,
+                                               const hgcd_body *bodies,
+                                               size_t count,
+                                               const double *velocities,
+                                               size_t velocity_stride);
+
+/** Reads the poses of many bodies into the caller's arrays (layout as in
+ *  hgcd_world_set_poses; either output may be NULL, not both). Nothing is
+ *  written on failure. Errors: NULL_ARGUMENT, STALE_ID, INVALID_ARGUMENT
+ *  (a bad stride). Read-only, O(count). */
+HGCD_API hgcd_status hgcd_world_get_poses(const hgcd_world *world,
+                                          const hgcd_body *bodies, size_t count,
+                                          double *positions,
+                                          size_t position_stride,
+                                          double *orientations,
+                                          size_t orientation_stride);
 
 /** Sets a body's velocity[3] (finite), used by hgcd_world_step.
  *  Errors: NULL_ARGUMENT (world or velocity), STALE_ID, INVALID_ARGUMENT.

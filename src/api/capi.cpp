@@ -260,6 +260,34 @@ hgcd_status hgcd_body_set_velocity(hgcd_world *world, hgcd_body body, const doub
     return guarded(world, "body_set_velocity", [&] { return world->impl.set_velocity(body, velocity); });
 }
 
+hgcd_status hgcd_world_set_poses(hgcd_world *world, const hgcd_body *bodies, size_t count, const double *positions,
+                                 size_t position_stride, const double *orientations, size_t orientation_stride) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!positions && !orientations)
+        return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_set_poses", "positions and orientations are both NULL");
+    return guarded(world, "world_set_poses", [&] {
+        return world->impl.set_poses(bodies, count, positions, position_stride, orientations, orientation_stride);
+    });
+}
+
+hgcd_status hgcd_world_set_velocities(hgcd_world *world, const hgcd_body *bodies, size_t count,
+                                      const double *velocities, size_t velocity_stride) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!velocities) return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_set_velocities", "velocities is NULL");
+    return guarded(world, "world_set_velocities",
+                   [&] { return world->impl.set_velocities(bodies, count, velocities, velocity_stride); });
+}
+
+hgcd_status hgcd_world_get_poses(const hgcd_world *world, const hgcd_body *bodies, size_t count, double *positions,
+                                 size_t position_stride, double *orientations, size_t orientation_stride) {
+    if (!world || (!positions && !orientations)) return HGCD_ERROR_NULL_ARGUMENT;
+    try {
+        return world->impl.get_poses(bodies, count, positions, position_stride, orientations, orientation_stride);
+    } catch (...) {
+        return HGCD_ERROR_OUT_OF_MEMORY;
+    }
+}
+
 hgcd_status hgcd_body_get_pose(const hgcd_world *world, hgcd_body body, double *position, double *orientation) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     return world->impl.get_pose(body, position, orientation);

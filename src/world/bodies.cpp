@@ -2,6 +2,7 @@
 // poses and velocities, and the boxes' offsets that follow a pose.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "common/ieee.hpp"
@@ -12,7 +13,6 @@ namespace hgcd {
 
 namespace {
 
-constexpr double kUnitTolerance = 1e-6;
 // Level radius: the largest stretch an accepted quaternion can give is
 // 1 + 2e-6 (see rotation_stretch), the offsets' rounding to float adds
 // 2^-23 at most; the rest is slack for the rounding of the offsets.
@@ -47,18 +47,14 @@ hgcd_status World::check_pose(const char *what, const double *position,
                 return fail(HGCD_ERROR_INVALID_ARGUMENT,
                             std::string(what) + ": " + vec_text("position", k) +
                                 (std::isfinite(position[k]) ? " is beyond 1e15" : " is not finite"));
-    if (orientation) {
-        double n2 = 0;
-        for (int k = 0; k < 4; ++k) {
+    if (orientation && !orientation_ok(orientation)) {
+        for (int k = 0; k < 4; ++k)
             if (!std::isfinite(orientation[k]))
                 return fail(HGCD_ERROR_INVALID_ARGUMENT,
                             std::string(what) + ": " + vec_text("orientation", k) + " is not finite");
-            n2 += orientation[k] * orientation[k];
-        }
-        if (!(std::fabs(n2 - 1.0) <= kUnitTolerance))
-            return fail(HGCD_ERROR_INVALID_ARGUMENT,
-                        std::string(what) + ": orientation is not a unit quaternion (squared norm " +
-                            std::to_string(n2) + ", must be within 1e-6 of 1)");
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    std::string(what) + ": orientation is not a unit quaternion (squared norm " +
+                        std::to_string(squared_norm4(orientation)) + ", must be within 1e-6 of 1)");
     }
     return HGCD_OK;
 }
@@ -159,7 +155,7 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     Placement &pl = place_[at_[slot]];
     if (position)
         for (int k = 0; k < 3; ++k) pl.position[k] = point_[3 * size_t(at_[slot]) + k] = position[k];
-    if (orientation) {
+    if (orientation && std::memcmp(pl.orientation, orientation, sizeof pl.orientation) != 0) {
         for (int k = 0; k < 4; ++k) pl.orientation[k] = orientation[k];
         set_box_offsets(at_[slot]);
     }
@@ -214,18 +210,17 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 // path computes it, and fl(c + min d) <= fl(c + d): rounding is monotone),
 // rounded outward to float, over the vertices the triangles use (those the
 // mesh's bounding sphere, and so r_level, bounds). Meshes of more triangles
-// than kExactBoxTriangles take the cube around their bounding sphere instead
+// than Mesh::kExactBoxTriangles take the cube around their bounding sphere instead
 // (a pose set costs no more than a few hundred vertex transforms), widened
 // past the rounding of R.
 void World::set_box_offsets(size_t s) {
-    constexpr uint32_t kExactBoxTriangles = 128;
     const Placement &pl = place_[s];
     const Mesh &m = meshes_[body_mesh_[s]];
     const Rotation r = rotation_of(pl.orientation);
     const double zero[3] = {0, 0, 0};
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    if (m.triangle_count <= kExactBoxTriangles) {
-        for (const uint32_t v : m.triangles) {  // (a vertex of several triangles is seen again)
+    if (m.triangle_count <= Mesh::kExactBoxTriangles) {
+        for (const uint32_t v : m.box_vertices) {
             double d[3];
             transform_point(r, zero, pl.scale, &m.vertices[3 * size_t(v)], d);
             for (int k = 0; k < 3; ++k) {

@@ -28,4 +28,14 @@ inline bool scale_ok(double scale, double reach) {
     return std::isfinite(scale) && scale > 0 && scale * reach <= kMaxCoordinate;
 }
 
+// An orientation (x, y, z, w): finite, its squared norm within 1e-6 of 1.
+constexpr double kUnitTolerance = 1e-6;
+inline double squared_norm4(const double *q) { return ((q[0] * q[0] + q[1] * q[1]) + q[2] * q[2]) + q[3] * q[3]; }
+inline bool orientation_ok(const double *q) {
+    return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) && std::isfinite(q[3]) &&
+           std::fabs(squared_norm4(q) - 1.0) <= kUnitTolerance;
+}
+
+inline bool position_ok(const double *p) { return coordinate_ok(p[0]) && coordinate_ok(p[1]) && coordinate_ok(p[2]); }
+
 }  // namespace hgcd

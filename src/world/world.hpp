@@ -48,6 +48,13 @@ class World {
     hgcd_status set_pose(hgcd_body id, const double *position, const double *orientation);
     hgcd_status set_velocity(hgcd_body id, const double *velocity);
     hgcd_status get_pose(hgcd_body id, double *position, double *orientation) const;
+    // Many bodies at once (batch.cpp); bodies NULL: indices 0 .. count-1.
+    hgcd_status set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
+                          const double *orientations, size_t orientation_stride);
+    hgcd_status set_velocities(const hgcd_body *bodies, size_t count, const double *velocities,
+                               size_t velocity_stride);
+    hgcd_status get_poses(const hgcd_body *bodies, size_t count, double *positions, size_t position_stride,
+                          double *orientations, size_t orientation_stride) const;
     hgcd_status get_velocity(hgcd_body id, double *velocity) const;
     hgcd_status get_mesh(hgcd_body id, hgcd_mesh *out) const;
     hgcd_status get_user_data(hgcd_body id, uint64_t *out) const;
@@ -83,6 +90,12 @@ class World {
     hgcd_status check_body(hgcd_body id, const char *what, int64_t *slot) const;
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
+    // The batch calls' passes (batch.cpp).
+    template <class Check>
+    int64_t first_failing(size_t count, Check &&check) const;
+    template <class Apply>
+    void for_entries(size_t count, Apply &&apply);
+    hgcd_status resolve_entries(const char *what, const hgcd_body *bodies, size_t count);
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
@@ -164,6 +177,10 @@ class World {
     // in a third of the memory of the placements.
     LargeVector<double> point_;
     uint32_t live_bodies_ = 0;
+    // The batch calls' scratch: each entry's storage index, and the marks
+    // (per storage index, of epoch batch_epoch_) that find an id named twice.
+    std::vector<uint32_t> batch_at_, batch_mark_;
+    uint32_t batch_epoch_ = 0;
 
     Grid grid_;
     std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs

@@ -1887,6 +1887,65 @@ extern "C" {
     ) -> hgcd_status;
 }
 extern "C" {
+    #[doc = " Sets the poses of many bodies in one call, as count calls of"]
+    #[doc = "  hgcd_body_set_pose would, but checked whole first and applied in"]
+    #[doc = "  parallel."]
+    #[doc = "  bodies: count ids, each at most once; or NULL, meaning entry k is the"]
+    #[doc = "  body of index k (every index below count must hold a live body: on a"]
+    #[doc = "  fresh world without destroyed bodies, creation order)."]
+    #[doc = "  positions: entry k's 3 doubles start at byte k * position_stride"]
+    #[doc = "  (0 = packed, 3 * sizeof(double)); orientations likewise, 4 doubles"]
+    #[doc = "  (x, y, z, w), orientation_stride 0 = packed. Either array may be NULL"]
+    #[doc = "  to keep that part of every pose, not both. Strides let an array of the"]
+    #[doc = "  caller's own structs be passed without a copy (stride = the struct's size,"]
+    #[doc = "  each pointer at its first body's field); a stride must be a multiple of"]
+    #[doc = "  sizeof(double), and, when not 0, at least the entry's size."]
+    #[doc = "  Errors (nothing changes; the message names the first bad entry k):"]
+    #[doc = "  NULL_ARGUMENT (world, or both arrays), STALE_ID (an id not live, or with"]
+    #[doc = "  bodies NULL an index below count without a live body), INVALID_ARGUMENT"]
+    #[doc = "  (a value as hgcd_body_set_pose refuses it, an id twice, a bad stride)."]
+    #[doc = "  Cost: O(count) on the world's threads, plus, per new orientation, the"]
+    #[doc = "  box of the mesh's distinct vertices (as hgcd_body_set_pose)."]
+    pub fn hgcd_world_set_poses(
+        world: *mut hgcd_world,
+        bodies: *const hgcd_body,
+        count: usize,
+        positions: *const f64,
+        position_stride: usize,
+        orientations: *const f64,
+        orientation_stride: usize,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets the velocities of many bodies, as hgcd_world_set_poses sets poses:"]
+    #[doc = "  bodies (or NULL for indices 0 .. count-1), velocities of 3 finite doubles"]
+    #[doc = "  each, velocity_stride bytes apart (0 = packed)."]
+    #[doc = "  Errors: as hgcd_world_set_poses (NULL_ARGUMENT for velocities)."]
+    #[doc = "  Cost: O(count)."]
+    pub fn hgcd_world_set_velocities(
+        world: *mut hgcd_world,
+        bodies: *const hgcd_body,
+        count: usize,
+        velocities: *const f64,
+        velocity_stride: usize,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Reads the poses of many bodies into the caller's arrays (layout as in"]
+    #[doc = "  hgcd_world_set_poses; either output may be NULL, not both). Nothing is"]
+    #[doc = "  written on failure. Errors: NULL_ARGUMENT, STALE_ID, INVALID_ARGUMENT"]
+    #[doc = "  (a bad stride). Read-only, O(count)."]
+    pub fn hgcd_world_get_poses(
+        world: *const hgcd_world,
+        bodies: *const hgcd_body,
+        count: usize,
+        positions: *mut f64,
+        position_stride: usize,
+        orientations: *mut f64,
+        orientation_stride: usize,
+    ) -> hgcd_status;
+}
+extern "C" {
     #[doc = " Sets a body's velocity[3] (finite), used by hgcd_world_step."]
     #[doc = "  Errors: NULL_ARGUMENT (world or velocity), STALE_ID, INVALID_ARGUMENT."]
     #[doc = "  O(1)."]

@@ -1,0 +1,181 @@
+// Poses and velocities of many bodies in one call (hgcd_world_set_poses and
+// its siblings): every entry is checked before any is applied, so a refused
+// call changes nothing; both passes run on the world's threads.
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include <omp.h>
+
+#include "common/ieee.hpp"
+#include "common/parallel.hpp"
+#include "world/world.hpp"
+
+namespace hgcd {
+
+namespace {
+
+// Below this many entries a call runs on the calling thread: a parallel
+// region costs more than the work.
+constexpr size_t kParallelEntries = 4096;
+
+constexpr int64_t kNone = std::numeric_limits<int64_t>::max();
+
+const double *entry(const double *base, size_t stride, size_t k) {
+    return reinterpret_cast<const double *>(reinterpret_cast<const char *>(base) + k * stride);
+}
+double *entry(double *base, size_t stride, size_t k) {
+    return reinterpret_cast<double *>(reinterpret_cast<char *>(base) + k * stride);
+}
+
+// The byte stride of an array of `doubles`-double entries: 0 means packed;
+// otherwise a multiple of sizeof(double), at least the entry. 0 when bad.
+size_t stride_of(size_t stride, size_t doubles) {
+    if (stride == 0) return doubles * sizeof(double);
+    return stride % sizeof(double) == 0 && stride >= doubles * sizeof(double) ? stride : 0;
+}
+
+}  // namespace
+
+// Runs check(k) for k < count (on the world's threads for large counts) and
+// returns the smallest k it fails for, or kNone; the same k for any thread
+// count.
+template <class Check>
+int64_t World::first_failing(size_t count, Check &&check) const {
+    const int T = count >= kParallelEntries ? threads() : 1;
+    std::vector<int64_t> first(size_t(T), kNone);
+    parallel_region(T, [&](RegionGuard &) {
+        int64_t mine = kNone;
+#pragma omp for schedule(static) nowait
+        for (int64_t k = 0; k < int64_t(count); ++k)
+            if (mine == kNone && !check(size_t(k))) mine = k;
+        first[size_t(omp_get_thread_num())] = mine;
+    });
+    return *std::min_element(first.begin(), first.end());
+}
+
+template <class Apply>
+void World::for_entries(size_t count, Apply &&apply) {
+    const int T = count >= kParallelEntries ? threads() : 1;
+    parallel_region(T, [&](RegionGuard &) {
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < int64_t(count); ++k) apply(size_t(k));
+    });
+}
+
+// The storage index of each entry's body into batch_at_; a refusal names
+// the first entry without a live body, or one named twice.
+hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, size_t count) {
+    if (count > live_gen_.size() && !bodies)
+        return fail(HGCD_ERROR_STALE_ID, std::string(what) + ": count " + std::to_string(count) +
+                                             " exceeds the body indices in use (" +
+                                             std::to_string(live_gen_.size()) + ")");
+    batch_at_.resize(count);
+    const int64_t bad = first_failing(count, [&](size_t k) {
+        const int64_t slot = bodies ? live_body(bodies[k]) : (live_gen_[k] ? int64_t(k) : -1);
+        if (slot < 0) return false;
+        batch_at_[k] = at_[size_t(slot)];
+        return true;
+    });
+    if (bad != kNone)
+        return fail(HGCD_ERROR_STALE_ID,
+                    std::string(what) + ": entry " + std::to_string(bad) +
+                        (bodies ? ": body {" + std::to_string(bodies[bad].index) + ", " +
+                                      std::to_string(bodies[bad].generation) + "} is not a live body of this world"
+                                : ": no live body has index " + std::to_string(bad)));
+    if (!bodies) return HGCD_OK;
+    // An id named twice would be written by two threads: refused. (The
+    // marks are per storage index; a serial pass, cheap beside the rest.)
+    if (batch_mark_.size() < live_gen_.size()) batch_mark_.resize(live_gen_.size(), 0);
+    if (++batch_epoch_ == 0) {
+        std::fill(batch_mark_.begin(), batch_mark_.end(), 0);
+        batch_epoch_ = 1;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        uint32_t &mark = batch_mark_[batch_at_[k]];
+        if (mark == batch_epoch_)
+            return fail(HGCD_ERROR_INVALID_ARGUMENT, std::string(what) + ": entry " + std::to_string(k) +
+                                                         " names a body an earlier entry names");
+        mark = batch_epoch_;
+    }
+    return HGCD_OK;
+}
+
+hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
+                             const double *orientations, size_t orientation_stride) {
+    const char *what = "world_set_poses";
+    const size_t ps = stride_of(position_stride, 3), os = stride_of(orientation_stride, 4);
+    if (!ps || !os)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    std::string(what) + ": a stride must be 0 or a multiple of 8 bytes holding its entry");
+    if (hgcd_status s = resolve_entries(what, bodies, count)) return s;
+    const int64_t bad = first_failing(count, [&](size_t k) {
+        return (!positions || position_ok(entry(positions, ps, k))) &&
+               (!orientations || orientation_ok(entry(orientations, os, k)));
+    });
+    if (bad != kNone) {  // the message of hgcd_body_set_pose, for that entry
+        const std::string at = std::string(what) + ": entry " + std::to_string(bad);
+        return check_pose(at.c_str(), positions ? entry(positions, ps, size_t(bad)) : nullptr,
+                          orientations ? entry(orientations, os, size_t(bad)) : nullptr);
+    }
+    for_entries(count, [&](size_t k) {
+        const size_t i = batch_at_[k];
+        if (positions) {
+            const double *p = entry(positions, ps, k);
+            for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
+        }
+        if (orientations) {
+            const double *q = entry(orientations, os, k);
+            if (std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
+                std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
+                set_box_offsets(i);
+            }
+        }
+    });
+    return HGCD_OK;
+}
+
+hgcd_status World::set_velocities(const hgcd_body *bodies, size_t count, const double *velocities,
+                                  size_t velocity_stride) {
+    const char *what = "world_set_velocities";
+    const size_t vs = stride_of(velocity_stride, 3);
+    if (!vs)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    std::string(what) + ": velocity_stride must be 0 or a multiple of 8 bytes of at least 24");
+    if (hgcd_status s = resolve_entries(what, bodies, count)) return s;
+    const int64_t bad = first_failing(count, [&](size_t k) {
+        const double *v = entry(velocities, vs, k);
+        return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    });
+    if (bad != kNone)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    std::string(what) + ": entry " + std::to_string(bad) + ": velocity is not finite");
+    for_entries(count, [&](size_t k) {
+        const double *v = entry(velocities, vs, k);
+        for (int a = 0; a < 3; ++a) velocity_[3 * size_t(batch_at_[k]) + a] = v[a];
+    });
+    return HGCD_OK;
+}
+
+hgcd_status World::get_poses(const hgcd_body *bodies, size_t count, double *positions, size_t position_stride,
+                             double *orientations, size_t orientation_stride) const {
+    const size_t ps = stride_of(position_stride, 3), os = stride_of(orientation_stride, 4);
+    if (!ps || !os) return HGCD_ERROR_INVALID_ARGUMENT;
+    if (!bodies && count > live_gen_.size()) return HGCD_ERROR_STALE_ID;
+    // (Read-only, so no scratch of the world's: checked, then read.)
+    const auto slot_of = [&](size_t k) { return bodies ? live_body(bodies[k]) : (live_gen_[k] ? int64_t(k) : -1); };
+    if (first_failing(count, [&](size_t k) { return slot_of(k) >= 0; }) != kNone) return HGCD_ERROR_STALE_ID;
+    const int T = count >= kParallelEntries ? threads() : 1;
+    parallel_region(T, [&](RegionGuard &) {
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < int64_t(count); ++k) {
+            const Placement &pl = place_[at_[size_t(slot_of(size_t(k)))]];
+            if (positions) std::memcpy(entry(positions, ps, size_t(k)), pl.position, sizeof pl.position);
+            if (orientations) std::memcpy(entry(orientations, os, size_t(k)), pl.orientation, sizeof pl.orientation);
+        }
+    });
+    return HGCD_OK;
+}
+
+}  // namespace hgcd

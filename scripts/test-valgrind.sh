@@ -39,6 +39,9 @@ fi
 # program  filter (cmocka pattern; "*" = every test)
 runs=(
     "api *"
+    "limits *"
+    "batch *"
+    "coherence *"
     "validation *"
     "oom *"
     "threads *"

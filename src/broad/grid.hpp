@@ -91,6 +91,8 @@ class alignas(64) PairBuffer {
     const uint64_t *end() const { return data_.get() + size_; }
     uint64_t operator[](size_t k) const { return data_[k]; }
     void clear() { size_ = 0; }
+    uint64_t *data() { return data_.get(); }
+    void shrink(size_t n) { size_ = std::min(size_, n); }  // keeps the first n pairs
     // At least k writable places past the end (may throw bad_alloc).
     uint64_t *room(size_t k) {
         if (capacity_ - size_ < k) grow(k);

@@ -121,8 +121,10 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     }
     for_entries(count, [&](size_t k) {
         const size_t i = batch_at_[k];
+        bool moved = false;
         if (positions) {
             const double *p = entry(positions, ps, k);
+            moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
             for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
         }
         if (orientations) {
@@ -130,8 +132,10 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
             if (std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
                 std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
                 set_box_offsets(i);
+                moved = true;
             }
         }
+        if (moved) moved_[slot_of_[i]] = 1;
     });
     return HGCD_OK;
 }

@@ -93,6 +93,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             r_level_.reserve(cap);
             point_.reserve(3 * cap);
             at_.reserve(cap);
+            moved_.reserve(cap);
             slot_of_.reserve(cap);
             stored_gen_.reserve(cap);
             live_gen_.reserve(cap);  // last: its capacity says all are reserved
@@ -109,10 +110,12 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         r_level_.resize(n);
         point_.resize(3 * n);
         at_.push_back(slot);
+        moved_.push_back(1);
         slot_of_.push_back(slot);
         stored_gen_.push_back(0);
     }
     if (reuse) body_free_.pop_back();
+    moved_[slot] = 1;
     const size_t i = at_[slot];
     for (int k = 0; k < 3; ++k) {
         place_[i].position[k] = point_[3 * i + k] = d.position[k];
@@ -153,11 +156,14 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     Placement &pl = place_[at_[slot]];
-    if (position)
+    if (position && std::memcmp(pl.position, position, sizeof pl.position) != 0) {
         for (int k = 0; k < 3; ++k) pl.position[k] = point_[3 * size_t(at_[slot]) + k] = position[k];
+        moved_[size_t(slot)] = 1;
+    }
     if (orientation && std::memcmp(pl.orientation, orientation, sizeof pl.orientation) != 0) {
         for (int k = 0; k < 4; ++k) pl.orientation[k] = orientation[k];
         set_box_offsets(at_[slot]);
+        moved_[size_t(slot)] = 1;
     }
     return HGCD_OK;
 }

@@ -205,6 +205,11 @@ double World::estimated_candidates_per_body(int threads) const {
 hgcd_status World::detect() { return detect_with(false); }
 
 hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
+    // The last pairs decide the unmoved bodies' pairs (not in a step: its
+    // motion moves every body with a velocity).
+    const bool coherence = coherent_ && !motion && !contacts_on_;
+    coherent_ = false;  // until this detect succeeds
+    prev_pairs_.swap(pairs_);
     pairs_.clear();
     contacts_.clear();
     contacts_recorded_ = contacts_on_;
@@ -218,7 +223,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         const GridUpdateStats us = update_grid(T, motion);
         const double t1 = omp_get_wtime();
         NarrowPlan plan;
-        const size_t total = find_candidates(T, plan.chunks);
+        const size_t total = find_candidates(T, coherence, plan.chunks);
         const double t2 = omp_get_wtime();
         plan_narrow(T, plan);
         std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // per thread, parallel to hits_
@@ -237,6 +242,8 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         stats_.broad_seconds = t2 - t1;
         stats_.narrow_seconds = t3 - t2;
         stats_.total_seconds = t3 - t0;
+        std::fill(moved_.begin(), moved_.end(), uint8_t(0));
+        coherent_ = !contacts_on_;
     } catch (...) {
         // The grid may be half updated: drop it, the next detect rebuilds it.
         grid_ = Grid();
@@ -260,17 +267,20 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
     return us;
 }
 
-size_t World::find_candidates(int threads, std::vector<NarrowChunk> &chunks) {
+size_t World::find_candidates(int threads, bool coherence, std::vector<NarrowChunk> &chunks) {
     // Kept across detects: a tick's candidates need not grow fresh buffers
     // (and fault in fresh pages) every time.
     std::vector<PairBuffer> &found = candidates_;
     found.resize(size_t(threads));
     for (auto &f : found) f.clear();
+    hits_.resize(size_t(threads));
+    for (auto &h : hits_) h.clear();
     grid_.find_pairs(boxes(), threads, found);
-    // The narrow phase runs straight over every thread's candidate list.
     size_t total = 0;
+    for (int t = 0; t < threads; ++t) total += found[t].size();
+    if (coherence) stats_.unmoved_pairs = keep_unmoved_pairs(threads, found);
+    // The narrow phase runs straight over every thread's candidate list.
     for (int t = 0; t < threads; ++t) {
-        total += found[t].size();
         for (size_t b = 0; b < found[t].size(); b += kNarrowChunk)
             chunks.push_back({uint32_t(t), b, std::min(found[t].size(), b + kNarrowChunk)});
     }
@@ -301,10 +311,9 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
 void World::narrow_phase(int threads, const NarrowPlan &plan,
                          std::vector<std::vector<hgcd_contact>> &hit_contacts) {
     // Kept across detects, as the candidates: fresh buffers would grow (and
-    // fault in pages) every tick.
-    hits_.resize(size_t(threads));
+    // fault in pages) every tick. (hits_ holds the pairs temporal coherence
+    // kept: find_candidates.)
     sort_scratch_.resize(size_t(threads));
-    for (auto &h : hits_) h.clear();
     struct Counts {
         uint64_t narrow_tests, triangle_tests, containment, libccd_tests, libccd_fallback;
     };

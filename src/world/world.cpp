@@ -163,6 +163,7 @@ hgcd_status World::set_narrow_phase(int32_t mode) {
     if (const char *why = check_narrow_phase(mode, false, &s))
         return fail(s, "world_set_narrow_phase: " + std::to_string(mode) + ": " + why);
     narrow_phase_ = mode;
+    coherent_ = false;  // (a pair's test, and so its result, may change)
     return HGCD_OK;
 }
 
@@ -177,6 +178,7 @@ hgcd_status World::set_mesh_narrow_phase(hgcd_mesh id, int32_t mode) {
                     "mesh_set_narrow_phase: mesh " + std::to_string(slot) +
                         " is not convex; libccd handles convex meshes only, so it keeps the exact test");
     mesh_narrow_[slot] = int8_t(mode);
+    coherent_ = false;
     return HGCD_OK;
 }
 

@@ -111,7 +111,11 @@ class World {
     struct NarrowThread;
     GridUpdateStats update_grid(int threads, const SlotPass *motion);
     // Fills candidates_ and cuts them into chunks; returns their count.
-    size_t find_candidates(int threads, std::vector<NarrowChunk> &chunks);
+    size_t find_candidates(int threads, bool coherence, std::vector<NarrowChunk> &chunks);
+    // Temporal coherence (coherence.cpp): removes from the candidates the
+    // pairs of two bodies unmoved since the last detect, their result taken
+    // from its pairs (prev_pairs_) into hits_; returns how many.
+    uint64_t keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found);
     void plan_narrow(int threads, NarrowPlan &plan) const;
     // Each thread's colliding pairs, sorted, into hits_ (and hit_contacts).
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts);
@@ -177,6 +181,14 @@ class World {
     // in a third of the memory of the placements.
     LargeVector<double> point_;
     uint32_t live_bodies_ = 0;
+    // Temporal coherence. Per slot, whether the body was created or its
+    // pose changed since the last detect; whether the last detect's pairs
+    // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not
+    // after a failed detect, a change of narrow phase, or with contacts on.
+    std::vector<uint8_t> moved_;
+    bool coherent_ = false;
+    std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> prev_pairs_;
+    std::vector<uint8_t> moved_at_;  // moved_ by storage index, during a detect
     // The batch calls' scratch: each entry's storage index, and the marks
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
     std::vector<uint32_t> batch_at_, batch_mark_;

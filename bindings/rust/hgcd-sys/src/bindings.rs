@@ -890,12 +890,18 @@ pub struct hgcd_stats {
     #[doc = " Candidate pairs whose meshes were both set to GJK or MPR but one of"]
     #[doc = "  them is not convex: tested exactly instead."]
     pub libccd_fallback_tests: u64,
+    #[doc = " Candidate pairs of two bodies whose poses did not change since the"]
+    #[doc = "  previous hgcd_world_detect (temporal coherence): their result is that"]
+    #[doc = "  detect's, untested; counted in candidate_pairs, not in narrow_tests."]
+    #[doc = "  Always 0 for hgcd_world_step, with contacts on, and after a change"]
+    #[doc = "  of narrow phase."]
+    pub unmoved_pairs: u64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_stats() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_stats>(),
-        120usize,
+        128usize,
         concat!("Size of: ", stringify!(hgcd_stats))
     );
     assert_eq!(
@@ -1192,6 +1198,23 @@ fn bindgen_test_layout_hgcd_stats() {
         );
     }
     test_field_libccd_fallback_tests();
+    fn test_field_unmoved_pairs() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).unmoved_pairs) as usize - ptr as usize
+            },
+            120usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_stats),
+                "::",
+                stringify!(unmoved_pairs)
+            )
+        );
+    }
+    test_field_unmoved_pairs();
 }
 extern "C" {
     #[doc = " Copies the statistics of the last step/detect into *out_stats, whose"]

@@ -58,16 +58,6 @@ static hgcd_world *make_world(int threads, hgcd_body *bodies, int n) {
     return w;
 }
 
-static void random_quaternion(rng *r, double q[4]) {
-    double n;
-    do {
-        for (int k = 0; k < 4; ++k) q[k] = 2 * unif(r) - 1;
-        n = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-    } while (n < 0.01 || n > 1);
-    n = sqrt(n);
-    for (int k = 0; k < 4; ++k) q[k] /= n;
-}
-
 static void fill(rng *r, engine_body *e, int n) {
     for (int i = 0; i < n; ++i) {
         e[i].tag = 0xABCDu + (uint64_t)i;
@@ -75,7 +65,7 @@ static void fill(rng *r, engine_body *e, int n) {
             e[i].position[k] = 20 * unif(r);
             e[i].velocity[k] = unif(r) - 0.5;
         }
-        random_quaternion(r, e[i].orientation);
+        random_unit_quaternion(r, e[i].orientation);
         if (i % 5 == 0) memcpy(e[i].orientation, (double[4]){0, 0, 0, 1}, sizeof e[i].orientation);
     }
 }

@@ -57,13 +57,7 @@ static void world_init(world *x, uint64_t seed) {
 
 static void random_pose(rng *r, double side, double p[3], double q[4]) {
     for (int k = 0; k < 3; ++k) p[k] = side * unif(r);
-    double n;
-    do {
-        for (int k = 0; k < 4; ++k) q[k] = 2 * unif(r) - 1;
-        n = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-    } while (n < 0.01 || n > 1);
-    n = sqrt(n);
-    for (int k = 0; k < 4; ++k) q[k] /= n;
+    random_unit_quaternion(r, q);
 }
 
 static void create(world *x, int i, const double p[3], const double q[4]) {

@@ -425,8 +425,15 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
         for (size_t k = begin; k < end; k += 4) {
             if (k + 20 <= n)  // (the placements four groups ahead: see world/detect.cpp)
                 for (size_t l = 0; l < 4; ++l) {
-                    __builtin_prefetch(pairs[k + 16 + l].a);
-                    __builtin_prefetch(pairs[k + 16 + l].b);
+                    const TetraPair &ahead = pairs[k + 16 + l];
+                    __builtin_prefetch(ahead.a);
+                    __builtin_prefetch(ahead.b);
+                    // and the shapes: one per body where bodies have meshes
+                    // of their own, scattered over the meshes' array
+                    __builtin_prefetch(ahead.mesh_a->tetra_local);
+                    __builtin_prefetch(ahead.mesh_a->tetra_local + 8);
+                    __builtin_prefetch(ahead.mesh_b->tetra_local);
+                    __builtin_prefetch(ahead.mesh_b->tetra_local + 8);
                 }
             const TetraPair *group[4];
             for (size_t l = 0; l < 4; ++l) group[l] = &pairs[k + l < end ? k + l : k];

@@ -335,7 +335,10 @@ HGCD_API hgcd_status hgcd_world_step(hgcd_world *world);
  *  hgcd_world_contacts. Runs parallel regions with the world's thread
  *  count; the pairs do not depend on it. The world keeps its working memory
  *  for the next call. Cost: about O(bodies + candidate pairs x pair test),
- *  the pair test growing with the meshes' sizes. */
+ *  the pair test growing with the meshes' sizes; a pair of bodies whose
+ *  poses did not change since the previous detect is not tested again, and
+ *  when no body moved or was created, no search is made: O(bodies + pairs)
+ *  (temporal coherence: docs/semantics.md). */
 HGCD_API hgcd_status hgcd_world_detect(hgcd_world *world);
 
 /** The pairs of the last step/detect: *out_pairs points to *out_count pairs
@@ -467,11 +470,12 @@ typedef struct hgcd_stats {
     /** Candidate pairs whose meshes were both set to GJK or MPR but one of
      *  them is not convex: tested exactly instead. */
     uint64_t libccd_fallback_tests;
-    /** Candidate pairs of two bodies whose poses did not change since the
-     *  previous hgcd_world_detect (temporal coherence): their result is that
-     *  detect's, untested; counted in candidate_pairs, not in narrow_tests.
-     *  Always 0 for hgcd_world_step, with contacts on, and after a change
-     *  of narrow phase. */
+    /** Pairs whose answer is the previous detect's (temporal coherence):
+     *  candidate pairs of two bodies whose poses did not change since then,
+     *  counted in candidate_pairs, not in narrow_tests. When no body moved
+     *  or was created, the detect makes no search: candidate_pairs is 0 and
+     *  this counts the pairs reported. Always 0 for hgcd_world_step, with
+     *  contacts on, and after a change of narrow phase. */
     uint64_t unmoved_pairs;
 } hgcd_stats;
 

@@ -119,8 +119,7 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         return check_pose(at.c_str(), positions ? entry(positions, ps, size_t(bad)) : nullptr,
                           orientations ? entry(orientations, os, size_t(bad)) : nullptr);
     }
-    for_entries(count, [&](size_t k) {
-        const size_t i = batch_at_[k];
+    const auto apply = [&](size_t k, size_t i) {
         bool moved = false;
         if (positions) {
             const double *p = entry(positions, ps, k);
@@ -136,6 +135,24 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
             }
         }
         if (moved) moved_[slot_of_[i]] = 1;
+    };
+    if (bodies) {
+        for_entries(count, [&](size_t k) { apply(k, batch_at_[k]); });
+        return HGCD_OK;
+    }
+    // All bodies by index: storage runs in the grid's order, not the
+    // indices', so the pass follows storage (writing the world's arrays in
+    // sequence) and reads the caller's entries out of order instead, asked
+    // for ahead.
+    const size_t n = slot_of_.size();
+    for_entries(n, [&](size_t i) {
+        if (i + 16 < n && slot_of_[i + 16] < count) {
+            const size_t ahead = slot_of_[i + 16];
+            if (positions) __builtin_prefetch(entry(positions, ps, ahead));
+            if (orientations) __builtin_prefetch(entry(orientations, os, ahead));
+        }
+        const size_t k = slot_of_[i];
+        if (k < count && stored_gen_[i]) apply(k, i);
     });
     return HGCD_OK;
 }

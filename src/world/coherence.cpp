@@ -1,6 +1,7 @@
 // Temporal coherence: a pair of bodies whose poses (bit for bit) and meshes
 // are those of the last detect has that detect's answer, so it is not
-// tested again. A resting pile then costs little more than its broad phase.
+// tested again. A resting pile then costs little more than its broad phase,
+// and a world where nothing moved costs a pass over its bodies and pairs.
 #include <algorithm>
 #include <cstring>
 
@@ -12,14 +13,35 @@
 
 namespace hgcd {
 
+size_t World::unmoved_bodies() const {
+    size_t unmoved = 0;
+    for (size_t s = 0; s < moved_.size(); ++s) unmoved += live_gen_[s] != 0 && !moved_[s];
+    return unmoved;
+}
+
+// No live body moved or was created: the last pairs less those of bodies
+// destroyed since are this detect's.
+void World::reuse_pairs() {
+    pairs_.clear();
+    pairs_.reserve(prev_pairs_.size());  // (may throw: then nothing is half done)
+    for (const hgcd_pair &p : prev_pairs_)
+        if (live_gen_[p.a.index] == p.a.generation && live_gen_[p.b.index] == p.b.generation) pairs_.push_back(p);
+    stats_.unmoved_pairs = pairs_.size();
+    stats_.colliding_pairs = pairs_.size();
+    stats_.level_count = grid_.level_count();
+    stats_.oversize_count = grid_.oversize_count();
+}
+
 uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) {
     // Nothing to keep when every body moved (the usual tick of a simulation
     // whose bodies all move): one pass over a byte per slot.
-    const size_t slots = moved_.size();
-    size_t unmoved = 0;
-    for (size_t s = 0; s < slots; ++s) unmoved += live_gen_[s] != 0 && !moved_[s];
-    if (unmoved < 2) return 0;
-    const size_t n = stored_gen_.size();
+    if (unmoved_bodies() < 2) return 0;
+    // Where each slot's pairs start in the last pairs (sorted by (a, b)):
+    // a pair (a, b) is looked up among a's few.
+    const size_t slots = moved_.size(), n = stored_gen_.size();
+    prev_start_.assign(slots + 1, 0);
+    for (const hgcd_pair &p : prev_pairs_) ++prev_start_[p.a.index + 1];
+    for (size_t s = 0; s < slots; ++s) prev_start_[s + 1] += prev_start_[s];
     moved_at_.resize(n);
     std::vector<uint64_t> kept(size_t(threads), 0);
     parallel_region(threads, [&](RegionGuard &guard) {
@@ -41,13 +63,11 @@ uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) 
                 }
                 ++here;
                 const uint32_t sa = std::min(slot_of_[a], slot_of_[b]), sb = std::max(slot_of_[a], slot_of_[b]);
-                const auto it = std::lower_bound(prev_pairs_.begin(), prev_pairs_.end(), std::make_pair(sa, sb),
-                                                 [](const hgcd_pair &p, const std::pair<uint32_t, uint32_t> &key) {
-                                                     return p.a.index < key.first ||
-                                                            (p.a.index == key.first && p.b.index < key.second);
-                                                 });
-                if (it != prev_pairs_.end() && it->a.index == sa && it->b.index == sb)
-                    hits_[size_t(t)].push_back(pair_key(sa, sb));
+                for (uint32_t j = prev_start_[sa]; j < prev_start_[sa + 1]; ++j)
+                    if (prev_pairs_[j].b.index == sb) {
+                        hits_[size_t(t)].push_back(pair_key(sa, sb));
+                        break;
+                    }
             }
             list.shrink(write);
             kept[size_t(t)] = here;

@@ -218,6 +218,15 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     stats_.struct_size = struct_size;
     const int T = threads();
     const double t0 = omp_get_wtime();
+    if (coherence && unmoved_bodies() == live_bodies_) {
+        // Nothing moved or was born: no search at all (the grid catches up
+        // with destroyed bodies at the next detect that searches).
+        reuse_pairs();
+        stats_.thread_count = uint32_t(T);
+        stats_.total_seconds = stats_.narrow_seconds = omp_get_wtime() - t0;
+        coherent_ = true;
+        return HGCD_OK;
+    }
     try {
         if (!renumbered) renumber_if_disordered();
         const GridUpdateStats us = update_grid(T, motion);

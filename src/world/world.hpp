@@ -116,6 +116,8 @@ class World {
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.
     uint64_t keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found);
+    size_t unmoved_bodies() const;  // live bodies not created or moved since the last detect
+    void reuse_pairs();             // pairs_ from prev_pairs_ when no live body moved
     void plan_narrow(int threads, NarrowPlan &plan) const;
     // Each thread's colliding pairs, sorted, into hits_ (and hit_contacts).
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts);
@@ -189,6 +191,7 @@ class World {
     bool coherent_ = false;
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> prev_pairs_;
     std::vector<uint8_t> moved_at_;  // moved_ by storage index, during a detect
+    std::vector<uint32_t> prev_start_;  // where each slot's pairs (as a) start in prev_pairs_
     // The batch calls' scratch: each entry's storage index, and the marks
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
     std::vector<uint32_t> batch_at_, batch_mark_;

@@ -598,7 +598,10 @@ extern "C" {
     #[doc = "  hgcd_world_contacts. Runs parallel regions with the world's thread"]
     #[doc = "  count; the pairs do not depend on it. The world keeps its working memory"]
     #[doc = "  for the next call. Cost: about O(bodies + candidate pairs x pair test),"]
-    #[doc = "  the pair test growing with the meshes' sizes."]
+    #[doc = "  the pair test growing with the meshes' sizes; a pair of bodies whose"]
+    #[doc = "  poses did not change since the previous detect is not tested again, and"]
+    #[doc = "  when no body moved or was created, no search is made: O(bodies + pairs)"]
+    #[doc = "  (temporal coherence: docs/semantics.md)."]
     pub fn hgcd_world_detect(world: *mut hgcd_world) -> hgcd_status;
 }
 extern "C" {
@@ -890,11 +893,12 @@ pub struct hgcd_stats {
     #[doc = " Candidate pairs whose meshes were both set to GJK or MPR but one of"]
     #[doc = "  them is not convex: tested exactly instead."]
     pub libccd_fallback_tests: u64,
-    #[doc = " Candidate pairs of two bodies whose poses did not change since the"]
-    #[doc = "  previous hgcd_world_detect (temporal coherence): their result is that"]
-    #[doc = "  detect's, untested; counted in candidate_pairs, not in narrow_tests."]
-    #[doc = "  Always 0 for hgcd_world_step, with contacts on, and after a change"]
-    #[doc = "  of narrow phase."]
+    #[doc = " Pairs whose answer is the previous detect's (temporal coherence):"]
+    #[doc = "  candidate pairs of two bodies whose poses did not change since then,"]
+    #[doc = "  counted in candidate_pairs, not in narrow_tests. When no body moved"]
+    #[doc = "  or was created, the detect makes no search: candidate_pairs is 0 and"]
+    #[doc = "  this counts the pairs reported. Always 0 for hgcd_world_step, with"]
+    #[doc = "  contacts on, and after a change of narrow phase."]
     pub unmoved_pairs: u64,
 }
 #[test]

@@ -48,9 +48,10 @@
  *   pairs_fnv         FNV-1a (64-bit, hex) of the last tick's pairs, indices
  *                     in order: equal when two builds report the same pairs;
  *   initial_pairs, initial_containment, initial_ms   of the initial detect;
- *   setup_ms          world creation and the meshes and bodies (the scene
- *                     drawn too, except in the engine modes, whose caller
- *                     draws it beforehand into its own arrays);
+ *   setup_ms          world creation and the meshes and bodies (with the
+ *                     scene drawn by hgcd_scene_tetra_populate; in the engine
+ *                     modes and with --mesh-per-body the scene is drawn
+ *                     beforehand into the caller's arrays, not counted);
  *   peak_rss_mb       getrusage ru_maxrss at the end;
  *   bytes_per_body    growth of the peak RSS from just before world creation
  *                     to after the ticks, divided by n;

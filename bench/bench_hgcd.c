@@ -2,6 +2,8 @@
  *
  *   bench_hgcd [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
  *              [--lib NAME] [--min-cell-size W] [--side L] [--check]
+ *              [--mode step|engine-batch|engine-single] [--mesh-per-body]
+ *              [--turn A] [--per-tick]
  *
  * --lib sets the JSON's "lib" field (default hgcd; make bench's 100-tick
  * runs are hgcd-long).
@@ -12,14 +14,31 @@
  *
  * Generates the scene with hgcd_scene_tetra_generate, creates the N bodies on
  * the shared unit mesh (hgcd_scene_tetra_unit_mesh, body scale = generated
- * scale) in a world that reflects at the cube [0, side]^3 (which is exactly
- * the motion of docs/scenes.md), runs one initial hgcd_world_detect and then T
- * ticks of hgcd_world_step, and prints ONE JSON line on stdout:
+ * scale; --mesh-per-body: each body on its own copy of that mesh, so the
+ * world holds N meshes) in a world that reflects at the cube [0, side]^3
+ * (which is exactly the motion of docs/scenes.md), runs one initial
+ * hgcd_world_detect and then T ticks.
  *
- *   lib, scene, n, seed, threads, ticks, commit,
+ * --mode step (default): each tick is one hgcd_world_step (the library moves
+ * the bodies). The engine modes do what a physics engine does: the caller
+ * moves its own centres (hgcd_scene_tetra_move, the same motion) and turns
+ * each body by its own fixed rotation, then hands the poses over --
+ * engine-batch: one hgcd_world_set_poses (bodies NULL, packed arrays);
+ * engine-single: one hgcd_body_set_pose per body -- and calls
+ * hgcd_world_detect. --turn A (default 0.01): each body's orientation q
+ * becomes q * r, r the rotation by 2 atan(A / 2) (about A radians) about the
+ * body's initial velocity direction, then q is normalised; --turn 0 hands the
+ * unchanged orientations over (the same bits every tick), so that
+ * set_poses's path for an unchanged orientation is measured, and the pairs
+ * equal step mode's at every tick count.
+ *
+ * Prints ONE JSON line on stdout:
+ *
+ *   lib, scene, n, seed, threads, ticks, commit, mode,
  *   broad_ms, narrow_ms, update_ms, motion_ms, tick_ms  medians over the ticks
  *       of the library's own per-phase timers (hgcd_world_stats);
- *   wall_ms           median wall-clock time of hgcd_world_step seen here;
+ *   wall_ms           median wall-clock time of hgcd's part of a tick seen
+ *                     here: hgcd_world_step, or set poses + detect;
  *   tick_mean_ms, tick_max_ms, update_mean_ms, broad_mean_ms, narrow_mean_ms
  *                     means (and the largest tick) over the ticks: ticks that
  *                     renumber the bodies' storage cost more than the others;
@@ -29,17 +48,26 @@
  *   pairs_fnv         FNV-1a (64-bit, hex) of the last tick's pairs, indices
  *                     in order: equal when two builds report the same pairs;
  *   initial_pairs, initial_containment, initial_ms   of the initial detect;
- *   setup_ms          world creation and hgcd_scene_tetra_populate (scene drawn, mesh and bodies made);
+ *   setup_ms          world creation and the meshes and bodies (with the
+ *                     scene drawn by hgcd_scene_tetra_populate; in the engine
+ *                     modes and with --mesh-per-body the scene is drawn
+ *                     beforehand into the caller's arrays, not counted);
  *   peak_rss_mb       getrusage ru_maxrss at the end;
  *   bytes_per_body    growth of the peak RSS from just before world creation
  *                     to after the ticks, divided by n;
  *   reference_ok      with --check: whether the initial detect matches the
  *                     reference counts of docs/scenes.md (pairs and containment;
- *                     null when docs/scenes.md has no row for this n and seed).
+ *                     null when docs/scenes.md has no row for this n and seed);
+ *   mesh_per_body     true or false (in step mode only when true);
+ *   engine modes only: turn (A), set_poses_ms, detect_ms, caller_ms
+ *                     medians of the wall-clock time of handing the poses
+ *                     over, of hgcd_world_detect, and of the caller's own
+ *                     motion and turning (not hgcd's work).
  *
- * --per-tick prints each tick's times to stderr. Diagnostics go to stderr. Exit status: 0 when the JSON line was printed
- * (even with reference_ok false: the caller reads the JSON), 1 on an API
- * failure, 2 on a usage error.
+ * --per-tick prints each tick's times and pairs_fnv to stderr. Diagnostics go
+ * to stderr. Exit status: 0 when the JSON line was printed (even with
+ * reference_ok false: the caller reads the JSON), 1 on an API failure, 2 on a
+ * usage error.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <hgcd/hgcd.h>
@@ -69,7 +97,6 @@ static int cmp_double(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
-/* Median of v[0..count) (sorts v); 0 for an empty array. */
 static double mean(const double *v, int count) {
     double sum = 0;
     for (int k = 0; k < count; ++k) sum += v[k];
@@ -82,10 +109,23 @@ static double maximum(const double *v, int count) {
     return m;
 }
 
+/* Median of v[0..count) (sorts v); 0 for an empty array. */
 static double median(double *v, int count) {
     if (count <= 0) return 0.0;
     qsort(v, (size_t)count, sizeof *v, cmp_double);
     return count % 2 ? v[count / 2] : 0.5 * (v[count / 2 - 1] + v[count / 2]);
+}
+
+/* Square root by Newton's method from above (the benchmark links no libm):
+ * the iterates decrease until they stop changing. */
+static double square_root(double x) {
+    if (!(x > 0)) return 0.0;
+    double y = x > 1 ? x : 1;
+    for (;;) {
+        const double next = 0.5 * (y + x / y);
+        if (!(next < y)) return y;
+        y = next;
+    }
 }
 
 static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
@@ -98,6 +138,7 @@ static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
 static void usage(const char *argv0) {
     fprintf(stderr,
             "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--lib NAME] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
+            "          [--mode step|engine-batch|engine-single] [--mesh-per-body] [--turn A]\n"
             "  --threads 0 = all cores; --check compares the initial detect with docs/scenes.md\n",
             argv0);
 }
@@ -107,20 +148,35 @@ static const struct {
     uint64_t n, pairs, containment;
 } reference[] = {{100000, 4266, 30}, {200000, 17201, 151}, {500000, 106075, 926}, {750000, 237561, 2155}};
 
-int main(int argc, char **argv) {
-    uint64_t n = 100000, seed = 1;
-    unsigned threads = 1;
-    int ticks = 5, check = 0, per_tick = 0;
-    const char *commit = "unknown", *lib = "hgcd";
-    double min_cell = 0, side = 0;
+/* How a tick hands the motion to hgcd. */
+enum mode { MODE_STEP, MODE_ENGINE_BATCH, MODE_ENGINE_SINGLE };
+static const char *const mode_names[] = {"step", "engine-batch", "engine-single"};
+
+typedef struct options {
+    uint64_t n, seed;
+    unsigned threads;
+    int ticks, check, per_tick, mesh_per_body;
+    enum mode mode;
+    const char *commit, *lib;
+    double min_cell, side, turn;
+} options;
+
+/* 0 on success, 2 on a usage error (printed). */
+static int parse_options(int argc, char **argv, options *o) {
+    *o = (options){.n = 100000, .seed = 1, .threads = 1, .ticks = 5, .mode = MODE_STEP,
+                   .commit = "unknown", .lib = "hgcd", .turn = 0.01};
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--per-tick")) {
-            per_tick = 1;
+            o->per_tick = 1;
             continue;
         }
         if (!strcmp(a, "--check")) {
-            check = 1;
+            o->check = 1;
+            continue;
+        }
+        if (!strcmp(a, "--mesh-per-body")) {
+            o->mesh_per_body = 1;
             continue;
         }
         if (i + 1 >= argc) {
@@ -128,116 +184,256 @@ int main(int argc, char **argv) {
             return 2;
         }
         const char *v = argv[++i];
-        if (!strcmp(a, "--n")) n = strtoull(v, NULL, 10);
-        else if (!strcmp(a, "--seed")) seed = strtoull(v, NULL, 10);
-        else if (!strcmp(a, "--threads")) threads = (unsigned)strtoul(v, NULL, 10);
-        else if (!strcmp(a, "--ticks")) ticks = atoi(v);
-        else if (!strcmp(a, "--commit")) commit = v;
-        else if (!strcmp(a, "--lib")) lib = v;
-        else if (!strcmp(a, "--min-cell-size")) min_cell = strtod(v, NULL);
-        else if (!strcmp(a, "--side")) side = strtod(v, NULL);
-        else {
+        if (!strcmp(a, "--n")) o->n = strtoull(v, NULL, 10);
+        else if (!strcmp(a, "--seed")) o->seed = strtoull(v, NULL, 10);
+        else if (!strcmp(a, "--threads")) o->threads = (unsigned)strtoul(v, NULL, 10);
+        else if (!strcmp(a, "--ticks")) o->ticks = atoi(v);
+        else if (!strcmp(a, "--commit")) o->commit = v;
+        else if (!strcmp(a, "--lib")) o->lib = v;
+        else if (!strcmp(a, "--min-cell-size")) o->min_cell = strtod(v, NULL);
+        else if (!strcmp(a, "--side")) o->side = strtod(v, NULL);
+        else if (!strcmp(a, "--turn")) o->turn = strtod(v, NULL);
+        else if (!strcmp(a, "--mode")) {
+            int found = 0;
+            for (int m = 0; m < 3; ++m)
+                if (!strcmp(v, mode_names[m])) {
+                    o->mode = (enum mode)m;
+                    found = 1;
+                }
+            if (!found) {
+                usage(argv[0]);
+                return 2;
+            }
+        } else {
             usage(argv[0]);
             return 2;
         }
     }
-    if (n == 0 || ticks < 1) {
-        fprintf(stderr, "bench_hgcd: need n >= 1 and ticks >= 1\n");
+    if (o->n == 0 || o->ticks < 1 || !(o->turn >= 0 && o->turn <= 1)) {
+        fprintf(stderr, "bench_hgcd: need n >= 1, ticks >= 1 and 0 <= turn <= 1\n");
         return 2;
     }
+    return 0;
+}
 
-    /* The scene, bit for bit as docs/scenes.md defines it. */
-    hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
-    sd.n = n;
-    sd.seed = seed;
-    if (side > 0) sd.side = side;
-    double *tick_total = malloc((size_t)ticks * sizeof(double)), *tick_broad = malloc((size_t)ticks * sizeof(double));
-    double *tick_narrow = malloc((size_t)ticks * sizeof(double)), *tick_update = malloc((size_t)ticks * sizeof(double));
-    double *tick_motion = malloc((size_t)ticks * sizeof(double)), *tick_wall = malloc((size_t)ticks * sizeof(double));
-    if (!tick_total || !tick_broad || !tick_narrow || !tick_update ||
-        !tick_motion || !tick_wall) {
-        fprintf(stderr, "bench_hgcd: out of memory for n = %llu\n", (unsigned long long)n);
+/* What the caller of an engine mode keeps of its bodies: the scene's arrays
+ * (n entries each), the body ids, and each body's rotation per tick. */
+typedef struct caller_state {
+    double *centers, *scales, *orientations, *velocities, *turns;
+    hgcd_body *bodies;
+} caller_state;
+
+static void caller_free(caller_state *c) {
+    free(c->centers);
+    free(c->scales);
+    free(c->orientations);
+    free(c->velocities);
+    free(c->turns);
+    free(c->bodies);
+}
+
+/* The rotation per tick of each body: the quaternion (h u, 1) normalised, u
+ * the unit initial velocity (the z axis for a body at rest), h = turn / 2. */
+static void make_turns(uint64_t n, double turn, const double *velocities, double *turns) {
+    const double h = 0.5 * turn;
+    for (uint64_t i = 0; i < n; ++i) {
+        const double *v = velocities + 3 * i;
+        const double speed = square_root((v[0] * v[0] + v[1] * v[1]) + v[2] * v[2]);
+        double axis[3] = {0, 0, 1};
+        if (speed > 0)
+            for (int k = 0; k < 3; ++k) axis[k] = v[k] / speed;
+        const double norm = square_root(1 + h * h);
+        for (int k = 0; k < 3; ++k) turns[4 * i + k] = h * axis[k] / norm;
+        turns[4 * i + 3] = 1 / norm;
+    }
+}
+
+/* q = q * r for each body, then normalised: |q|^2 is 1 within a few ulps, so
+ * one Newton step of 1/sqrt from 1, (3 - |q|^2) / 2, is exact to ~1e-32. */
+static void turn_bodies(uint64_t n, double *orientations, const double *turns) {
+    for (uint64_t i = 0; i < n; ++i) {
+        double *q = orientations + 4 * i;
+        const double *r = turns + 4 * i;
+        const double x = q[3] * r[0] + q[0] * r[3] + q[1] * r[2] - q[2] * r[1];
+        const double y = q[3] * r[1] - q[0] * r[2] + q[1] * r[3] + q[2] * r[0];
+        const double z = q[3] * r[2] + q[0] * r[1] - q[1] * r[0] + q[2] * r[3];
+        const double w = q[3] * r[3] - q[0] * r[0] - q[1] * r[1] - q[2] * r[2];
+        const double scale = 0.5 * (3 - (((x * x + y * y) + z * z) + w * w));
+        q[0] = x * scale;
+        q[1] = y * scale;
+        q[2] = z * scale;
+        q[3] = w * scale;
+    }
+}
+
+/* Draws the scene into the caller's arrays (ids and turns allocated, filled
+ * later). 1 on failure (printed). */
+static int caller_init(const options *o, const hgcd_scene_tetra_desc *sd, caller_state *c) {
+    const size_t n = (size_t)o->n;
+    c->centers = malloc(n * 3 * sizeof(double));
+    c->scales = malloc(n * sizeof(double));
+    c->orientations = malloc(n * 4 * sizeof(double));
+    c->velocities = malloc(n * 3 * sizeof(double));
+    c->turns = malloc(n * 4 * sizeof(double));
+    c->bodies = malloc(n * sizeof(hgcd_body));
+    if (!c->centers || !c->scales || !c->orientations || !c->velocities || !c->turns || !c->bodies) {
+        fprintf(stderr, "bench_hgcd: out of memory for n = %llu\n", (unsigned long long)o->n);
         return 1;
     }
-    const double rss_before = peak_rss_bytes();
+    if (failed(hgcd_scene_tetra_generate(sd, c->centers, NULL, c->scales, c->orientations, c->velocities), NULL,
+               "scene_tetra_generate"))
+        return 1;
+    make_turns(o->n, o->turn, c->velocities, c->turns);
+    return 0;
+}
+
+/* Creates body i (for each i in order, so it gets index i) as
+ * hgcd_scene_tetra_populate does, on the shared mesh or on its own copy of
+ * the unit tetrahedron. */
+static int create_bodies(hgcd_world *w, const options *o, const caller_state *c) {
+    double vertices[12];
+    uint32_t triangles[12];
+    hgcd_scene_tetra_unit_mesh(vertices, triangles);
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = vertices;
+    md.triangles = triangles;
+    md.vertex_count = 4;
+    md.triangle_count = 4;
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    for (uint64_t i = 0; i < o->n; ++i) {
+        if ((i == 0 || o->mesh_per_body) && failed(hgcd_mesh_create(w, &md, &bd.mesh), w, "mesh_create")) return 1;
+        memcpy(bd.position, c->centers + 3 * i, sizeof bd.position);
+        memcpy(bd.orientation, c->orientations + 4 * i, sizeof bd.orientation);
+        memcpy(bd.velocity, c->velocities + 3 * i, sizeof bd.velocity);
+        bd.scale = c->scales[i];
+        bd.user_data = i;
+        if (failed(hgcd_body_create(w, &bd, &c->bodies[i]), w, "body_create")) return 1;
+    }
+    return 0;
+}
+
+/* Per-tick samples in ms, each an array of `ticks` entries. */
+enum sample {
+    S_TOTAL, S_BROAD, S_NARROW, S_UPDATE, S_MOTION, S_WALL, S_SET_POSES, S_DETECT, S_CALLER, S_COUNT
+};
+
+/* FNV-1a over the pairs of the last step/detect (indices, in order): two
+ * builds that report the same pairs print the same value. */
+static int pairs_hash(const hgcd_world *w, uint64_t *out) {
+    uint64_t hash = 14695981039346656037ull;
+    const hgcd_pair *pairs = NULL;
+    size_t count = 0;
+    if (failed(hgcd_world_pairs(w, &pairs, &count), w, "world_pairs")) return 1;
+    for (size_t k = 0; k < count; ++k) {
+        const uint32_t ab[2] = {pairs[k].a.index, pairs[k].b.index};
+        const unsigned char *byte = (const unsigned char *)ab;
+        for (size_t i = 0; i < sizeof ab; ++i) hash = (hash ^ byte[i]) * 1099511628211ull;
+    }
+    *out = hash;
+    return 0;
+}
+
+/* One tick of an engine: the caller's motion and turning, the poses handed
+ * over, the detect; times into s[*][k]. */
+static int engine_tick(hgcd_world *w, const options *o, caller_state *c, double *s[S_COUNT], int k) {
+    const double side = o->side > 0 ? o->side : hgcd_scene_tetra_desc_default().side;
     double t0 = now_seconds();
-    hgcd_world_desc wd = hgcd_world_desc_default();
-    wd.thread_count = threads;
-    wd.reflect_at_bounds = 1;
-    wd.min_cell_size = min_cell;
-    for (int k = 0; k < 3; ++k) {
-        wd.bounds_min[k] = 0.0;
-        wd.bounds_max[k] = sd.side;
+    hgcd_scene_tetra_move(o->n, side, c->centers, c->velocities);
+    if (o->turn > 0) turn_bodies(o->n, c->orientations, c->turns);
+    const double t1 = now_seconds();
+    if (o->mode == MODE_ENGINE_BATCH) {
+        if (failed(hgcd_world_set_poses(w, NULL, (size_t)o->n, c->centers, 0, c->orientations, 0), w,
+                   "world_set_poses"))
+            return 1;
+    } else {
+        for (uint64_t i = 0; i < o->n; ++i)
+            if (failed(hgcd_body_set_pose(w, c->bodies[i], c->centers + 3 * i, c->orientations + 4 * i), w,
+                       "body_set_pose"))
+                return 1;
     }
-    hgcd_world *w = NULL;
-    if (failed(hgcd_world_create(&wd, &w), NULL, "world_create")) return 1;
-
-    if (failed(hgcd_scene_tetra_populate(w, &sd, NULL), w, "scene_tetra_populate")) return 1;
-    const double setup_ms = 1e3 * (now_seconds() - t0);
-
-    hgcd_stats st;
-    memset(&st, 0, sizeof st);
-    st.struct_size = sizeof st;
-    t0 = now_seconds();
+    const double t2 = now_seconds();
     if (failed(hgcd_world_detect(w), w, "world_detect")) return 1;
-    const double initial_ms = 1e3 * (now_seconds() - t0);
-    if (failed(hgcd_world_stats(w, &st), w, "world_stats")) return 1;
-    const uint64_t initial_pairs = st.colliding_pairs, initial_containment = st.containment_pairs;
+    const double t3 = now_seconds();
+    s[S_CALLER][k] = 1e3 * (t1 - t0);
+    s[S_SET_POSES][k] = 1e3 * (t2 - t1);
+    s[S_DETECT][k] = 1e3 * (t3 - t2);
+    s[S_WALL][k] = 1e3 * (t3 - t1);
+    return 0;
+}
 
-    const char *reference_ok = "null";
+/* The T ticks; the last tick's statistics stay in *st. */
+static int run_ticks(hgcd_world *w, const options *o, caller_state *c, double *s[S_COUNT], hgcd_stats *st) {
+    for (int k = 0; k < o->ticks; ++k) {
+        if (o->mode == MODE_STEP) {
+            const double t0 = now_seconds();
+            if (failed(hgcd_world_step(w), w, "world_step")) return 1;
+            s[S_WALL][k] = 1e3 * (now_seconds() - t0);
+        } else if (engine_tick(w, o, c, s, k)) {
+            return 1;
+        }
+        memset(st, 0, sizeof *st);
+        st->struct_size = sizeof *st;
+        if (failed(hgcd_world_stats(w, st), w, "world_stats")) return 1;
+        s[S_TOTAL][k] = 1e3 * st->total_seconds;
+        s[S_BROAD][k] = 1e3 * st->broad_seconds;
+        s[S_NARROW][k] = 1e3 * st->narrow_seconds;
+        s[S_UPDATE][k] = 1e3 * st->update_seconds;
+        s[S_MOTION][k] = 1e3 * st->motion_seconds;
+        if (o->per_tick) {
+            uint64_t hash = 0;
+            if (pairs_hash(w, &hash)) return 1;
+            fprintf(stderr, "tick %d: %.1f ms (motion %.1f, update %.1f, broad %.1f, narrow %.1f)", k + 1,
+                    s[S_TOTAL][k], s[S_MOTION][k], s[S_UPDATE][k], s[S_BROAD][k], s[S_NARROW][k]);
+            if (o->mode != MODE_STEP)
+                fprintf(stderr, " caller %.1f, set_poses %.1f, detect %.1f", s[S_CALLER][k], s[S_SET_POSES][k],
+                        s[S_DETECT][k]);
+            fprintf(stderr, ", %llu pairs, pairs_fnv %016llx\n", (unsigned long long)st->colliding_pairs,
+                    (unsigned long long)hash);
+        }
+    }
+    return 0;
+}
+
+/* With --check: compares the initial detect with docs/scenes.md. Returns
+ * "true", "false" or "null"; *reference_pairs is 0 when there is no row. */
+static const char *check_reference(const options *o, const hgcd_stats *initial, uint64_t *reference_pairs) {
+    *reference_pairs = 0;
+    if (!o->check) return "null";
+    for (size_t k = 0; k < sizeof reference / sizeof reference[0]; ++k) {
+        if (o->seed != 1 || o->side != 0 || o->n != reference[k].n) continue;
+        *reference_pairs = reference[k].pairs;
+        const int ok =
+            initial->colliding_pairs == reference[k].pairs && initial->containment_pairs == reference[k].containment;
+        if (!ok)
+            fprintf(stderr,
+                    "bench_hgcd: n = %llu: initial detect gave %llu pairs (%llu by containment), "
+                    "docs/scenes.md says %llu (%llu)\n",
+                    (unsigned long long)o->n, (unsigned long long)initial->colliding_pairs,
+                    (unsigned long long)initial->containment_pairs, (unsigned long long)reference[k].pairs,
+                    (unsigned long long)reference[k].containment);
+        return ok ? "true" : "false";
+    }
+    return "null";
+}
+
+/* What main measured, for the JSON line. */
+typedef struct results {
+    hgcd_stats last, initial;
+    double initial_ms, setup_ms, rss_before, rss_after;
+    uint64_t pairs_fnv;
+} results;
+
+static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
+    const hgcd_stats *st = &r->last;
+    const int ticks = o->ticks;
     uint64_t reference_pairs = 0;
-    int has_reference = 0;
-    if (check) {
-        for (size_t k = 0; k < sizeof reference / sizeof reference[0]; ++k) {
-            if (seed == 1 && side == 0 && n == reference[k].n) {
-                has_reference = 1;
-                reference_pairs = reference[k].pairs;
-                const int ok = initial_pairs == reference[k].pairs && initial_containment == reference[k].containment;
-                reference_ok = ok ? "true" : "false";
-                if (!ok)
-                    fprintf(stderr,
-                            "bench_hgcd: n = %llu: initial detect gave %llu pairs (%llu by containment), "
-                            "docs/scenes.md says %llu (%llu)\n",
-                            (unsigned long long)n, (unsigned long long)initial_pairs,
-                            (unsigned long long)initial_containment, (unsigned long long)reference[k].pairs,
-                            (unsigned long long)reference[k].containment);
-            }
-        }
-    }
-
-    for (int k = 0; k < ticks; ++k) {
-        t0 = now_seconds();
-        if (failed(hgcd_world_step(w), w, "world_step")) return 1;
-        tick_wall[k] = 1e3 * (now_seconds() - t0);
-        memset(&st, 0, sizeof st);
-        st.struct_size = sizeof st;
-        if (failed(hgcd_world_stats(w, &st), w, "world_stats")) return 1;
-        tick_total[k] = 1e3 * st.total_seconds;
-        tick_broad[k] = 1e3 * st.broad_seconds;
-        tick_narrow[k] = 1e3 * st.narrow_seconds;
-        tick_update[k] = 1e3 * st.update_seconds;
-        tick_motion[k] = 1e3 * st.motion_seconds;
-        if (per_tick)
-            fprintf(stderr, "tick %d: %.1f ms (motion %.1f, update %.1f, broad %.1f, narrow %.1f)\n", k + 1,
-                    tick_total[k], tick_motion[k], tick_update[k], tick_broad[k], tick_narrow[k]);
-    }
-    const double rss_after = peak_rss_bytes();
-    /* FNV-1a over the last tick's pairs (indices, in order): two builds that
-     * report the same pairs print the same value (scripts/check-ieee.sh). */
-    uint64_t pairs_fnv = 14695981039346656037ull;
-    {
-        const hgcd_pair *pairs = NULL;
-        size_t count = 0;
-        if (failed(hgcd_world_pairs(w, &pairs, &count), w, "world_pairs")) return 1;
-        for (size_t k = 0; k < count; ++k) {
-            const uint32_t ab[2] = {pairs[k].a.index, pairs[k].b.index};
-            const unsigned char *byte = (const unsigned char *)ab;
-            for (size_t i = 0; i < sizeof ab; ++i) pairs_fnv = (pairs_fnv ^ byte[i]) * 1099511628211ull;
-        }
-    }
-
+    const char *reference_ok = check_reference(o, &r->initial, &reference_pairs);
+    /* The means first: median() sorts its array. */
+    const double tick_mean = mean(s[S_TOTAL], ticks), tick_max = maximum(s[S_TOTAL], ticks);
+    const double update_mean = mean(s[S_UPDATE], ticks), broad_mean = mean(s[S_BROAD], ticks);
+    const double narrow_mean = mean(s[S_NARROW], ticks);
     printf("{\"lib\":\"%s\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
-           "\"commit\":\"%s\",\"version\":\"%s\",\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
+           "\"commit\":\"%s\",\"version\":\"%s\",\"mode\":\"%s\",\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
            "\"containment_pairs\":%llu,\"triangle_tests\":%llu,\"moved_bodies\":%llu,\"pairs_fnv\":\"%016llx\","
@@ -246,27 +442,88 @@ int main(int argc, char **argv) {
            "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,"
            "\"tick_mean_ms\":%.3f,\"tick_max_ms\":%.3f,\"update_mean_ms\":%.3f,\"broad_mean_ms\":%.3f,"
            "\"narrow_mean_ms\":%.3f,",
-           lib, (unsigned long long)n, (unsigned long long)seed, st.thread_count, ticks, commit, hgcd_version_string(),
-           min_cell, median(tick_broad, ticks), median(tick_narrow, ticks), median(tick_update, ticks),
-           median(tick_motion, ticks), median(tick_total, ticks), median(tick_wall, ticks),
-           (unsigned long long)st.candidate_pairs, (unsigned long long)st.narrow_tests,
-           (unsigned long long)st.colliding_pairs, (unsigned long long)st.containment_pairs,
-           (unsigned long long)st.triangle_tests, (unsigned long long)st.moved_bodies, (unsigned long long)pairs_fnv, (unsigned long long)initial_pairs,
-           (unsigned long long)initial_containment, initial_ms, setup_ms,
-           st.level_count, st.oversize_count, rss_after / (1024.0 * 1024.0),
-           (rss_after - rss_before) / (double)n, mean(tick_total, ticks), maximum(tick_total, ticks),
-           mean(tick_update, ticks), mean(tick_broad, ticks), mean(tick_narrow, ticks));
-    if (has_reference)
-        printf("\"reference_pairs\":%llu,", (unsigned long long)reference_pairs);
+           o->lib, (unsigned long long)o->n, (unsigned long long)o->seed, st->thread_count, ticks, o->commit,
+           hgcd_version_string(), mode_names[o->mode], o->min_cell, median(s[S_BROAD], ticks),
+           median(s[S_NARROW], ticks), median(s[S_UPDATE], ticks), median(s[S_MOTION], ticks),
+           median(s[S_TOTAL], ticks), median(s[S_WALL], ticks), (unsigned long long)st->candidate_pairs,
+           (unsigned long long)st->narrow_tests, (unsigned long long)st->colliding_pairs,
+           (unsigned long long)st->containment_pairs, (unsigned long long)st->triangle_tests,
+           (unsigned long long)st->moved_bodies, (unsigned long long)r->pairs_fnv,
+           (unsigned long long)r->initial.colliding_pairs, (unsigned long long)r->initial.containment_pairs,
+           r->initial_ms, r->setup_ms, st->level_count, st->oversize_count, r->rss_after / (1024.0 * 1024.0),
+           (r->rss_after - r->rss_before) / (double)o->n, tick_mean, tick_max, update_mean, broad_mean,
+           narrow_mean);
+    if (o->mode != MODE_STEP || o->mesh_per_body)
+        printf("\"mesh_per_body\":%s,", o->mesh_per_body ? "true" : "false");
+    if (o->mode != MODE_STEP)
+        printf("\"turn\":%g,\"set_poses_ms\":%.3f,\"detect_ms\":%.3f,\"caller_ms\":%.3f,", o->turn,
+               median(s[S_SET_POSES], ticks), median(s[S_DETECT], ticks), median(s[S_CALLER], ticks));
+    if (reference_pairs) printf("\"reference_pairs\":%llu,", (unsigned long long)reference_pairs);
     printf("\"reference_ok\":%s}\n", reference_ok);
     fflush(stdout);
+}
+
+/* The world reflecting at the scene's cube, with the scene's bodies. */
+static int make_world(const options *o, const hgcd_scene_tetra_desc *sd, const caller_state *c,
+                      hgcd_world **out) {
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.thread_count = o->threads;
+    wd.reflect_at_bounds = 1;
+    wd.min_cell_size = o->min_cell;
+    for (int k = 0; k < 3; ++k) {
+        wd.bounds_min[k] = 0.0;
+        wd.bounds_max[k] = sd->side;
+    }
+    if (failed(hgcd_world_create(&wd, out), NULL, "world_create")) return 1;
+    if (c->centers) return create_bodies(*out, o, c);
+    return failed(hgcd_scene_tetra_populate(*out, sd, NULL), *out, "scene_tetra_populate");
+}
+
+int main(int argc, char **argv) {
+    options o;
+    const int usage_status = parse_options(argc, argv, &o);
+    if (usage_status) return usage_status;
+
+    /* The scene, bit for bit as docs/scenes.md defines it. */
+    hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
+    sd.n = o.n;
+    sd.seed = o.seed;
+    if (o.side > 0) sd.side = o.side;
+    double *samples = malloc((size_t)S_COUNT * (size_t)o.ticks * sizeof(double)), *s[S_COUNT];
+    if (!samples) {
+        fprintf(stderr, "bench_hgcd: out of memory for %d ticks\n", o.ticks);
+        return 1;
+    }
+    memset(samples, 0, (size_t)S_COUNT * (size_t)o.ticks * sizeof(double));
+    for (int k = 0; k < S_COUNT; ++k) s[k] = samples + (size_t)k * (size_t)o.ticks;
+    /* An engine keeps the scene in its own arrays (drawn before the RSS
+     * baseline: they are the caller's memory, not hgcd's); step mode with the
+     * shared mesh lets hgcd_scene_tetra_populate make the bodies. */
+    caller_state c;
+    memset(&c, 0, sizeof c);
+    if ((o.mode != MODE_STEP || o.mesh_per_body) && caller_init(&o, &sd, &c)) return 1;
+
+    results r;
+    memset(&r, 0, sizeof r);
+    r.rss_before = peak_rss_bytes();
+    double t0 = now_seconds();
+    hgcd_world *w = NULL;
+    if (make_world(&o, &sd, &c, &w)) return 1;
+    r.setup_ms = 1e3 * (now_seconds() - t0);
+
+    r.initial.struct_size = sizeof r.initial;
+    t0 = now_seconds();
+    if (failed(hgcd_world_detect(w), w, "world_detect")) return 1;
+    r.initial_ms = 1e3 * (now_seconds() - t0);
+    if (failed(hgcd_world_stats(w, &r.initial), w, "world_stats")) return 1;
+
+    if (run_ticks(w, &o, &c, s, &r.last)) return 1;
+    r.rss_after = peak_rss_bytes();
+    if (pairs_hash(w, &r.pairs_fnv)) return 1;
+    print_json(&o, &r, s);
 
     hgcd_world_destroy(w);
-    free(tick_total);
-    free(tick_broad);
-    free(tick_narrow);
-    free(tick_update);
-    free(tick_motion);
-    free(tick_wall);
+    caller_free(&c);
+    free(samples);
     return 0;
 }

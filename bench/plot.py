@@ -9,8 +9,12 @@ its broad phase (broad_ms) at each thread count measured, and each peer's
 broad phase (broad_ms). The SVG is written by hand, so nothing beyond python3
 is needed. Then prints a Markdown table, also saved as <scene>.md.
 
-When a file holds several runs of the same (lib, threads, n), the last line
-wins. Lines with "skipped" or "error" are listed in the table, not plotted.
+When a file holds several runs of the same (lib, threads, n, mode, mesh per
+body), the last line wins. Lines with "skipped" or "error" are listed in the
+table, not plotted. bench_hgcd's engine modes ("mode" other than "step": the
+caller moves the bodies and hands the poses over, then detects) get a table of
+their own, beside step mode's tick at the same n and thread count; they are
+not plotted.
 """
 import argparse
 import json
@@ -22,6 +26,7 @@ from xml.sax.saxutils import escape
 
 LIB_ORDER = {"hgcd": 0, "fcl": 1, "bullet": 2, "ode": 3}
 PEER_NAMES = {"fcl": "FCL DynamicAABBTree", "bullet": "Bullet btDbvtBroadphase", "ode": "ODE hash space"}
+MODE_ORDER = {"step": 0, "engine-batch": 1, "engine-single": 2}
 PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
 
 
@@ -39,9 +44,19 @@ def load(path):
                 continue
             if "lib" not in r or "n" not in r:
                 continue
-            rows[(r["lib"], int(r.get("threads", 1) or 1), int(r["n"]))] = r
+            rows[(r["lib"], int(r.get("threads", 1) or 1), int(r["n"]), mode_of(r), bool(r.get("mesh_per_body")))] = r
     return sorted(rows.values(), key=lambda r: (int(r["n"]), LIB_ORDER.get(r["lib"], 9), r["lib"],
-                                                 int(r.get("threads", 1) or 1)))
+                                                 int(r.get("threads", 1) or 1), MODE_ORDER.get(mode_of(r), 9),
+                                                 bool(r.get("mesh_per_body"))))
+
+
+def mode_of(r):
+    """bench_hgcd's mode; lines without one (peers, earlier runs) are step mode's."""
+    return r.get("mode", "step")
+
+
+def is_engine(r):
+    return mode_of(r) != "step"
 
 
 def usable(r, key):
@@ -195,7 +210,40 @@ def cell(v, digits=1):
     return f"{v:.{digits}f}" if isinstance(v, (int, float)) else "–"
 
 
+def engine_markdown(rows):
+    """The engine modes' table: hgcd's part of a tick (poses handed over + detect) beside step mode's tick."""
+    engine = [r for r in rows if is_engine(r)]
+    if not engine:
+        return []
+    step = {(r["lib"], int(r["n"]), int(r.get("threads", 1))): r for r in rows
+            if not is_engine(r) and "error" not in r and "skipped" not in r and not r.get("mesh_per_body")}
+    out = ["", "Engine modes: the caller moves and turns the bodies (caller ms, not hgcd's), hands the poses over "
+           "(set poses ms: one `hgcd_world_set_poses`, or one `hgcd_body_set_pose` per body) and calls "
+           "`hgcd_world_detect` (detect ms); tick = set poses + detect. Step tick: `hgcd_world_step`'s wall-clock "
+           "time in the step-mode line of the same n and threads (whose bodies do not turn).",
+           "",
+           "| n | threads | mode | meshes | set poses ms | detect ms | tick ms | step tick ms | caller ms | pairs | ticks |",
+           "|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in engine:
+        n, t = int(r["n"]), int(r.get("threads", 1))
+        meshes = "one per body" if r.get("mesh_per_body") else "shared"
+        if "error" in r or "skipped" in r:
+            out.append(f"| {n} | {t} | {mode_of(r)} | {meshes} | – | – | – | – | – | failed: "
+                       f"{r.get('error') or r.get('skipped')} | 0 |")
+            continue
+        sp, det = r.get("set_poses_ms"), r.get("detect_ms")
+        tick = sp + det if isinstance(sp, (int, float)) and isinstance(det, (int, float)) else None
+        s = step.get((r["lib"], n, t), {})
+        turn = r.get("turn")
+        pairs = f"{r.get('colliding_pairs', '?')}" + (" (no turning)" if turn == 0 else "")
+        out.append(f"| {n} | {t} | {mode_of(r)} | {meshes} | {cell(sp)} | {cell(det)} | {cell(tick)} | "
+                   f"{cell(s.get('wall_ms'))} | {cell(r.get('caller_ms'))} | {pairs} | {r.get('ticks', '?')} |")
+    return out
+
+
 def markdown(rows):
+    engine_lines = engine_markdown(rows)
+    rows = [r for r in rows if not is_engine(r)]
     out = ["| n | lib | threads | broad ms | narrow ms | tick ms | mean tick ms | pairs | ticks |",
            "|---:|---|---:|---:|---:|---:|---:|---|---:|"]
     for r in rows:
@@ -226,6 +274,7 @@ def markdown(rows):
                "hgcd: broad phase on each body's axis-aligned box of its world vertices, exact narrow phase, tick = motion + grid update + broad + "
                "narrow (the motion runs inside the grid update's pass over the bodies). Peers: broad phase only (update + pair search) on each body's axis-aligned box; their pair "
                "counts are checked against a sort-and-sweep of the same boxes.")
+    out.extend(engine_lines)
     return "\n".join(out)
 
 
@@ -239,7 +288,8 @@ def main():
         print(f"plot.py: no measurements in {a.jsonl}", file=sys.stderr)
         return 1
     out = a.out or os.path.splitext(a.jsonl)[0] + ".svg"
-    write_svg(rows, series_of(rows), out)
+    step_rows = [r for r in rows if not is_engine(r)]
+    write_svg(step_rows, series_of(step_rows), out)
     table = markdown(rows)
     md = os.path.splitext(a.jsonl)[0] + ".md"
     with open(md, "w") as f:

@@ -16,6 +16,12 @@
 #                  renumberings of storage (every ~40 ticks at n = 750000)
 #                  at their real rate, which 9 ticks do not  [the largest of
 #                  BENCH_N, 100; 0 ticks: none]
+#   BENCH_ENGINE   1: also the engine modes of bench_hgcd at the largest of
+#                  BENCH_N, each thread count, BENCH_TICKS ticks: the caller
+#                  moves and turns the bodies and hands the poses over
+#                  (engine-batch: hgcd_world_set_poses, with the shared mesh
+#                  and with --mesh-per-body; engine-single: hgcd_body_set_pose
+#                  per body), then hgcd_world_detect; 0: none  [1]
 #   BENCH_MACHINE  the machine's name in the results' path [a slug of the CPU
 #                  model and the core count, e.g. xeon-2c, from /proc/cpuinfo]
 #   BENCH_RESULTS  output directory               [bench/results]
@@ -87,7 +93,14 @@ run() {
     line=$("$@" | tail -n 1) || status=$?
     if [ $status -ne 0 ] || [[ $line != \{*\} ]]; then
         echo "bench: $lib n=$n threads=$t failed (exit status $status)" >&2
-        line="{\"lib\":\"$lib\",\"scene\":\"tetra\",\"n\":$n,\"seed\":$seed,\"threads\":$t,\"ticks\":0,\"commit\":\"$commit\",\"error\":\"exit status $status\"}"
+        # (an engine mode's failure keeps its mode, so as not to stand for step mode's line)
+        local mode="" arg prev=""
+        for arg in "$@"; do
+            [ "$prev" = --mode ] && mode=",\"mode\":\"$arg\""
+            [ "$arg" = --mesh-per-body ] && mode="$mode,\"mesh_per_body\":true"
+            prev=$arg
+        done
+        line="{\"lib\":\"$lib\",\"scene\":\"tetra\",\"n\":$n,\"seed\":$seed,\"threads\":$t,\"ticks\":0,\"commit\":\"$commit\"$mode,\"error\":\"exit status $status\"}"
     fi
     line="${line%\}},\"machine\":\"$machine\",\"nproc\":$nproc,\"cpu\":\"$cpu\",\"date\":\"$(date -u +%Y-%m-%dT%H:%M:%SZ)\"}"
     echo "$line" >> "$out"
@@ -114,6 +127,17 @@ if [ "$long_ticks" -gt 0 ]; then
         echo "-- hgcd-long n=$long_n threads=$t ticks=$long_ticks" >&2
         run hgcd-long "$long_n" "$t" "$bench_hgcd" --n "$long_n" --seed "$seed" --threads "$t" \
             --ticks "$long_ticks" --commit "$commit" --lib hgcd-long
+    done
+fi
+engine_n=$(printf '%s\n' $ns | sort -n | tail -n 1)
+if [ "${BENCH_ENGINE:-1}" != 0 ]; then
+    for t in $threads; do
+        for variant in "engine-batch" "engine-batch --mesh-per-body" "engine-single"; do
+            echo "-- hgcd n=$engine_n threads=$t --mode $variant" >&2
+            # shellcheck disable=SC2086  # $variant is the mode and its flag
+            run hgcd "$engine_n" "$t" "$bench_hgcd" --n "$engine_n" --seed "$seed" --threads "$t" \
+                --ticks "$ticks" --commit "$commit" --mode $variant
+        done
     done
 fi
 echo "== measurements took $(( $(date +%s) - start )) s" >&2

@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Does hgcd degrade gracefully when the cores are not all its own? Times a
+# detect on scene `tetra` (docs/scenes.md) in bench_hgcd's engine-batch mode
+# (the caller moves and turns the bodies, one hgcd_world_set_poses, one
+# hgcd_world_detect per tick) with 0 and with HOGS competing CPU-bound
+# processes (busy loops in sh, same priority), on 1 thread and on 2 threads
+# with the OpenMP runtime's default waiting and with OMP_WAIT_POLICY=passive
+# (idle threads sleep instead of spinning), and prints a table of medians.
+#
+#   bash bench/oversubscribe.sh
+#
+# Environment (defaults in brackets):
+#   BENCH_HGCD  the bench_hgcd binary [build-rel/bench/bench_hgcd, else
+#               build-bench/bench/bench_hgcd: a release build]
+#   N           bodies [200000]     TICKS   ticks per run [21]
+#   HOGS        competing processes in the loaded rows [2]
+#   REPEAT      runs of each configuration, interleaved; the table gives the
+#               median of their medians [3]
+#   HOG_SECONDS the hogs' time limit, should the script be killed [600]
+# The hogs are started per loaded run and killed after it (and on exit).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bench=${BENCH_HGCD:-}
+if [ -z "$bench" ]; then
+    for b in build-rel/bench/bench_hgcd build-bench/bench/bench_hgcd; do
+        if [ -x "$b" ]; then bench=$b; break; fi
+    done
+fi
+if [ -z "$bench" ] || [ ! -x "$bench" ]; then
+    echo "oversubscribe.sh: no bench_hgcd; build one: meson setup build-rel --buildtype=release -Dtests=false && meson compile -C build-rel bench/bench_hgcd" >&2
+    exit 2
+fi
+n=${N:-200000}
+ticks=${TICKS:-21}
+hogs=${HOGS:-2}
+repeat=${REPEAT:-3}
+hog_seconds=${HOG_SECONDS:-600}
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+
+hog_pids=()
+stop_hogs() {
+    local pid
+    for pid in "${hog_pids[@]}"; do kill "$pid" 2>/dev/null || true; done
+    for pid in "${hog_pids[@]}"; do wait "$pid" 2>/dev/null || true; done
+    hog_pids=()
+}
+start_hogs() {
+    local k
+    for ((k = 0; k < $1; ++k)); do
+        timeout "$hog_seconds" sh -c 'while :; do :; done' &
+        hog_pids+=($!)
+    done
+    sleep 0.2  # let them reach the run queue
+}
+
+out=$(mktemp)
+trap 'stop_hogs; rm -f "$out"' EXIT
+# Configurations: "hogs threads policy"; policy "-" leaves the environment as it is.
+configs=("0 1 -" "0 2 -" "0 2 passive" "$hogs 1 -" "$hogs 2 -" "$hogs 2 passive")
+echo "== $bench, n = $n, $ticks ticks, $repeat runs each; load before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+for ((r = 1; r <= repeat; ++r)); do
+    for c in "${configs[@]}"; do
+        read -r h t policy <<<"$c"
+        start_hogs "$h"
+        env_args=()
+        [ "$policy" != - ] && env_args=(OMP_WAIT_POLICY="$policy")
+        line=$(env "${env_args[@]}" "$bench" --n "$n" --threads "$t" --ticks "$ticks" --mode engine-batch --commit "$commit" | tail -n 1)
+        stop_hogs
+        echo "{\"hogs\":$h,\"policy\":\"$policy\",\"run\":$r,\"bench\":$line}" >> "$out"
+        echo "-- run $r: hogs $h, threads $t, policy $policy" >&2
+    done
+done
+
+python3 - "$out" "$hogs" <<'PY'
+import json, statistics, sys
+rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+groups = {}
+for r in rows:
+    b = r["bench"]
+    groups.setdefault((r["hogs"], b["threads"], r["policy"]), []).append(b)
+med = lambda bs, k: statistics.median(b[k] for b in bs)
+print("| competing processes | threads | OMP_WAIT_POLICY | detect ms | set poses ms | worst detect ms | speed-up of detect over 1 thread |")
+print("|---:|---:|---|---:|---:|---:|---:|")
+for (h, t, p), bs in groups.items():
+    one = groups.get((h, 1, "-"))
+    ratio = f"{med(one, 'detect_ms') / med(bs, 'detect_ms'):.2f}" if one and t != 1 else "–"
+    print(f"| {h} | {t} | {'default' if p == '-' else p} | {med(bs, 'detect_ms'):.1f} | {med(bs, 'set_poses_ms'):.1f} | "
+          f"{med(bs, 'tick_max_ms'):.1f} | {ratio} |")
+b = rows[0]["bench"]
+print(f"\nScene tetra, n = {b['n']}, engine-batch mode, {b['ticks']} ticks, commit {b['commit']}; medians over "
+      f"{len(rows) // len(groups)} runs of each run's median (worst detect: the largest tick of the library's own timer, "
+      f"median over the runs); speed-up: the 1-thread detect with as many competing processes over this one.")
+PY

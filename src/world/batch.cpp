@@ -102,6 +102,22 @@ hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, si
     return HGCD_OK;
 }
 
+// The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
+// keep it; the body counts as moved when a bit changes.
+void World::apply_pose(size_t i, const double *p, const double *q) {
+    bool moved = false;
+    if (p) {
+        moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
+        for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
+    }
+    if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
+        std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
+        set_box_offsets(i);
+        moved = true;
+    }
+    if (moved) moved_[slot_of_[i]] = 1;
+}
+
 hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
                              const double *orientations, size_t orientation_stride) {
     const char *what = "world_set_poses";
@@ -119,40 +135,48 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         return check_pose(at.c_str(), positions ? entry(positions, ps, size_t(bad)) : nullptr,
                           orientations ? entry(orientations, os, size_t(bad)) : nullptr);
     }
-    const auto apply = [&](size_t k, size_t i) {
-        bool moved = false;
-        if (positions) {
-            const double *p = entry(positions, ps, k);
-            moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
-            for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
-        }
-        if (orientations) {
-            const double *q = entry(orientations, os, k);
-            if (std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
-                std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
-                set_box_offsets(i);
-                moved = true;
-            }
-        }
-        if (moved) moved_[slot_of_[i]] = 1;
-    };
     if (bodies) {
-        for_entries(count, [&](size_t k) { apply(k, batch_at_[k]); });
+        for_entries(count, [&](size_t k) {
+            apply_pose(batch_at_[k], positions ? entry(positions, ps, k) : nullptr,
+                       orientations ? entry(orientations, os, k) : nullptr);
+        });
         return HGCD_OK;
     }
     // All bodies by index: storage runs in the grid's order, not the
     // indices', so the pass follows storage (writing the world's arrays in
-    // sequence) and reads the caller's entries out of order instead, asked
-    // for ahead.
-    const size_t n = slot_of_.size();
-    for_entries(n, [&](size_t i) {
-        if (i + 16 < n && slot_of_[i + 16] < count) {
-            const size_t ahead = slot_of_[i + 16];
-            if (positions) __builtin_prefetch(entry(positions, ps, ahead));
-            if (orientations) __builtin_prefetch(entry(orientations, os, ahead));
-        }
-        const size_t k = slot_of_[i];
-        if (k < count && stored_gen_[i]) apply(k, i);
+    // sequence), a block at a time: first the block's entries are gathered
+    // from the caller's arrays out of order (independent loads, many in
+    // flight), then applied in order (the box of a new orientation is long
+    // work; waiting on a scattered load inside it kept few in flight).
+    constexpr size_t kBlock = 2048;
+    struct Entry {
+        double position[3], orientation[4];
+    };
+    const size_t n = slot_of_.size(), blocks = (n + kBlock - 1) / kBlock;
+    const int T = n >= kParallelEntries ? threads() : 1;
+    std::vector<Entry> staging(size_t(T) * kBlock);
+    parallel_region(T, [&](RegionGuard &guard) {
+        Entry *in = staging.data() + size_t(omp_get_thread_num()) * kBlock;
+#pragma omp for schedule(static)
+        for (int64_t blk = 0; blk < int64_t(blocks); ++blk) guard.run([&] {
+            const size_t begin = size_t(blk) * kBlock, end = std::min(n, begin + kBlock);
+            for (size_t i = begin; i < end; ++i) {
+                const size_t k = slot_of_[i];
+                if (k >= count || !stored_gen_[i]) continue;
+                if (positions) std::memcpy(in[i - begin].position, entry(positions, ps, k), sizeof(Entry::position));
+                if (orientations) {
+                    std::memcpy(in[i - begin].orientation, entry(orientations, os, k), sizeof(Entry::orientation));
+                    __builtin_prefetch(&meshes_[body_mesh_[i]].box_points);  // (scattered where meshes are per body)
+                }
+            }
+            for (size_t i = begin; i < end; ++i) {
+                const size_t k = slot_of_[i];
+                if (k >= count || !stored_gen_[i]) continue;
+                if (orientations && i + 8 < end) __builtin_prefetch(meshes_[body_mesh_[i + 8]].box_points.data());
+                apply_pose(i, positions ? in[i - begin].position : nullptr,
+                           orientations ? in[i - begin].orientation : nullptr);
+            }
+        });
     });
     return HGCD_OK;
 }

@@ -226,9 +226,9 @@ void World::set_box_offsets(size_t s) {
     const double zero[3] = {0, 0, 0};
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     if (m.triangle_count <= Mesh::kExactBoxTriangles) {
-        for (const uint32_t v : m.box_vertices) {
+        for (size_t v = 0; v < m.box_points.size(); v += 3) {
             double d[3];
-            transform_point(r, zero, pl.scale, &m.vertices[3 * size_t(v)], d);
+            transform_point(r, zero, pl.scale, &m.box_points[v], d);
             for (int k = 0; k < 3; ++k) {
                 lo[k] = std::min(lo[k], d[k]);
                 hi[k] = std::max(hi[k], d[k]);

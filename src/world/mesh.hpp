@@ -32,11 +32,12 @@ struct Mesh {
     bool tetra = false;
     double tetra_local[12] = {};  // x0..x3, y0..y3, z0..z3 (mesh frame)
     double tetra_reach = 0;       // max over the 4 vertices of |x| + |y| + |z|
-    // The distinct vertices the triangles use, for meshes of at most
-    // kExactBoxTriangles triangles: a body's box is theirs (each transformed
-    // once per new orientation); larger meshes take their bounding sphere's.
+    // The distinct vertices the triangles use (x y z each), for meshes of at
+    // most kExactBoxTriangles triangles: a body's box is theirs (each
+    // transformed once per new orientation); larger meshes take their
+    // bounding sphere's. A copy, so a pose reads one buffer.
     static constexpr uint32_t kExactBoxTriangles = 128;
-    std::vector<uint32_t> box_vertices;
+    std::vector<double> box_points;
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;

@@ -96,6 +96,7 @@ class World {
     template <class Apply>
     void for_entries(size_t count, Apply &&apply);
     hgcd_status resolve_entries(const char *what, const hgcd_body *bodies, size_t count);
+    void apply_pose(size_t i, const double *position, const double *orientation);
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);

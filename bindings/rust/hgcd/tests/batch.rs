@@ -155,8 +155,10 @@ fn velocities_batch_equals_per_body_calls() {
         .all(|&b| batch.get_velocity(b).unwrap() == [0.0; 3]));
 }
 
-/// The observable state a refusal must leave alone.
-fn snapshot(w: &mut World, bodies: &[BodyId]) -> (Vec<Pose>, Vec<[f64; 3]>, Vec<(u32, u32)>) {
+/// The observable state a refusal must leave alone: poses, velocities, pairs.
+type Snapshot = (Vec<Pose>, Vec<[f64; 3]>, Vec<(u32, u32)>);
+
+fn snapshot(w: &mut World, bodies: &[BodyId]) -> Snapshot {
     let v = bodies.iter().map(|&b| w.get_velocity(b).unwrap()).collect();
     (all_poses(w, bodies), v, detect(w))
 }

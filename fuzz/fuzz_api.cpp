@@ -7,14 +7,19 @@
 // NaN and infinite values; unit, near-unit, non-unit, zero and NaN
 // quaternions), set_pose, set_velocity, step, detect, pairs, copy_pairs,
 // stats, mesh info, the getters and validation, with live, stale, forged
-// and random ids.
+// and random ids; the batch calls (world_set_poses, world_set_velocities,
+// world_get_poses) with listed ids (repeated ones too) or indices, good and
+// bad strides, arrays interleaved as a caller's struct.
 //
-// A shadow model predicts every status (refusals included) and the full
-// observable state; after every call the world must agree with it. After
+// A shadow model predicts every status (refusals included, and for a batch
+// the entry its message names) and the full observable state; after every
+// call the world must agree with it. After
 // every detect and step, the pairs are compared with the GMP brute-force
 // oracle of tests/oracle.c. Any disagreement aborts (a finding).
 //
-// Built by fuzz/build.sh (clang, -fsanitize=fuzzer,address,undefined).
+// Built by fuzz/build.sh (clang, -fsanitize=fuzzer,address,undefined). One
+// file over 600 lines: the calls, the model they update and the value tables
+// they draw from are one program, read from top to bottom.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -23,6 +28,7 @@
 #include <cstring>
 #include <iterator>
 #include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -162,8 +168,9 @@ struct Ctx {
     double anchor = 0, unit = 0.25;
 };
 
-double coord(Input &in, const Ctx &cx) {
-    const uint8_t k = in.u8();
+// clean: only the grid near the anchor (no table values, so no refusals).
+double coord(Input &in, const Ctx &cx, bool clean = false) {
+    const uint8_t k = clean ? in.u8() % 200 : in.u8();
     if (k < 200) {  // near the anchor, on a grid (so contacts are exact and dense)
         const double off = double(int(k % 25) - 12);
         if (cx.unit == 0) return cx.anchor == 0 ? off * 5e-324 : cx.anchor + off * (std::nextafter(std::fabs(cx.anchor), kInf) - std::fabs(cx.anchor));
@@ -172,11 +179,12 @@ double coord(Input &in, const Ctx &cx) {
     return kCoords[k % (sizeof kCoords / sizeof kCoords[0])];
 }
 
-void quaternion(Input &in, double *q) {
+// clean: exact or random rotations only (no odd values).
+void quaternion(Input &in, double *q, bool clean = false) {
     static const double r = 0.70710678118654757;
     static const double exact[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0},
                                       {0.5, 0.5, 0.5, 0.5}, {-0.5, 0.5, -0.5, 0.5}, {0, 0, r, r}, {r, 0, 0, r}};
-    const uint8_t k = in.u8();
+    const uint8_t k = clean ? in.u8() % 200 : in.u8();
     if (k < 100) {
         std::memcpy(q, exact[k % 8], 4 * sizeof(double));
     } else if (k < 200) {  // uniform-ish random rotation
@@ -285,6 +293,9 @@ int live_mesh_of(const Model &m, hgcd_mesh id) {
 // ---------------------------------------------------- checks vs oracle --
 
 long g_detects = 0, g_pairs_checked = 0;
+// Batch calls per call and verdict (the model's: why refused, or applied).
+enum BatchVerdict { kApplied, kNullArray, kBadStride, kCountPastSlots, kStaleEntry, kRepeatedEntry, kBadValue, kVerdicts };
+long g_batch[3][kVerdicts] = {}, g_batch_entries[3] = {};  // (entries: of the applied calls)
 
 oracle_mesh as_oracle(const MMesh &mm) {
     oracle_mesh om;
@@ -382,6 +393,20 @@ void check_state(Model &m) {
         EXPECT(hgcd_body_get_mesh(m.w, b.id, &mid) == HGCD_OK && mid.index == m.meshes[b.mesh].id.index &&
                    mid.generation == m.meshes[b.mesh].id.generation,
                "body mesh");
+    }
+    {  // the same poses in one batch read, listed in reverse order
+        std::vector<hgcd_body> ids;
+        std::vector<const MBody *> of;
+        for (auto b = m.bodies.rbegin(); b != m.bodies.rend(); ++b)
+            if (b->live) {
+                ids.push_back(b->id);
+                of.push_back(&*b);
+            }
+        std::vector<double> p(3 * ids.size() + 3), q(4 * ids.size() + 4);
+        EXPECT(hgcd_world_get_poses(m.w, ids.data(), ids.size(), p.data(), 0, q.data(), 0) == HGCD_OK, "get_poses");
+        for (size_t k = 0; k < ids.size(); ++k)
+            EXPECT(!std::memcmp(&p[3 * k], of[k]->p, sizeof of[k]->p) && !std::memcmp(&q[4 * k], of[k]->q, sizeof of[k]->q),
+                   "get_poses: body %u differs", ids[k].index);
     }
     for (MMesh &mm : m.meshes) {
         hgcd_mesh_info info;
@@ -651,6 +676,266 @@ void op_set_velocity(Input &in, Model &m) {
     if (s == HGCD_OK) std::memcpy(m.bodies[k].v, v, sizeof v);
 }
 
+// ------------------------------------------------------------- batches --
+// hgcd_world_set_poses, hgcd_world_set_velocities, hgcd_world_get_poses: ids
+// listed (live in a shuffled order, with stale, forged, random or repeated
+// ones mixed in) or NULL (indices 0 .. count-1); strides good and bad; arrays
+// of their own or interleaved as a caller's struct would be.
+
+// Mostly good strides (0 = packed, the entry, a struct's size), sometimes bad
+// ones (not a multiple of 8, or short of the entry: 24 is short for a
+// quaternion).
+size_t pick_stride(Input &in) {
+    static const size_t good[] = {0, 0, 0, 0, 0, 24, 32, 56, 64, 96, 40};
+    static const size_t bad[] = {4, 8, 12, 16, 25, 31};
+    const uint8_t k = in.u8();
+    return k < 240 ? good[k % 11] : bad[k % 6];
+}
+
+bool stride_ok(size_t stride, size_t doubles) {
+    return stride == 0 || (stride % sizeof(double) == 0 && stride >= doubles * sizeof(double));
+}
+
+// One array argument: entries of `doubles` doubles at `offset + k * step()`
+// in `bytes` (which another array may share); `base` is NULL when absent.
+struct Strided {
+    std::vector<unsigned char> *bytes = nullptr;
+    size_t offset = 0, stride = 0, doubles = 0;
+    unsigned char *base = nullptr;
+    size_t step() const { return stride ? stride : doubles * sizeof(double); }
+    void put(size_t k, const double *v) { std::memcpy(base + k * step(), v, doubles * sizeof(double)); }
+};
+
+// Lays out `count` entries of a and b (b may be absent: doubles 0): in one
+// buffer as fields of a struct when asked and both strides are 56, else in
+// a buffer each. Every byte starts as 0xAB, so stray writes show.
+void lay_out(size_t count, bool interleave, bool a_present, bool b_present, Strided &a, Strided &b,
+             std::vector<unsigned char> &bytes_a, std::vector<unsigned char> &bytes_b) {
+    const auto size = [&](const Strided &s) { return count * std::max(s.step(), s.doubles * sizeof(double)) + 64; };
+    if (interleave && a_present && b_present && a.stride == 56 && b.stride == 56) {
+        bytes_a.assign(count * 56 + 64, 0xAB);
+        a.bytes = b.bytes = &bytes_a;
+        b.offset = a.doubles * sizeof(double);
+    } else {
+        bytes_a.assign(size(a), 0xAB);
+        bytes_b.assign(b.doubles ? size(b) : 0, 0xAB);
+        a.bytes = &bytes_a;
+        b.bytes = &bytes_b;
+    }
+    if (a_present) a.base = a.bytes->data() + a.offset;
+    if (b_present) b.base = b.bytes->data() + b.offset;
+}
+
+// Distinct live bodies in a shuffled order, mostly all of them, else a count
+// up to 2 past them (so stale, forged, random or repeated ids follow);
+// sometimes an entry replaced.
+std::vector<hgcd_body> pick_batch_ids(Input &in, const Model &m) {
+    std::vector<hgcd_body> live;
+    for (const MBody &b : m.bodies)
+        if (b.live) live.push_back(b.id);
+    for (size_t k = live.size(); k > 1; --k) std::swap(live[k - 1], live[in.u8() % k]);
+    const uint8_t c = in.u8();
+    const size_t count = c < 160 ? live.size() : c % (live.size() + 3);
+    std::vector<hgcd_body> ids;
+    for (size_t k = 0; k < count; ++k) ids.push_back(k < live.size() ? live[k] : pick_body_id(in, m));
+    for (int r = 0; r < 3 && !ids.empty(); ++r) {
+        const uint8_t c = in.u8();
+        if (c % 4) break;
+        const size_t j = in.u8() % ids.size();
+        ids[j] = c & 4 && j ? ids[in.u8() % j] : pick_body_id(in, m);  // a repeat, or any id
+    }
+    return ids;
+}
+
+int live_body_at_index(const Model &m, size_t index) {
+    for (size_t i = 0; i < m.bodies.size(); ++i)
+        if (m.bodies[i].live && m.bodies[i].id.index == index) return int(i);
+    return -1;
+}
+
+// The body indices in use (the world's slots): one past the largest index
+// ever handed out.
+size_t body_slots(const Model &m) {
+    size_t n = 0;
+    for (const MBody &b : m.bodies) n = std::max(n, size_t(b.id.index) + 1);
+    return n;
+}
+
+// The first k < count for which bad(k), or -1.
+template <class Bad>
+long first_entry(size_t count, Bad &&bad) {
+    for (size_t k = 0; k < count; ++k)
+        if (bad(k)) return long(k);
+    return -1;
+}
+
+// Whether a message names entry k ("entry 12" but not "entry 123").
+bool names_entry(const char *msg, long k) {
+    char needle[32];
+    std::snprintf(needle, sizeof needle, "entry %ld", k);
+    for (const char *at = std::strstr(msg, needle); at; at = std::strstr(at + 1, needle)) {
+        const char next = at[std::strlen(needle)];
+        if (next < '0' || next > '9') return true;
+    }
+    return false;
+}
+
+enum class BatchCall { kSetPoses, kSetVelocities, kGetPoses };
+
+void op_batch(Input &in, Model &m, const Ctx &cx) {
+    const uint8_t c = in.u8() % 8;
+    const BatchCall call = c < 4 ? BatchCall::kSetPoses : c < 6 ? BatchCall::kSetVelocities : BatchCall::kGetPoses;
+    const uint8_t flags = in.u8(), rare = in.u8(), arrays = in.u8() % 8;
+    const bool by_index = (flags & 3) == 0 || rare % 64 == 62, clean = (flags >> 2) & 3, interleave = (flags >> 4) & 1;
+    const bool null_world = rare % 64 == 63, huge = rare % 64 == 62;
+    // Poses: positions (a) and orientations (b); velocities: a only.
+    const bool poses = call != BatchCall::kSetVelocities;
+    const bool a_present = poses ? arrays != 6 && arrays != 7 : arrays != 7;
+    const bool b_present = poses && arrays != 5 && arrays != 7;
+    Strided a, b;
+    a.doubles = 3;
+    b.doubles = poses ? 4 : 0;
+    a.stride = pick_stride(in);
+    if (poses) b.stride = pick_stride(in);
+
+    std::vector<hgcd_body> ids;
+    size_t count;
+    const size_t slots = body_slots(m);
+    if (by_index) {
+        const uint8_t n = in.u8();
+        count = huge ? (size_t(1) << 40) + rare : n < 160 ? slots : n % (slots + 2);
+    } else {
+        ids = pick_batch_ids(in, m);
+        count = ids.size();
+    }
+    const size_t stored = huge ? 0 : count;  // a huge count must be refused unread
+    std::vector<unsigned char> bytes_a, bytes_b;
+    lay_out(stored, interleave, a_present, b_present, a, b, bytes_a, bytes_b);
+
+    // The values (what set reads), clean ones mostly valid, then maybe one
+    // entry given a table value.
+    std::vector<double> va(3 * stored), vb(4 * stored);
+    if (call == BatchCall::kSetPoses) {
+        for (size_t k = 0; k < stored; ++k) {
+            for (int x = 0; x < 3; ++x) va[3 * k + x] = coord(in, cx, clean);
+            quaternion(in, &vb[4 * k], clean);
+        }
+        if (stored && in.u8() % 3 == 0) {
+            const size_t j = in.u8() % stored;
+            if (in.u8() % 2) va[3 * j + in.u8() % 3] = kCoords[in.u8() % (sizeof kCoords / sizeof kCoords[0])];
+            else quaternion(in, &vb[4 * j]);
+        }
+    } else if (call == BatchCall::kSetVelocities) {
+        for (size_t k = 0; k < 3 * stored; ++k) {
+            const uint8_t v = in.u8();
+            va[k] = clean && v < 240 ? 0.25 * (int(v % 9) - 4) : kVel[v % (sizeof kVel / sizeof kVel[0])];
+        }
+    }
+    if (call != BatchCall::kGetPoses)
+        for (size_t k = 0; k < stored; ++k) {
+            if (a.base) a.put(k, &va[3 * k]);
+            if (b.base) b.put(k, &vb[4 * k]);
+        }
+    const std::vector<unsigned char> before_a = bytes_a, before_b = bytes_b;
+
+    // The model's verdict, in the order of hgcd.h and src/world/batch.cpp:
+    // NULL pointers, strides, ids (stale before repeated), values.
+    const hgcd_body *idp = by_index ? nullptr : ids.data();
+    const auto body_of = [&](size_t k) { return by_index ? live_body_at_index(m, k) : live_body_of(m, ids[k]); };
+    hgcd_status expect = HGCD_OK;
+    BatchVerdict verdict = kApplied;
+    long entry = -1;  // the entry the message must name
+    if (null_world || (!a.base && !b.base)) {
+        expect = HGCD_ERROR_NULL_ARGUMENT;
+        verdict = kNullArray;
+    } else if (!stride_ok(a.stride, a.doubles) || (poses && !stride_ok(b.stride, b.doubles))) {
+        expect = HGCD_ERROR_INVALID_ARGUMENT;
+        verdict = kBadStride;
+    } else if (by_index && count > slots) {  // the message says so, naming no entry
+        expect = HGCD_ERROR_STALE_ID;
+        verdict = kCountPastSlots;
+    } else if ((entry = first_entry(count, [&](size_t k) { return body_of(k) < 0; })) >= 0) {
+        expect = HGCD_ERROR_STALE_ID;
+        verdict = kStaleEntry;
+    } else if (call != BatchCall::kGetPoses &&
+               (entry = first_entry(count, [&](size_t k) {
+                    return !by_index && first_entry(k, [&](size_t j) { return ids[j].index == ids[k].index; }) >= 0;
+                })) >= 0) {
+        expect = HGCD_ERROR_INVALID_ARGUMENT;
+        verdict = kRepeatedEntry;
+    } else if (call == BatchCall::kSetPoses &&
+               (entry = first_entry(count, [&](size_t k) {
+                    return !pose_ok(a.base ? &va[3 * k] : nullptr, b.base ? &vb[4 * k] : nullptr);
+                })) >= 0) {
+        expect = HGCD_ERROR_INVALID_ARGUMENT;
+        verdict = kBadValue;
+    } else if (call == BatchCall::kSetVelocities &&
+               (entry = first_entry(count, [&](size_t k) {
+                    return !(std::isfinite(va[3 * k]) && std::isfinite(va[3 * k + 1]) && std::isfinite(va[3 * k + 2]));
+                })) >= 0) {
+        expect = HGCD_ERROR_INVALID_ARGUMENT;
+        verdict = kBadValue;
+    }
+
+    hgcd_world *w = null_world ? nullptr : m.w;
+    const std::string message_before = hgcd_world_last_error(m.w);
+    hgcd_status s;
+    const char *what;
+    switch (call) {
+        case BatchCall::kSetPoses:
+            what = "world_set_poses";
+            s = hgcd_world_set_poses(w, idp, count, reinterpret_cast<const double *>(a.base), a.stride,
+                                     reinterpret_cast<const double *>(b.base), b.stride);
+            break;
+        case BatchCall::kSetVelocities:
+            what = "world_set_velocities";
+            s = hgcd_world_set_velocities(w, idp, count, reinterpret_cast<const double *>(a.base), a.stride);
+            break;
+        default:
+            what = "world_get_poses";
+            s = hgcd_world_get_poses(w, idp, count, reinterpret_cast<double *>(a.base), a.stride,
+                                     reinterpret_cast<double *>(b.base), b.stride);
+            break;
+    }
+    ++g_batch[int(call)][verdict];
+    if (verdict == kApplied) g_batch_entries[int(call)] += long(count);
+    EXPECT(s == expect, "%s (%s, count %zu, strides %zu %zu): %s, expected %s (%s)", what,
+           by_index ? "by index" : "ids", count, a.stride, b.stride, hgcd_status_string(s), hgcd_status_string(expect),
+           hgcd_world_last_error(m.w));
+
+    if (call == BatchCall::kGetPoses) {
+        EXPECT(message_before == hgcd_world_last_error(m.w), "get_poses recorded a message");
+        std::vector<unsigned char> want_a = before_a, want_b = before_b;
+        if (s == HGCD_OK)
+            for (size_t k = 0; k < count; ++k) {
+                const MBody &body = m.bodies[size_t(body_of(k))];
+                if (a.base) std::memcpy((a.bytes == &bytes_a ? want_a : want_b).data() + a.offset + k * a.step(), body.p, sizeof body.p);
+                if (b.base) std::memcpy((b.bytes == &bytes_a ? want_a : want_b).data() + b.offset + k * b.step(), body.q, sizeof body.q);
+            }
+        EXPECT(bytes_a == want_a && bytes_b == want_b, "get_poses: the outputs differ from the model (%s)",
+               s == HGCD_OK ? "wrong value or a byte between entries written" : "written when refusing");
+        return;
+    }
+    EXPECT(bytes_a == before_a && bytes_b == before_b, "%s wrote into its input", what);
+    if (s != HGCD_OK) {
+        if (null_world) return;
+        const char *msg = hgcd_world_last_error(m.w);
+        EXPECT(std::strncmp(msg, what, std::strlen(what)) == 0, "%s: message \"%s\"", what, msg);
+        EXPECT(verdict != kCountPastSlots || std::strstr(msg, "exceeds"), "%s: message \"%s\" (count %zu > %zu slots)", what, msg, count, slots);
+        EXPECT(entry < 0 || names_entry(msg, entry), "%s: message \"%s\" should name entry %ld", what, msg, entry);
+        return;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        MBody &body = m.bodies[size_t(body_of(k))];
+        if (call == BatchCall::kSetVelocities) {
+            std::memcpy(body.v, &va[3 * k], sizeof body.v);
+            continue;
+        }
+        if (a.base) std::memcpy(body.p, &va[3 * k], sizeof body.p);
+        if (b.base) std::memcpy(body.q, &vb[4 * k], sizeof body.q);
+    }
+}
+
 void op_step(Model &m) {
     // The model's motion: hgcd.h's rule, evaluated the same way.
     const double dt = m.desc.time_step;
@@ -805,7 +1090,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     int ops = 0;
     while (!in.empty() && ops++ < 64) {
         const uint8_t op = in.u8();
-        switch (op % 16) {
+        switch (op % 18) {  // (seeds written for % 16 keep their meaning: their ops are below 16)
             case 0: case 1: op_mesh_create(in, m); break;
             case 2: op_mesh_destroy(in, m); break;
             case 3: case 4: case 5: op_body_create(in, m, cx); break;
@@ -814,6 +1099,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             case 9: op_set_velocity(in, m); break;
             case 10: op_step(m); break;
             case 11: case 12: after_tick(m, hgcd_world_detect(m.w), "detect"); break;
+            case 16: case 17: op_batch(in, m, cx); break;
             default: op_read(in, m); break;
         }
         check_state(m);
@@ -830,6 +1116,14 @@ struct Report {
         if (g_detects)
             std::fprintf(stderr, "fuzz_api: %ld detects checked against the oracle (%ld colliding pairs), all equal\n",
                          g_detects, g_pairs_checked);
+        static const char *const call[] = {"set_poses", "set_velocities", "get_poses"};
+        for (int c = 0; c < 3; ++c) {
+            const long *v = g_batch[c];
+            if (v[kApplied] + v[kNullArray] + v[kBadStride] + v[kCountPastSlots] + v[kStaleEntry] + v[kRepeatedEntry] + v[kBadValue])
+                std::fprintf(stderr, "fuzz_api: world_%s as predicted: %ld applied (%ld entries); refused: %ld NULL, %ld stride, "
+                             "%ld count, %ld stale, %ld repeated, %ld value\n", call[c], v[kApplied], g_batch_entries[c], v[kNullArray], v[kBadStride],
+                             v[kCountPastSlots], v[kStaleEntry], v[kRepeatedEntry], v[kBadValue]);
+        }
     }
 } g_report;
 }  // namespace

@@ -3,10 +3,11 @@
 Each seed is a world descriptor (3 bytes) and a script of calls in the byte
 format fuzz_api.cpp reads: mesh creates of preset and random shapes, body
 creates near the world's anchor, detects, poses, velocities, steps, destroys
-and reads. Deterministic (seeded)."""
+and reads; seeds 40 to 47 add batch calls. Deterministic (seeded)."""
 import os, random
 
-OP = dict(mesh=0, mesh_destroy=2, body=3, body_destroy=6, pose=7, velocity=9, step=10, detect=11, read=13)
+OP = dict(mesh=0, mesh_destroy=2, body=3, body_destroy=6, pose=7, velocity=9, step=10, detect=11, read=13,
+          batch=16)
 
 def quaternion(r):
     k = r.random()
@@ -57,8 +58,31 @@ def seed(k):
     op('detect')
     return bytes(out)
 
+def batch_seed(k):
+    """seed(k) with batch calls before its last detect: each a call, flags
+    (by index when flags % 4 == 0; clean values), good strides, then bytes
+    below 200 for the ids and values (grid coordinates, valid rotations);
+    where they land depends on the bodies the seed made, which the fuzzer
+    sorts out."""
+    r = random.Random(1000 + k)
+    out = bytearray(seed(k)[:-1])
+    for _ in range(r.randrange(2, 6)):
+        call = r.randrange(8)
+        flags = (r.choice([0, 1, 2, 3]) | r.choice([1, 2, 3]) << 2 | r.randrange(2) << 4) & 0x1f
+        arrays = r.choice([0, 0, 0, 5, 6])
+        strides = [r.choice([0, 0, 5, 6, 7, 8]) for _ in range(2)]  # table positions of good strides
+        out += bytes([OP['batch'], call, flags, 0, arrays] + strides)
+        out += bytes(r.randrange(200) for _ in range(r.randrange(20, 80)))
+        if r.random() < 0.5:
+            out.append(OP['detect'])
+    out.append(OP['detect'])
+    return bytes(out)
+
 here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'corpus')
 os.makedirs(here, exist_ok=True)
 for k in range(40):
     with open(os.path.join(here, 'seed-%02d' % k), 'wb') as f:
         f.write(seed(k))
+for k in range(40, 48):
+    with open(os.path.join(here, 'seed-%02d' % k), 'wb') as f:
+        f.write(batch_seed(k))

@@ -1,4 +1,6 @@
-//! `World`: the owned `hgcd_world*`.
+//! `World`: the owned `hgcd_world*` (its batch calls in world/batch.rs).
+
+mod batch;
 
 use std::ffi::CStr;
 use std::fmt;

@@ -377,6 +377,9 @@ pub struct Stats {
     /// Candidate pairs whose meshes asked for libccd, one of them not
     /// convex: tested exactly instead.
     pub libccd_fallback_tests: u64,
+    /// Pairs whose answer is the previous detect's (temporal coherence:
+    /// neither body's pose changed since).
+    pub unmoved_pairs: u64,
 }
 
 impl From<&sys::hgcd_stats> for Stats {
@@ -398,6 +401,7 @@ impl From<&sys::hgcd_stats> for Stats {
             total_seconds: s.total_seconds,
             libccd_tests: s.libccd_tests,
             libccd_fallback_tests: s.libccd_fallback_tests,
+            unmoved_pairs: s.unmoved_pairs,
         }
     }
 }

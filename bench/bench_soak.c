@@ -9,8 +9,9 @@
  * destroyed and K created, every live body gets a new pose
  * (hgcd_body_set_pose: a random step and a new orientation), and the world
  * detects. It checks, and exits 1 at the first failure:
- *   - no id is ever handed out twice (every (index, generation) ever issued,
- *     bodies and meshes, is remembered), and a destroyed id is refused;
+ *   - no id is ever handed out twice (per index, the generations' counters
+ *     rise from one id to the next, bodies and meshes), and a destroyed id
+ *     is refused;
  *   - every C-th tick, the pairs equal the brute-force GMP oracle's
  *     (tests/oracle.c) on every live body;
  *   - resident memory stays bounded: after the first tenth of the run, the
@@ -69,32 +70,31 @@ static double uniform(void) { return (double)(next_u64() >> 11) * 0x1.0p-53; }
             FAIL("%s: %s (%s)", #call, hgcd_status_string(s_), hgcd_world_last_error(w)); \
     } while (0)
 
-/* Every id ever issued, as (index << 32 | generation), in an open-addressing
- * set: an id seen twice is an alias. */
+/* No id may be handed out twice: per index, the generations' counters (their
+ * low 24 bits; the top byte is the world's tag) must rise from one id to the
+ * next. Kept as the last counter per index, so the bench's own memory does
+ * not grow with the ids issued. */
 typedef struct {
-    uint64_t *slot;
-    size_t cap, count;
-} id_set;
+    uint32_t *last;
+    size_t cap;
+    size_t issued;
+} id_log;
 
-static int id_set_insert(id_set *s, uint64_t key) { /* 0 if already there */
-    size_t i;
-    if (2 * (s->count + 1) > s->cap) {
-        id_set grown = {calloc(s->cap ? 2 * s->cap : 1024, sizeof(uint64_t)), s->cap ? 2 * s->cap : 1024, 0};
-        if (!grown.slot) FAIL("out of memory");
-        for (i = 0; i < s->cap; ++i)
-            if (s->slot[i]) id_set_insert(&grown, s->slot[i] - 1);
-        free(s->slot);
-        *s = grown;
+static int id_log_issue(id_log *l, uint32_t index, uint32_t generation) { /* 0: an alias */
+    const uint32_t counter = generation & 0xFFFFFFu;
+    if (index >= l->cap) {
+        size_t cap = l->cap ? l->cap : 1024;
+        while (cap <= index) cap *= 2;
+        uint32_t *grown = realloc(l->last, cap * sizeof *grown);
+        if (!grown) FAIL("out of memory");
+        memset(grown + l->cap, 0, (cap - l->cap) * sizeof *grown);
+        l->last = grown;
+        l->cap = cap;
     }
-    key += 1; /* 0 marks an empty slot */
-    for (i = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (s->cap - 1);; i = (i + 1) & (s->cap - 1)) {
-        if (s->slot[i] == key) return 0;
-        if (!s->slot[i]) {
-            s->slot[i] = key;
-            ++s->count;
-            return 1;
-        }
-    }
+    ++l->issued;
+    if (counter <= l->last[index]) return 0;
+    l->last[index] = counter;
+    return 1;
 }
 
 /* A mesh the bench keeps a copy of, for the oracle. */
@@ -212,11 +212,10 @@ int main(int argc, char **argv) {
     make_tetra(&shared[0]);
     make_box(&shared[1], 1.0, 0.5, 0.25);
     make_octa(&shared[2], 0);
-    id_set ids = {0};
+    id_log body_ids = {0}, mesh_ids = {0};
     for (i = 0; i < 3; ++i) {
         create_mesh(w, &shared[i]);
-        if (!id_set_insert(&ids, (uint64_t)shared[i].id.index << 32 | shared[i].id.generation | 1ull << 63))
-            FAIL("mesh id handed out twice");
+        if (!id_log_issue(&mesh_ids, shared[i].id.index, shared[i].id.generation)) FAIL("mesh id handed out twice");
     }
 
     body *live = calloc((size_t)nbodies, sizeof *live);
@@ -257,7 +256,7 @@ int main(int argc, char **argv) {
                 if (!b->mesh) FAIL("out of memory");
                 make_octa(b->mesh, 1);
                 create_mesh(w, b->mesh);
-                if (!id_set_insert(&ids, (uint64_t)b->mesh->id.index << 32 | b->mesh->id.generation | 1ull << 63))
+                if (!id_log_issue(&mesh_ids, b->mesh->id.index, b->mesh->id.generation))
                     FAIL("mesh id {%u, %u} handed out twice", b->mesh->id.index, b->mesh->id.generation);
             } else {
                 b->mesh = &shared[next_u64() % 3];
@@ -270,7 +269,7 @@ int main(int argc, char **argv) {
             memcpy(bd.orientation, b->orientation, sizeof bd.orientation);
             bd.scale = b->scale;
             CHECK(w, hgcd_body_create(w, &bd, &b->id));
-            if (!id_set_insert(&ids, (uint64_t)b->id.index << 32 | b->id.generation))
+            if (!id_log_issue(&body_ids, b->id.index, b->id.generation))
                 FAIL("body id {%u, %u} handed out twice", b->id.index, b->id.generation);
             ++n;
         }
@@ -354,14 +353,15 @@ int main(int argc, char **argv) {
                 FAIL("tick %ld: resident memory %.1f MB, %.1f MB after the first tenth", t, r / 1e6, rss_tenth / 1e6);
         }
         if ((t + 1) % 10000 == 0)
-            fprintf(stderr, "bench_soak: tick %ld, %zu ids, %ld oracle checks, RSS %.1f MB\n", t + 1, ids.count, checks,
+            fprintf(stderr, "bench_soak: tick %ld, %zu ids, %ld oracle checks, RSS %.1f MB\n", t + 1,
+                    body_ids.issued + mesh_ids.issued, checks,
                     rss_bytes() / 1e6);
     }
     const double total = now_seconds() - t0;
     printf("{\"bench\":\"soak\",\"ticks\":%ld,\"bodies\":%ld,\"churn\":%ld,\"threads\":%d,\"seed\":%llu,"
            "\"ids_issued\":%zu,\"oracle_checks\":%ld,\"pairs_checked\":%llu,\"rss_tenth_mb\":%.1f,"
            "\"rss_max_after_mb\":%.1f,\"tick_ms\":%.3f,\"detect_ms\":%.3f,\"seconds\":%.1f}\n",
-           ticks, nbodies, churn, threads, (unsigned long long)seed, ids.count, checks,
+           ticks, nbodies, churn, threads, (unsigned long long)seed, body_ids.issued + mesh_ids.issued, checks,
            (unsigned long long)pairs_checked, rss_tenth / 1e6, rss_max / 1e6, 1e3 * total / (double)ticks,
            1e3 * detect_s / (double)ticks, total);
 
@@ -369,6 +369,6 @@ int main(int argc, char **argv) {
         if (live[i].own_mesh) free(live[i].mesh);
     hgcd_world_destroy(w);
     free(live), free(om), free(pos), free(ori), free(scl), free(index_of), free(oracle_pairs), free(lib_pairs);
-    free(ids.slot);
+    free(body_ids.last), free(mesh_ids.last);
     return 0;
 }

@@ -296,6 +296,7 @@ long g_detects = 0, g_pairs_checked = 0;
 // Batch calls per call and verdict (the model's: why refused, or applied).
 enum BatchVerdict { kApplied, kNullArray, kBadStride, kCountPastSlots, kStaleEntry, kRepeatedEntry, kBadValue, kVerdicts };
 long g_batch[3][kVerdicts] = {}, g_batch_entries[3] = {};  // (entries: of the applied calls)
+long g_ops = 0;  // scripted API calls (each followed by check_state's own reads)
 
 oracle_mesh as_oracle(const MMesh &mm) {
     oracle_mesh om;
@@ -1094,6 +1095,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     int ops = 0;
     while (!in.empty() && ops++ < 64) {
         const uint8_t op = in.u8();
+        ++g_ops;
         switch (op % 18) {  // (seeds written for % 16 keep their meaning: their ops are below 16)
             case 0: case 1: op_mesh_create(in, m); break;
             case 2: op_mesh_destroy(in, m); break;
@@ -1120,6 +1122,7 @@ struct Report {
         if (g_detects)
             std::fprintf(stderr, "fuzz_api: %ld detects checked against the oracle (%ld colliding pairs), all equal\n",
                          g_detects, g_pairs_checked);
+        if (g_ops) std::fprintf(stderr, "fuzz_api: %ld scripted API calls, each followed by a check of the whole state\n", g_ops);
         static const char *const call[] = {"set_poses", "set_velocities", "get_poses"};
         for (int c = 0; c < 3; ++c) {
             const long *v = g_batch[c];

@@ -671,7 +671,8 @@ HGCD_API hgcd_status hgcd_body_set_pose(hgcd_world *world, hgcd_body body,
  *  to keep that part of every pose, not both. Strides let an array of the
  *  caller's own structs be passed without a copy (stride = the struct's size,
  *  each pointer at its first body's field); a stride must be a multiple of
- *  sizeof(double), and, when not 0, at least the entry's size.
+ *  sizeof(double), and, when not 0, at least the entry's size (checked
+ *  even when its array is NULL).
  *  Errors (nothing changes; the message names the first bad entry k):
  *  NULL_ARGUMENT (world, or both arrays), STALE_ID (an id not live, or with
  *  bodies NULL an index below count without a live body), INVALID_ARGUMENT

@@ -87,10 +87,13 @@ int main(int argc, char **argv) {
             if (!ok) return 1;
         }
 
-    /* The same detect again: nothing moved, so the grid is not touched. */
+    /* The same detect again: nothing moved, so no search is made and the
+     * last pairs stand (temporal coherence; containment counts only the
+     * pairs tested, none here). */
     if (check(hgcd_world_detect(w), w, "world_detect")) return 1;
     hgcd_world_stats(w, &st);
     print_tick("again", &st);
+    printf("        (nothing moved: %llu pairs kept without a search)\n", (unsigned long long)st.unmoved_pairs);
 
     for (int k = 1; k <= ticks; ++k) {
         if (check(hgcd_world_step(w), w, "world_step")) return 1;

@@ -64,18 +64,20 @@ void World::for_entries(size_t count, Apply &&apply) {
     });
 }
 
-// The storage index of each entry's body into batch_at_; a refusal names
-// the first entry without a live body, or one named twice.
-hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, size_t count) {
+// Checks that each entry names a live body, and (storage) puts its storage
+// index into batch_at_; a refusal names the first entry without a live
+// body, or one named twice. Listed ids always need their storage indices.
+hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, size_t count, bool storage) {
     if (count > live_gen_.size() && !bodies)
         return fail(HGCD_ERROR_STALE_ID, std::string(what) + ": count " + std::to_string(count) +
                                              " exceeds the body indices in use (" +
                                              std::to_string(live_gen_.size()) + ")");
-    batch_at_.resize(count);
+    storage = storage || bodies;
+    if (storage) batch_at_.resize(count);
     const int64_t bad = first_failing(count, [&](size_t k) {
         const int64_t slot = bodies ? live_body(bodies[k]) : (live_gen_[k] ? int64_t(k) : -1);
         if (slot < 0) return false;
-        batch_at_[k] = at_[size_t(slot)];
+        if (storage) batch_at_[k] = at_[size_t(slot)];
         return true;
     });
     if (bad != kNone)
@@ -102,22 +104,6 @@ hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, si
     return HGCD_OK;
 }
 
-// The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
-// keep it; the body counts as moved when a bit changes.
-void World::apply_pose(size_t i, const double *p, const double *q) {
-    bool moved = false;
-    if (p) {
-        moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
-        for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
-    }
-    if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
-        std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
-        set_box_offsets(i);
-        moved = true;
-    }
-    if (moved) moved_[slot_of_[i]] = 1;
-}
-
 hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
                              const double *orientations, size_t orientation_stride) {
     const char *what = "world_set_poses";
@@ -125,7 +111,8 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     if (!ps || !os)
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
                     std::string(what) + ": a stride must be 0 or a multiple of 8 bytes holding its entry");
-    if (hgcd_status s = resolve_entries(what, bodies, count)) return s;
+    // (By index, the apply pass follows storage and needs no storage indices.)
+    if (hgcd_status s = resolve_entries(what, bodies, count, false)) return s;
     const int64_t bad = first_failing(count, [&](size_t k) {
         return (!positions || position_ok(entry(positions, ps, k))) &&
                (!orientations || orientation_ok(entry(orientations, os, k)));
@@ -188,7 +175,7 @@ hgcd_status World::set_velocities(const hgcd_body *bodies, size_t count, const d
     if (!vs)
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
                     std::string(what) + ": velocity_stride must be 0 or a multiple of 8 bytes of at least 24");
-    if (hgcd_status s = resolve_entries(what, bodies, count)) return s;
+    if (hgcd_status s = resolve_entries(what, bodies, count, true)) return s;
     const int64_t bad = first_failing(count, [&](size_t k) {
         const double *v = entry(velocities, vs, k);
         return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);

@@ -151,20 +151,28 @@ hgcd_status World::destroy_body(hgcd_body id) {
     return HGCD_OK;
 }
 
+// The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
+// keep it; the body counts as moved when a bit changes (hgcd_body_set_pose
+// and hgcd_world_set_poses alike).
+void World::apply_pose(size_t i, const double *p, const double *q) {
+    bool moved = false;
+    if (p) {
+        moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
+        for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
+    }
+    if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
+        std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
+        set_box_offsets(i);
+        moved = true;
+    }
+    if (moved) moved_[slot_of_[i]] = 1;
+}
+
 hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {
     int64_t slot;
     if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
-    Placement &pl = place_[at_[slot]];
-    if (position && std::memcmp(pl.position, position, sizeof pl.position) != 0) {
-        for (int k = 0; k < 3; ++k) pl.position[k] = point_[3 * size_t(at_[slot]) + k] = position[k];
-        moved_[size_t(slot)] = 1;
-    }
-    if (orientation && std::memcmp(pl.orientation, orientation, sizeof pl.orientation) != 0) {
-        for (int k = 0; k < 4; ++k) pl.orientation[k] = orientation[k];
-        set_box_offsets(at_[slot]);
-        moved_[size_t(slot)] = 1;
-    }
+    apply_pose(at_[slot], position, orientation);
     return HGCD_OK;
 }
 

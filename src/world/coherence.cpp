@@ -33,9 +33,6 @@ void World::reuse_pairs() {
 }
 
 uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) {
-    // Nothing to keep when every body moved (the usual tick of a simulation
-    // whose bodies all move): one pass over a byte per slot.
-    if (unmoved_bodies() < 2) return 0;
     // Where each slot's pairs start in the last pairs (sorted by (a, b)):
     // a pair (a, b) is looked up among a's few.
     const size_t slots = moved_.size(), n = stored_gen_.size();

@@ -218,7 +218,8 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     stats_.struct_size = struct_size;
     const int T = threads();
     const double t0 = omp_get_wtime();
-    if (coherence && unmoved_bodies() == live_bodies_) {
+    const size_t unmoved = coherence ? unmoved_bodies() : 0;
+    if (coherence && unmoved == live_bodies_) {
         // Nothing moved or was born: no search at all (the grid catches up
         // with destroyed bodies at the next detect that searches).
         reuse_pairs();
@@ -232,7 +233,8 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         const GridUpdateStats us = update_grid(T, motion);
         const double t1 = omp_get_wtime();
         NarrowPlan plan;
-        const size_t total = find_candidates(T, coherence, plan.chunks);
+        // (Fewer than two unmoved bodies make no unmoved pair.)
+        const size_t total = find_candidates(T, unmoved >= 2, plan.chunks);
         const double t2 = omp_get_wtime();
         plan_narrow(T, plan);
         std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // per thread, parallel to hits_
@@ -276,7 +278,7 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
     return us;
 }
 
-size_t World::find_candidates(int threads, bool coherence, std::vector<NarrowChunk> &chunks) {
+size_t World::find_candidates(int threads, bool keep_unmoved, std::vector<NarrowChunk> &chunks) {
     // Kept across detects: a tick's candidates need not grow fresh buffers
     // (and fault in fresh pages) every time.
     std::vector<PairBuffer> &found = candidates_;
@@ -287,7 +289,7 @@ size_t World::find_candidates(int threads, bool coherence, std::vector<NarrowChu
     grid_.find_pairs(boxes(), threads, found);
     size_t total = 0;
     for (int t = 0; t < threads; ++t) total += found[t].size();
-    if (coherence) stats_.unmoved_pairs = keep_unmoved_pairs(threads, found);
+    if (keep_unmoved) stats_.unmoved_pairs = keep_unmoved_pairs(threads, found);
     // The narrow phase runs straight over every thread's candidate list.
     for (int t = 0; t < threads; ++t) {
         for (size_t b = 0; b < found[t].size(); b += kNarrowChunk)

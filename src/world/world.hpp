@@ -95,7 +95,7 @@ class World {
     int64_t first_failing(size_t count, Check &&check) const;
     template <class Apply>
     void for_entries(size_t count, Apply &&apply);
-    hgcd_status resolve_entries(const char *what, const hgcd_body *bodies, size_t count);
+    hgcd_status resolve_entries(const char *what, const hgcd_body *bodies, size_t count, bool storage);
     void apply_pose(size_t i, const double *position, const double *orientation);
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
@@ -112,7 +112,7 @@ class World {
     struct NarrowThread;
     GridUpdateStats update_grid(int threads, const SlotPass *motion);
     // Fills candidates_ and cuts them into chunks; returns their count.
-    size_t find_candidates(int threads, bool coherence, std::vector<NarrowChunk> &chunks);
+    size_t find_candidates(int threads, bool keep_unmoved, std::vector<NarrowChunk> &chunks);
     // Temporal coherence (coherence.cpp): removes from the candidates the
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.

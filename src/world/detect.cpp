@@ -272,7 +272,7 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
     // (On a step that is the world's first detect, grid_limits estimates the
     // density from the positions before this tick's moves, which run inside
     // the update: a heuristic, off by one tick's motion.)
-    const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(),
+    const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), grid_live(threads),
                                             uint32_t(stored_gen_.size()), grid_limits(threads), threads, motion);
     grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)
     return us;
@@ -289,6 +289,9 @@ size_t World::find_candidates(int threads, bool keep_unmoved, std::vector<Narrow
     grid_.find_pairs(boxes(), threads, found);
     size_t total = 0;
     for (int t = 0; t < threads; ++t) total += found[t].size();
+    // Pairs the types, filters and exclusions refuse never reach the narrow
+    // phase (nor the lookups of temporal coherence).
+    if (special_bodies_) stats_.filtered_pairs = drop_filtered_pairs(threads, found);
     if (keep_unmoved) stats_.unmoved_pairs = keep_unmoved_pairs(threads, found);
     // The narrow phase runs straight over every thread's candidate list.
     for (int t = 0; t < threads; ++t) {

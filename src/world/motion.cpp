@@ -81,7 +81,7 @@ hgcd_status World::step() {
             int64_t mine = -1;
 #pragma omp for schedule(static) nowait
             for (int64_t s = 0; s < n; ++s) {
-                if (!stored_gen_[s]) continue;
+                if (!stored_gen_[s] || ((static_bodies_ || disabled_bodies_) && still(size_t(s)))) continue;
                 for (int k = 0; k < 3; ++k) {
                     if (!coordinate_ok(point_[3 * s + k] + velocity_[3 * s + k] * dt))
                         mine = std::max(mine, int64_t(slot_of_[s]));
@@ -108,7 +108,7 @@ hgcd_status World::step() {
     motion.place = place_.data();
     motion.velocity = velocity_.data();
     motion.point = point_.data();
-    motion.live = stored_gen_.data();
+    motion.live = motion_live(T);  // (static and disabled bodies do not move)
     motion.count = uint32_t(n);
     const SlotPass pass{&Motion::run, &motion};
     const double motion_seconds = omp_get_wtime() - t0;
@@ -186,6 +186,7 @@ bool World::renumber() {
         permute_records<1>(user_data_.data(), perm, n, tmp);
         permute_records<1>(r_level_.data(), perm, n, tmp);
         permute_records<1>(body_mesh_.data(), perm, n, tmp);
+        permute_records<3>(reinterpret_cast<uint64_t *>(filter_.data()), perm, n, tmp);
         permute_records<1>(stored_gen_.data(), perm, n, tmp);
         permute_records<1>(slot_of_.data(), perm, n, tmp);
 #pragma omp for schedule(static)

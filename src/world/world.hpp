@@ -7,10 +7,13 @@
 #include <new>
 #include <string>
 #include <type_traits>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "broad/grid.hpp"
 #include "hgcd/hgcd.h"
+#include "world/filter.hpp"
 #include "world/mesh.hpp"
 #include "world/memory.hpp"
 #include "narrow/narrow.hpp"
@@ -59,6 +62,15 @@ class World {
     hgcd_status get_mesh(hgcd_body id, hgcd_mesh *out) const;
     hgcd_status get_user_data(hgcd_body id, uint64_t *out) const;
     bool body_valid(hgcd_body id) const { return live_body(id) >= 0; }
+    // Types, enabling, filters and excluded pairs (filtering.cpp).
+    hgcd_status set_type(hgcd_body id, int32_t type);
+    hgcd_status get_type(hgcd_body id, int32_t *out) const;
+    hgcd_status set_enabled(hgcd_body id, bool enabled);
+    hgcd_status get_enabled(hgcd_body id, uint32_t *out) const;
+    hgcd_status set_filter(hgcd_body id, const hgcd_filter &filter);
+    hgcd_status get_filter(hgcd_body id, hgcd_filter *out) const;
+    hgcd_status exclude_pair(hgcd_body a, hgcd_body b, bool exclude);
+    hgcd_status pair_excluded(hgcd_body a, hgcd_body b, uint32_t *out) const;
 
     hgcd_status step();
     hgcd_status detect();
@@ -117,6 +129,23 @@ class World {
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.
     uint64_t keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found);
+    // Removes from the candidates the pairs the types, filters or excluded
+    // pairs refuse (filtering.cpp); returns how many.
+    uint64_t drop_filtered_pairs(int threads, std::vector<PairBuffer> &found);
+    // The body stored at i gets filter record f: keeps plain_ and disabled_
+    // counts, and marks the body moved (its pairs' answers may change).
+    void set_body_filter(size_t i, const BodyFilter &f);
+    // What the grid and the motion read as each stored body's generation (0:
+    // not there): stored_gen_ unless some bodies are disabled (grid) or
+    // static or disabled (motion), then a copy with those zeroed.
+    const uint32_t *grid_live(int threads);
+    const uint32_t *motion_live(int threads);
+    void forget_exclusions(uint32_t slot);
+    // The body stored at s does not move with hgcd_world_step (static or disabled).
+    bool still(size_t s) const {
+        return filter_[s].type == HGCD_BODY_STATIC || (filter_[s].flags & BodyFilter::kDisabled);
+    }
+    hgcd_status check_pair(const char *what, hgcd_body a, hgcd_body b, int64_t *sa, int64_t *sb) const;
     size_t unmoved_bodies() const;  // live bodies not created or moved since the last detect
     void reuse_pairs();             // pairs_ from prev_pairs_ when no live body moved
     void plan_narrow(int threads, NarrowPlan &plan) const;
@@ -173,6 +202,7 @@ class World {
     LargeVector<Placement> place_;  // (narrow.hpp)
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
+    LargeVector<BodyFilter> filter_;   // type, enabled, filter (filter.hpp)
     std::vector<uint64_t> user_data_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
@@ -184,6 +214,14 @@ class World {
     // in a third of the memory of the placements.
     LargeVector<double> point_;
     uint32_t live_bodies_ = 0;
+    // Live bodies whose filter_ is not plain, those disabled, and those
+    // static (the motion skips them).
+    uint32_t special_bodies_ = 0, disabled_bodies_ = 0, static_bodies_ = 0;
+    bool kinematic_pairs_ = false;
+    // Excluded pairs, by pair_key of their slots, and each slot's partners.
+    std::unordered_set<uint64_t> excluded_;
+    std::unordered_map<uint32_t, std::vector<uint32_t>> excluded_with_;
+    std::vector<uint32_t> live_scratch_, motion_scratch_;  // grid_live, motion_live
     // Temporal coherence. Per slot, whether the body was created or its
     // pose changed since the last detect; whether the last detect's pairs
     // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not

@@ -27,6 +27,7 @@
 //! Threading: [`World`] is `Send` but not `Sync`; see its documentation.
 
 mod error;
+mod filter;
 pub mod scene;
 mod types;
 mod world;
@@ -34,6 +35,7 @@ mod world;
 pub use hgcd_sys as sys;
 
 pub use error::{Error, ErrorKind, Result};
+pub use filter::{BodyType, Filter};
 pub use types::{
     BodyDesc, BodyId, Contact, ContactKind, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose,
     Stats, WorldDesc,

@@ -6,6 +6,8 @@ use std::mem::{align_of, size_of};
 
 use hgcd_sys as sys;
 
+use crate::filter::{BodyType, Filter};
+
 macro_rules! id_type {
     ($(#[$doc:meta])* $name:ident, $raw:ty) => {
         $(#[$doc])*
@@ -177,6 +179,8 @@ pub struct WorldDesc {
     pub narrow_phase: NarrowPhase,
     /// Record what each colliding pair is made of ([`crate::World::contacts`]).
     pub contacts: bool,
+    /// Report kinematic-kinematic and kinematic-static pairs ([`BodyType`]).
+    pub kinematic_pairs: bool,
 }
 
 impl Default for WorldDesc {
@@ -193,6 +197,7 @@ impl Default for WorldDesc {
             max_cell_size: d.max_cell_size,
             narrow_phase: NarrowPhase::from_raw(d.narrow_phase),
             contacts: d.contacts != 0,
+            kinematic_pairs: d.kinematic_pairs != 0,
         }
     }
 }
@@ -212,6 +217,7 @@ impl WorldDesc {
         d.max_cell_size = self.max_cell_size;
         d.narrow_phase = self.narrow_phase.to_raw();
         d.contacts = u32::from(self.contacts);
+        d.kinematic_pairs = u32::from(self.kinematic_pairs);
         d
     }
 }
@@ -254,6 +260,12 @@ pub struct BodyDesc {
     pub scale: f64,
     /// Opaque value returned by `World::body_user_data`.
     pub user_data: u64,
+    /// How the body moves, and which of its pairs are considered.
+    pub body_type: BodyType,
+    /// Whether it takes part in detection (default true).
+    pub enabled: bool,
+    /// Which bodies it may collide with.
+    pub filter: Filter,
 }
 
 impl Default for BodyDesc {
@@ -267,6 +279,9 @@ impl Default for BodyDesc {
             velocity: d.velocity,
             scale: d.scale,
             user_data: d.user_data,
+            body_type: BodyType::from_raw(d.type_),
+            enabled: d.enabled != 0,
+            filter: Filter::from_raw(&d.filter),
         }
     }
 }
@@ -290,6 +305,9 @@ impl BodyDesc {
         d.velocity = self.velocity;
         d.scale = self.scale;
         d.user_data = self.user_data;
+        d.type_ = self.body_type.to_raw();
+        d.enabled = u32::from(self.enabled);
+        d.filter = self.filter.to_raw();
         d
     }
 }
@@ -380,6 +398,9 @@ pub struct Stats {
     /// Pairs whose answer is the previous detect's (temporal coherence:
     /// neither body's pose changed since).
     pub unmoved_pairs: u64,
+    /// Candidate pairs dropped before the narrow phase by body types,
+    /// filters or excluded pairs.
+    pub filtered_pairs: u64,
 }
 
 impl From<&sys::hgcd_stats> for Stats {
@@ -402,6 +423,7 @@ impl From<&sys::hgcd_stats> for Stats {
             libccd_tests: s.libccd_tests,
             libccd_fallback_tests: s.libccd_fallback_tests,
             unmoved_pairs: s.unmoved_pairs,
+            filtered_pairs: s.filtered_pairs,
         }
     }
 }

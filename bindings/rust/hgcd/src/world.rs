@@ -1,6 +1,7 @@
 //! `World`: the owned `hgcd_world*` (its batch calls in world/batch.rs).
 
 mod batch;
+mod filter;
 
 use std::ffi::CStr;
 use std::fmt;

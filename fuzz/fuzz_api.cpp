@@ -10,7 +10,8 @@
 // and random ids; the batch calls (world_set_poses, world_set_velocities,
 // world_get_poses) with listed ids (repeated ones too) or indices, good and
 // bad strides, arrays interleaved as a caller's struct; body types, enabling,
-// filters and excluded pairs (set, read back, refused).
+// filters and excluded pairs (set, read back, refused); the events of each
+// tick against the difference of its pairs and the last.
 //
 // A shadow model predicts every status (refusals included, and for a batch
 // the entry its message names) and the full observable state; after every
@@ -458,12 +459,41 @@ void check_state(Model &m) {
     }
 }
 
+// The events of a tick: the difference between the last pairs and these,
+// by full ids, sorted, with the user data the model gave each body (the
+// model keeps destroyed bodies).
+void check_events(const Model &m, const hgcd_pair *now, size_t count) {
+    const hgcd_pair_event *ev[2];
+    size_t n[2];
+    EXPECT(hgcd_world_events(m.w, &ev[0], &n[0], &ev[1], &n[1]) == HGCD_OK, "events");
+    const std::vector<hgcd_pair> before = m.detected ? m.last_pairs : std::vector<hgcd_pair>();
+    const std::vector<hgcd_pair> after(now, now + count);
+    const auto user = [&](hgcd_body id) {
+        for (const MBody &b : m.bodies)
+            if (b.id.index == id.index && b.id.generation == id.generation) return b.user;
+        finding("event names a body never created");
+    };
+    for (int e = 0; e < 2; ++e) {  // began: in after, not in before; ended: the reverse
+        const std::vector<hgcd_pair> &from = e ? before : after, &to = e ? after : before;
+        size_t k = 0;
+        for (const hgcd_pair &p : from) {
+            if (std::any_of(to.begin(), to.end(), [&](const hgcd_pair &q) { return !std::memcmp(&p, &q, sizeof p); }))
+                continue;
+            EXPECT(k < n[e] && !std::memcmp(&ev[e][k].pair, &p, sizeof p), "%s event %zu", e ? "ended" : "began", k);
+            EXPECT(ev[e][k].user_data_a == user(p.a) && ev[e][k].user_data_b == user(p.b), "event user data");
+            ++k;
+        }
+        EXPECT(k == n[e], "%s: %zu events, expected %zu", e ? "ended" : "began", n[e], k);
+    }
+}
+
 void after_tick(Model &m, hgcd_status s, const char *what) {
     EXPECT(s == HGCD_OK, "%s: %s (%s)", what, hgcd_status_string(s), hgcd_world_last_error(m.w));
     check_pairs(m);
     const hgcd_pair *got;
     size_t count;
     hgcd_world_pairs(m.w, &got, &count);
+    check_events(m, got, count);
     m.last_pairs.assign(got, got + count);
     m.detected = true;
     hgcd_stats st;

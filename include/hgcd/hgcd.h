@@ -368,6 +368,39 @@ HGCD_API hgcd_status hgcd_world_copy_pairs(const hgcd_world *world,
                                            hgcd_pair *buffer, size_t capacity,
                                            size_t *out_total);
 
+/** A pair that began or ended colliding (hgcd_world_events), with both
+ *  bodies' user data (hgcd_body_desc.user_data), so that no lookup is needed
+ *  per event, also for a body destroyed since. */
+typedef struct hgcd_pair_event {
+    /** The pair, as hgcd_world_pairs reports it (a.index < b.index). */
+    hgcd_pair pair;
+    /** The user data of pair.a and of pair.b. */
+    uint64_t user_data_a;
+    uint64_t user_data_b;
+} hgcd_pair_event;
+
+/** The pairs that began and ended colliding at the last step/detect:
+ *  began holds each pair of this detect that the previous successful
+ *  detect did not report, ended each pair that detect reported and this one
+ *  does not, whatever the reason (apart, a body destroyed, disabled, made
+ *  static, filtered out or its pair excluded). Pairs are compared by their
+ *  full ids, generations included: a slot reused between the two detects
+ *  ends its old body's pairs and begins its new body's. Each array is
+ *  sorted by (a.index, b.index), without duplicates. Before the first detect
+ *  every pair of the first detect has begun; after a detect refused for
+ *  lack of memory both are empty, and the next detect compares with the
+ *  last successful one.
+ *  Both arrays are owned by the world, with the lifetime of the pairs'
+ *  array (hgcd_world_pairs); a pointer may be NULL when its count is 0.
+ *  Errors: NULL_ARGUMENT (any argument). Read-only, O(1); finding them costs
+ *  each detect one merge of the previous and the new pairs
+ *  (hgcd_stats.events_seconds). */
+HGCD_API hgcd_status hgcd_world_events(const hgcd_world *world,
+                                       const hgcd_pair_event **out_began,
+                                       size_t *out_began_count,
+                                       const hgcd_pair_event **out_ended,
+                                       size_t *out_ended_count);
+
 /** What a colliding pair is made of (hgcd_contact.kind). */
 enum hgcd_contact_kind {
     /** The surfaces meet (exact test): triangle triangle_a of body a's mesh
@@ -486,6 +519,9 @@ typedef struct hgcd_stats {
      *  the filters or the excluded pairs (hgcd_filter); counted in
      *  candidate_pairs, not in narrow_tests. */
     uint64_t filtered_pairs;
+    /** Seconds finding the began and ended pairs (hgcd_world_events),
+     *  counted in narrow_seconds and total_seconds. */
+    double events_seconds;
 } hgcd_stats;
 
 /** Copies the statistics of the last step/detect into *out_stats, whose

@@ -173,6 +173,17 @@ hgcd_status hgcd_world_copy_pairs(const hgcd_world *world, hgcd_pair *buffer, si
     return HGCD_OK;
 }
 
+hgcd_status hgcd_world_events(const hgcd_world *world, const hgcd_pair_event **out_began, size_t *out_began_count,
+                              const hgcd_pair_event **out_ended, size_t *out_ended_count) {
+    if (!world || !out_began || !out_began_count || !out_ended || !out_ended_count) return HGCD_ERROR_NULL_ARGUMENT;
+    const auto &b = world->impl.began(), &e = world->impl.ended();
+    *out_began = b.empty() ? nullptr : b.data();
+    *out_began_count = b.size();
+    *out_ended = e.empty() ? nullptr : e.data();
+    *out_ended_count = e.size();
+    return HGCD_OK;
+}
+
 hgcd_status hgcd_world_stats(const hgcd_world *world, hgcd_stats *out_stats) {
     if (!world || !out_stats) return HGCD_ERROR_NULL_ARGUMENT;
     size_t size = out_stats->struct_size ? out_stats->struct_size : sizeof(hgcd_stats);

@@ -157,6 +157,8 @@ hgcd_status World::destroy_body(hgcd_body id) {
     int64_t slot;
     if (hgcd_status s = check_body(id, "body_destroy", &slot)) return s;
     if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
+    if (graves_.capacity() == graves_.size()) graves_.reserve(2 * graves_.size() + 8);
+    bury(uint32_t(slot));  // (its user data, for the ended events)
     forget_exclusions(uint32_t(slot));
     set_body_filter(at_[slot], BodyFilter());  // (out of the counts of special bodies)
     live_gen_[slot] = 0;

@@ -209,8 +209,13 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     // motion moves every body with a velocity).
     const bool coherence = coherent_ && !motion && !contacts_on_;
     coherent_ = false;  // until this detect succeeds
-    prev_pairs_.swap(pairs_);
+    // (After a failed detect prev_pairs_ holds the last successful pairs:
+    // the events compare with them.)
+    if (!base_in_prev_) prev_pairs_.swap(pairs_);
+    base_in_prev_ = false;
     pairs_.clear();
+    began_.clear();
+    ended_.clear();
     contacts_.clear();
     contacts_recorded_ = contacts_on_;
     const uint32_t struct_size = stats_.struct_size;
@@ -222,7 +227,16 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     if (coherence && unmoved == live_bodies_) {
         // Nothing moved or was born: no search at all (the grid catches up
         // with destroyed bodies at the next detect that searches).
-        reuse_pairs();
+        try {
+            reuse_pairs();
+            find_events();
+        } catch (...) {
+            pairs_.clear();
+            began_.clear();
+            ended_.clear();
+            base_in_prev_ = true;
+            throw;
+        }
         stats_.thread_count = uint32_t(T);
         stats_.total_seconds = stats_.narrow_seconds = omp_get_wtime() - t0;
         coherent_ = true;
@@ -240,6 +254,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // per thread, parallel to hits_
         narrow_phase(T, plan, hit_contacts);
         merge_hits(T, plan.want_contacts, hit_contacts);
+        find_events();
         const double t3 = omp_get_wtime();
 
         stats_.level_count = grid_.level_count();
@@ -259,6 +274,9 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         // The grid may be half updated: drop it, the next detect rebuilds it.
         grid_ = Grid();
         pairs_.clear();
+        began_.clear();
+        ended_.clear();
+        base_in_prev_ = true;
         contacts_.clear();
         stats_ = hgcd_stats{};
         stats_.struct_size = struct_size;

@@ -83,6 +83,8 @@ class World {
     bool contacts_recorded() const { return contacts_recorded_; }
 
     const std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> &pairs() const { return pairs_; }
+    const std::vector<hgcd_pair_event> &began() const { return began_; }
+    const std::vector<hgcd_pair_event> &ended() const { return ended_; }
     const hgcd_stats &stats() const { return stats_; }
     uint32_t body_count() const { return live_bodies_; }
     uint32_t mesh_count() const { return live_meshes_; }
@@ -145,6 +147,10 @@ class World {
     bool still(size_t s) const {
         return filter_[s].type == HGCD_BODY_STATIC || (filter_[s].flags & BodyFilter::kDisabled);
     }
+    // Events (events.cpp): began_ and ended_ from prev_pairs_ and pairs_.
+    void find_events();
+    void bury(uint32_t slot);
+    uint64_t user_data_of(hgcd_body id) const;
     hgcd_status check_pair(const char *what, hgcd_body a, hgcd_body b, int64_t *sa, int64_t *sb) const;
     size_t unmoved_bodies() const;  // live bodies not created or moved since the last detect
     void reuse_pairs();             // pairs_ from prev_pairs_ when no live body moved
@@ -247,6 +253,18 @@ class World {
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> pairs_;
     std::vector<hgcd_contact, UninitAllocator<hgcd_contact>> contacts_;  // parallel to pairs_ when contacts_recorded_
     hgcd_stats stats_{};
+    // Events of the last detect, and what they need: whether prev_pairs_
+    // holds the last successful detect's pairs (after a failed detect, so
+    // the next one compares with them), per slot whether its body is in
+    // those pairs, and the user data of such bodies destroyed since.
+    std::vector<hgcd_pair_event> began_, ended_;
+    bool base_in_prev_ = false;
+    std::vector<uint8_t> in_pairs_;
+    struct Grave {
+        uint32_t slot, generation;
+        uint64_t user_data;
+    };
+    std::vector<Grave> graves_;
     mutable std::string last_error_;
 };
 

@@ -655,6 +655,107 @@ extern "C" {
         out_total: *mut usize,
     ) -> hgcd_status;
 }
+#[doc = " A pair that began or ended colliding (hgcd_world_events), with both"]
+#[doc = "  bodies' user data (hgcd_body_desc.user_data), so that no lookup is needed"]
+#[doc = "  per event, also for a body destroyed since."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
+pub struct hgcd_pair_event {
+    #[doc = " The pair, as hgcd_world_pairs reports it (a.index < b.index)."]
+    pub pair: hgcd_pair,
+    #[doc = " The user data of pair.a and of pair.b."]
+    pub user_data_a: u64,
+    pub user_data_b: u64,
+}
+#[test]
+fn bindgen_test_layout_hgcd_pair_event() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_pair_event>(),
+        32usize,
+        concat!("Size of: ", stringify!(hgcd_pair_event))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_pair_event>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_pair_event))
+    );
+    fn test_field_pair() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair_event>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).pair) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_pair_event),
+                "::",
+                stringify!(pair)
+            )
+        );
+    }
+    test_field_pair();
+    fn test_field_user_data_a() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair_event>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).user_data_a) as usize - ptr as usize
+            },
+            16usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_pair_event),
+                "::",
+                stringify!(user_data_a)
+            )
+        );
+    }
+    test_field_user_data_a();
+    fn test_field_user_data_b() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair_event>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).user_data_b) as usize - ptr as usize
+            },
+            24usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_pair_event),
+                "::",
+                stringify!(user_data_b)
+            )
+        );
+    }
+    test_field_user_data_b();
+}
+extern "C" {
+    #[doc = " The pairs that began and ended colliding at the last step/detect:"]
+    #[doc = "  began holds each pair of this detect that the previous successful"]
+    #[doc = "  detect did not report, ended each pair that detect reported and this one"]
+    #[doc = "  does not, whatever the reason (apart, a body destroyed, disabled, made"]
+    #[doc = "  static, filtered out or its pair excluded). Pairs are compared by their"]
+    #[doc = "  full ids, generations included: a slot reused between the two detects"]
+    #[doc = "  ends its old body's pairs and begins its new body's. Each array is"]
+    #[doc = "  sorted by (a.index, b.index), without duplicates. Before the first detect"]
+    #[doc = "  every pair of the first detect has begun; after a detect refused for"]
+    #[doc = "  lack of memory both are empty, and the next detect compares with the"]
+    #[doc = "  last successful one."]
+    #[doc = "  Both arrays are owned by the world, with the lifetime of the pairs'"]
+    #[doc = "  array (hgcd_world_pairs); a pointer may be NULL when its count is 0."]
+    #[doc = "  Errors: NULL_ARGUMENT (any argument). Read-only, O(1); finding them costs"]
+    #[doc = "  each detect one merge of the previous and the new pairs"]
+    #[doc = "  (hgcd_stats.events_seconds)."]
+    pub fn hgcd_world_events(
+        world: *const hgcd_world,
+        out_began: *mut *const hgcd_pair_event,
+        out_began_count: *mut usize,
+        out_ended: *mut *const hgcd_pair_event,
+        out_ended_count: *mut usize,
+    ) -> hgcd_status;
+}
 #[doc = " The surfaces meet (exact test): triangle triangle_a of body a's mesh"]
 #[doc = "  and triangle triangle_b of body b's mesh share a point. One witness"]
 #[doc = "  pair of triangles, not all of them."]
@@ -926,12 +1027,15 @@ pub struct hgcd_stats {
     #[doc = "  the filters or the excluded pairs (hgcd_filter); counted in"]
     #[doc = "  candidate_pairs, not in narrow_tests."]
     pub filtered_pairs: u64,
+    #[doc = " Seconds finding the began and ended pairs (hgcd_world_events),"]
+    #[doc = "  counted in narrow_seconds and total_seconds."]
+    pub events_seconds: f64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_stats() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_stats>(),
-        136usize,
+        144usize,
         concat!("Size of: ", stringify!(hgcd_stats))
     );
     assert_eq!(
@@ -1262,6 +1366,23 @@ fn bindgen_test_layout_hgcd_stats() {
         );
     }
     test_field_filtered_pairs();
+    fn test_field_events_seconds() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).events_seconds) as usize - ptr as usize
+            },
+            136usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_stats),
+                "::",
+                stringify!(events_seconds)
+            )
+        );
+    }
+    test_field_events_seconds();
 }
 extern "C" {
     #[doc = " Copies the statistics of the last step/detect into *out_stats, whose"]

@@ -479,7 +479,7 @@ void check_events(const Model &m, const hgcd_pair *now, size_t count) {
         for (const hgcd_pair &p : from) {
             if (std::any_of(to.begin(), to.end(), [&](const hgcd_pair &q) { return !std::memcmp(&p, &q, sizeof p); }))
                 continue;
-            EXPECT(k < n[e] && !std::memcmp(&ev[e][k].pair, &p, sizeof p), "%s event %zu", e ? "ended" : "began", k);
+            EXPECT(k < n[e] && !std::memcmp(&ev[e][k].pair, &p, sizeof p), "%s event %zu of %zu: want {%u,%u}-{%u,%u} (%zu before, %zu after)", e ? "ended" : "began", k, n[e], p.a.index, p.a.generation, p.b.index, p.b.generation, before.size(), after.size());
             EXPECT(ev[e][k].user_data_a == user(p.a) && ev[e][k].user_data_b == user(p.b), "event user data");
             ++k;
         }

@@ -130,7 +130,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
-    user_data_[i] = d.user_data;
+    user_data_[slot] = d.user_data;
     filter_[i] = BodyFilter();  // (counted as plain: set_body_filter counts the body's own)
     BodyFilter f;
     f.category = d.filter.category_bits;
@@ -233,7 +233,7 @@ hgcd_status World::get_mesh(hgcd_body id, hgcd_mesh *out) const {
 hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;
-    *out = user_data_[at_[slot]];
+    *out = user_data_[slot];
     return HGCD_OK;
 }
 

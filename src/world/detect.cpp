@@ -213,6 +213,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     // the events compare with them.)
     if (!base_in_prev_) prev_pairs_.swap(pairs_);
     base_in_prev_ = false;
+    base_indexed_ = false;
     pairs_.clear();
     began_.clear();
     ended_.clear();
@@ -229,7 +230,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         // with destroyed bodies at the next detect that searches).
         try {
             reuse_pairs();
-            find_events();
+            find_events(T);
         } catch (...) {
             pairs_.clear();
             began_.clear();
@@ -254,7 +255,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // per thread, parallel to hits_
         narrow_phase(T, plan, hit_contacts);
         merge_hits(T, plan.want_contacts, hit_contacts);
-        find_events();
+        find_events(T);
         const double t3 = omp_get_wtime();
 
         stats_.level_count = grid_.level_count();

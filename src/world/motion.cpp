@@ -183,7 +183,6 @@ bool World::renumber() {
         permute_records<3>(velocity_.data(), perm, n, tmp);
         permute_records<3>(point_.data(), perm, n, tmp);
         permute_records<6>(box_off_.data(), perm, n, tmp);
-        permute_records<1>(user_data_.data(), perm, n, tmp);
         permute_records<1>(r_level_.data(), perm, n, tmp);
         permute_records<1>(body_mesh_.data(), perm, n, tmp);
         permute_records<3>(reinterpret_cast<uint64_t *>(filter_.data()), perm, n, tmp);

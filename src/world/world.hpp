@@ -148,7 +148,7 @@ class World {
         return filter_[s].type == HGCD_BODY_STATIC || (filter_[s].flags & BodyFilter::kDisabled);
     }
     // Events (events.cpp): began_ and ended_ from prev_pairs_ and pairs_.
-    void find_events();
+    void find_events(int threads);
     void bury(uint32_t slot);
     uint64_t user_data_of(hgcd_body id) const;
     hgcd_status check_pair(const char *what, hgcd_body a, hgcd_body b, int64_t *sa, int64_t *sb) const;
@@ -202,6 +202,7 @@ class World {
     LargeVector<uint32_t> live_gen_;   // body_gen_ if alive, else 0
     std::vector<uint32_t> at_;         // storage index
     std::vector<uint32_t> body_free_;  // stack of reusable slots
+    std::vector<uint64_t> user_data_;  // (by slot: the events read it by slot)
     // Per storage index (structure of arrays):
     LargeVector<uint32_t> slot_of_;
     LargeVector<uint32_t> stored_gen_;  // live_gen_ of the slot stored here
@@ -209,7 +210,6 @@ class World {
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
     LargeVector<BodyFilter> filter_;   // type, enabled, filter (filter.hpp)
-    std::vector<uint64_t> user_data_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
     LargeVector<float> box_off_;
@@ -256,9 +256,11 @@ class World {
     // Events of the last detect, and what they need: whether prev_pairs_
     // holds the last successful detect's pairs (after a failed detect, so
     // the next one compares with them), per slot whether its body is in
-    // those pairs, and the user data of such bodies destroyed since.
+    // those pairs (built by the first destruction that needs it), and the
+    // user data of such bodies destroyed since.
     std::vector<hgcd_pair_event> began_, ended_;
     bool base_in_prev_ = false;
+    bool base_indexed_ = false;  // in_pairs_ describes those pairs (bury)
     std::vector<uint8_t> in_pairs_;
     struct Grave {
         uint32_t slot, generation;

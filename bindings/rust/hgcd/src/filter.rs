@@ -20,21 +20,26 @@ pub enum BodyType {
     Unknown(i32),
 }
 
+// (bindgen gives the enum's constants as u32: its values are all >= 0.)
+const DYNAMIC: i32 = sys::HGCD_BODY_DYNAMIC as i32;
+const KINEMATIC: i32 = sys::HGCD_BODY_KINEMATIC as i32;
+const STATIC: i32 = sys::HGCD_BODY_STATIC as i32;
+
 impl BodyType {
     pub fn from_raw(v: i32) -> BodyType {
         match v {
-            sys::HGCD_BODY_DYNAMIC => BodyType::Dynamic,
-            sys::HGCD_BODY_KINEMATIC => BodyType::Kinematic,
-            sys::HGCD_BODY_STATIC => BodyType::Static,
+            DYNAMIC => BodyType::Dynamic,
+            KINEMATIC => BodyType::Kinematic,
+            STATIC => BodyType::Static,
             other => BodyType::Unknown(other),
         }
     }
 
     pub fn to_raw(self) -> i32 {
         match self {
-            BodyType::Dynamic => sys::HGCD_BODY_DYNAMIC,
-            BodyType::Kinematic => sys::HGCD_BODY_KINEMATIC,
-            BodyType::Static => sys::HGCD_BODY_STATIC,
+            BodyType::Dynamic => DYNAMIC,
+            BodyType::Kinematic => KINEMATIC,
+            BodyType::Static => STATIC,
             BodyType::Unknown(v) => v,
         }
     }

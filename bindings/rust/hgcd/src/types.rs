@@ -401,6 +401,8 @@ pub struct Stats {
     /// Candidate pairs dropped before the narrow phase by body types,
     /// filters or excluded pairs.
     pub filtered_pairs: u64,
+    /// Seconds finding the began and ended pairs.
+    pub events_seconds: f64,
 }
 
 impl From<&sys::hgcd_stats> for Stats {
@@ -424,6 +426,7 @@ impl From<&sys::hgcd_stats> for Stats {
             libccd_fallback_tests: s.libccd_fallback_tests,
             unmoved_pairs: s.unmoved_pairs,
             filtered_pairs: s.filtered_pairs,
+            events_seconds: s.events_seconds,
         }
     }
 }

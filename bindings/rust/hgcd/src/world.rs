@@ -1,7 +1,10 @@
 //! `World`: the owned `hgcd_world*` (its batch calls in world/batch.rs).
 
 mod batch;
+mod events;
 mod filter;
+
+pub use events::PairEvent;
 
 use std::ffi::CStr;
 use std::fmt;

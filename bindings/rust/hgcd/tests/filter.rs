@@ -15,6 +15,7 @@ fn world_of_three(kinematic_pairs: bool) -> (World, Vec<BodyId>) {
         .map(|i| {
             let mut d = BodyDesc::new(mesh);
             d.position[0] = 0.1 * i as f64;
+            d.user_data = 100 + i as u64;
             world.create_body(&d).unwrap()
         })
         .collect();
@@ -66,4 +67,24 @@ fn enabling_filters_and_exclusions() {
     assert_eq!(indices(&mut world), vec![(0, 1), (0, 2), (1, 2)]);
     let e = world.exclude_pair(b[1], b[1]).unwrap_err();
     assert_eq!(e.kind(), ErrorKind::InvalidArgument);
+}
+
+#[test]
+fn events_carry_user_data_of_destroyed_bodies() {
+    let (mut world, b) = world_of_three(false);
+    world.detect().unwrap();
+    let (began, ended) = world.events();
+    assert_eq!(began.len(), 3);
+    assert!(ended.is_empty());
+    world.destroy_body(b[1]).unwrap();
+    world.detect().unwrap();
+    let (began, ended) = world.events();
+    assert!(began.is_empty());
+    let ended: Vec<(u32, u32, u64, u64)> = ended
+        .iter()
+        .map(|e| (e.pair.a.index(), e.pair.b.index(), e.user_data_a, e.user_data_b))
+        .collect();
+    assert_eq!(ended, vec![(0, 1, 100, 101), (1, 2, 101, 102)]);
+    world.detect().unwrap();
+    assert_eq!(world.events(), (&[][..], &[][..]));
 }

@@ -229,7 +229,8 @@ static void exclude_neighbours(mirror *m) {
 static void test_rules_match_oracle(void **state) {
     (void)state;
     size_t refused = 0, reported = 0, filtered_stat = 0;
-    for (uint64_t seed = 1; seed <= 4; ++seed) {
+    const uint64_t seeds = getenv("HGCD_SKIP_SLOW_TESTS") ? 2 : 4;
+    for (uint64_t seed = 1; seed <= seeds; ++seed) {
         static mirror m;
         mirror_init(&m, (uint32_t)(seed % 2));
         rng r = {seed * 977};
@@ -255,8 +256,8 @@ static void test_rules_match_oracle(void **state) {
         hgcd_world_destroy(m.w);
     }
     /* Dense enough for every rule to matter. */
-    assert_true(reported > 300);
-    assert_true(refused > 300);
+    assert_true(reported > 75 * seeds);
+    assert_true(refused > 75 * seeds);
     assert_true(filtered_stat > refused);
 }
 

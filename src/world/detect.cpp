@@ -236,6 +236,8 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
             began_.clear();
             ended_.clear();
             base_in_prev_ = true;
+            stats_ = hgcd_stats{};
+            stats_.struct_size = struct_size;
             throw;
         }
         stats_.thread_count = uint32_t(T);

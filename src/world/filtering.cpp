@@ -1,7 +1,7 @@
 // Body types, enabling, filters and excluded pairs: the calls that set
 // them, the pass that drops the pairs they refuse between the pair search
-// and the narrow phase, and the live arrays the grid and the motion read
-// (disabled bodies leave the grid; static and disabled ones do not move).
+// and the narrow phase, and the live array the grid reads (disabled bodies
+// leave the grid; motion.cpp leaves static and disabled ones where they are).
 #include <omp.h>
 
 #include <algorithm>
@@ -200,18 +200,6 @@ const uint32_t *World::grid_live(int threads) {
             live_scratch_[size_t(s)] = (filter_[size_t(s)].flags & BodyFilter::kDisabled) ? 0 : stored_gen_[size_t(s)];
     });
     return live_scratch_.data();
-}
-
-const uint32_t *World::motion_live(int threads) {
-    if (!disabled_bodies_ && !static_bodies_) return stored_gen_.data();
-    const size_t n = stored_gen_.size();
-    motion_scratch_.resize(n);
-    parallel_region(threads, [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t s = 0; s < int64_t(n); ++s)
-            motion_scratch_[size_t(s)] = still(size_t(s)) ? 0 : stored_gen_[size_t(s)];
-    });
-    return motion_scratch_.data();
 }
 
 }  // namespace hgcd

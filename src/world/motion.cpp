@@ -25,6 +25,7 @@ struct Motion {
     Placement *place;
     double *velocity, *point;
     const uint32_t *live;
+    const BodyFilter *still;  // when some bodies are static or disabled: they do not move
     uint32_t count;  // of storage
     std::atomic<bool> applied{false};  // some range has moved
 
@@ -43,6 +44,8 @@ struct Motion {
             // points need no such request).
             if (s + 16 < m.count) __builtin_prefetch(&place[s + 16], 1);
             if (!m.live[s]) continue;
+            if (m.still && (m.still[s].type == HGCD_BODY_STATIC || (m.still[s].flags & BodyFilter::kDisabled)))
+                continue;
             for (int k = 0; k < 3; ++k) {
                 double &c = place[s].position[k];
                 double &v = velocity[3 * size_t(s) + k];
@@ -108,7 +111,8 @@ hgcd_status World::step() {
     motion.place = place_.data();
     motion.velocity = velocity_.data();
     motion.point = point_.data();
-    motion.live = motion_live(T);  // (static and disabled bodies do not move)
+    motion.live = stored_gen_.data();
+    motion.still = static_bodies_ || disabled_bodies_ ? filter_.data() : nullptr;
     motion.count = uint32_t(n);
     const SlotPass pass{&Motion::run, &motion};
     const double motion_seconds = omp_get_wtime() - t0;

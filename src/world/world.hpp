@@ -137,11 +137,9 @@ class World {
     // The body stored at i gets filter record f: keeps plain_ and disabled_
     // counts, and marks the body moved (its pairs' answers may change).
     void set_body_filter(size_t i, const BodyFilter &f);
-    // What the grid and the motion read as each stored body's generation (0:
-    // not there): stored_gen_ unless some bodies are disabled (grid) or
-    // static or disabled (motion), then a copy with those zeroed.
+    // What the grid reads as each stored body's generation (0: not there):
+    // stored_gen_ unless some bodies are disabled, then a copy without them.
     const uint32_t *grid_live(int threads);
-    const uint32_t *motion_live(int threads);
     void forget_exclusions(uint32_t slot);
     // The body stored at s does not move with hgcd_world_step (static or disabled).
     bool still(size_t s) const {
@@ -227,7 +225,7 @@ class World {
     // Excluded pairs, by pair_key of their slots, and each slot's partners.
     std::unordered_set<uint64_t> excluded_;
     std::unordered_map<uint32_t, std::vector<uint32_t>> excluded_with_;
-    std::vector<uint32_t> live_scratch_, motion_scratch_;  // grid_live, motion_live
+    std::vector<uint32_t> live_scratch_;  // grid_live
     // Temporal coherence. Per slot, whether the body was created or its
     // pose changed since the last detect; whether the last detect's pairs
     // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not

@@ -10,8 +10,8 @@ build instead of corrupting memory at run time. Structs are declared with
 The C library is linked statically (libhgcd.a and libhgcd_scene.a, with their
 OpenMP and C++ runtimes), found as the first of:
   1. HGCD_LIB_DIR (a directory holding both archives) and HGCD_INCLUDE_DIR
-     (a directory holding hgcd/hgcd.h and hgcd/hgcd_scene.h; default: the
-     include directory beside HGCD_LIB_DIR);
+     (the directories, separated by ':', holding hgcd/hgcd.h and
+     hgcd/hgcd_scene.h; default: the include directory beside HGCD_LIB_DIR);
   2. the repository this file sits in: `make lib scene` is run at its root
      (incremental) and build-make/ is used;
   3. pkg-config --static hgcd (an installed hgcd, with `make install-scene`).
@@ -207,6 +207,7 @@ def _repo_build():
 
 def _static_link(lib_dir):
     """Archives and runtime libraries for a static link against lib_dir."""
+    lib_dir = os.path.abspath(lib_dir)
     objects = [os.path.join(lib_dir, "libhgcd_scene.a"), os.path.join(lib_dir, "libhgcd.a")]
     for path in objects:
         if not os.path.isfile(path):
@@ -227,7 +228,7 @@ def locate():
     if lib_dir:
         inc = os.environ.get("HGCD_INCLUDE_DIR", os.path.join(lib_dir, "..", "include"))
         objects, libraries, dirs = _static_link(lib_dir)
-        return [inc], objects, libraries, dirs
+        return [os.path.abspath(d) for d in inc.split(os.pathsep)], objects, libraries, dirs
     repo = _repo_build()
     if repo:
         objects, libraries, dirs = _static_link(repo[0])
@@ -287,11 +288,14 @@ def make_ffi(link=True):
 
 
 if __name__ == "__main__":
-    # `python3 hgcd_build.py` builds hgcd/_hgcd*.so in place (the build tree use).
+    # `python3 hgcd_build.py [PACKAGE_DIR]` builds _hgcd*.so into PACKAGE_DIR
+    # (default: hgcd/ beside this file, the build tree's package).
     import glob
     import shutil
+    import sys
 
+    dest = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "hgcd")
     built = make_ffi().compile(tmpdir=os.path.join(HERE, "build-cffi"))
-    for old in glob.glob(os.path.join(HERE, "hgcd", "_hgcd.*.so")):
+    for old in glob.glob(os.path.join(dest, "_hgcd.*.so")):
         os.remove(old)
-    shutil.copy2(built, os.path.join(HERE, "hgcd"))
+    shutil.copy2(built, dest)

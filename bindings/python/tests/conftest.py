@@ -14,7 +14,7 @@ REPO = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 def _library():
     lib_dir = os.environ.get("HGCD_LIB_DIR", os.path.join(REPO, "build-make"))
     if "HGCD_INCLUDE_DIR" in os.environ:
-        includes = [os.environ["HGCD_INCLUDE_DIR"]]
+        includes = os.environ["HGCD_INCLUDE_DIR"].split(os.pathsep)
     elif "HGCD_LIB_DIR" in os.environ:
         includes = [os.path.join(lib_dir, "..", "include")]
     else:

@@ -211,7 +211,7 @@ class World:
         v = A.packed(A.rows(vertices, 3, None, "vertices", "mesh_create"))
         t = A.packed(A.rows(triangles, 3, None, "triangles", "mesh_create", np.uint32))
         if v.shape[0] >= 2**32 or t.shape[0] >= 2**32:
-            raise argument_error("mesh_create: more than 2^26 vertices or triangles")
+            raise argument_error("mesh_create: 2^32 or more vertices or triangles")
         desc = ffi.new("hgcd_mesh_desc *", lib.hgcd_mesh_desc_default())
         desc.vertices = A.ptr("double *", v)
         desc.triangles = A.ptr("uint32_t *", t)
@@ -248,13 +248,17 @@ class World:
         destroyed again and the error names the entry."""
         given = [a for a in (positions, orientations, velocities, scales, user_data) if a is not None]
         n = count
-        if n is None:
-            if given:
+        try:
+            if n is None and given:
                 n = len(given[0])
-            elif not isinstance(mesh, Mesh):
+            elif n is None and not isinstance(mesh, Mesh):
                 n = len(mesh)
-            else:
-                raise argument_error("create_bodies: give count or at least one array")
+        except TypeError:
+            raise argument_error("create_bodies: the arrays must be sequences of rows") from None
+        if n is None:
+            raise argument_error("create_bodies: give count or at least one array")
+        if not isinstance(n, (int, np.integer)) or n < 0:
+            raise argument_error(f"create_bodies: count must be an int >= 0, not {n!r}")
         call = "create_bodies"
         arrays = [
             None if positions is None else A.packed(A.rows(positions, 3, n, "positions", call)),
@@ -355,7 +359,9 @@ class World:
         if bodies is not None:
             n = len(A.ids(bodies, None, "bodies", "get_poses"))
         else:
-            n = self.body_count if count is None else int(count)
+            n = self.body_count if count is None else count
+            if not isinstance(n, (int, np.integer)) or n < 0:
+                raise argument_error(f"get_poses: count must be an int >= 0, not {n!r}")
         pos = self._output(positions, n, 3, "positions")
         ori = self._output(orientations, n, 4, "orientations")
         c_bodies, _b = self._batch_target(bodies, n, "get_poses")
@@ -381,6 +387,10 @@ class World:
                                             A.ptr("uint64_t *", user), failed)
             self._const_check(status, f"get_bodies: entry {failed[0]}")
         return vel, meshes, user
+
+    def get_velocities(self, bodies):
+        """The (N, 3) velocities of the bodies of a BODY_ID array (get_bodies()[0])."""
+        return self.get_bodies(bodies)[0]
 
     # -- ticks ------------------------------------------------------------
 

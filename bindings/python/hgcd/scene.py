@@ -9,7 +9,7 @@ import dataclasses
 import numpy as np
 
 from . import _arrays as A
-from ._errors import Error
+from ._errors import Error, argument_error
 from ._hgcd import ffi, lib
 from ._world import Mesh, World
 
@@ -30,11 +30,14 @@ class Tetra:
 
 def _desc(n, seed, side, rmin, rmax, vmax):
     d = ffi.new("hgcd_scene_tetra_desc *", lib.hgcd_scene_tetra_desc_default())
-    d.n = n
-    d.seed = seed
-    for name, value in (("side", side), ("rmin", rmin), ("rmax", rmax), ("vmax", vmax)):
-        if value is not None:
-            setattr(d, name, value)
+    try:
+        d.n = n
+        d.seed = seed
+        for name, value in (("side", side), ("rmin", rmin), ("rmax", rmax), ("vmax", vmax)):
+            if value is not None:
+                setattr(d, name, value)
+    except (TypeError, OverflowError) as e:
+        raise argument_error(f"scene_tetra: {e}") from None
     return d
 
 
@@ -62,12 +65,11 @@ def move(centers, velocities, side):
     """One tick of the scene's motion, in place (hgcd_scene_tetra_move): centers
     += velocities, mirrored back into [0, side] with that velocity negated.
     Both arrays (n, 3) float64, C-contiguous and writeable."""
+    for arr, what in ((centers, "centers"), (velocities, "velocities")):
+        if not (isinstance(arr, np.ndarray) and arr.flags.c_contiguous and arr.flags.writeable):
+            raise argument_error(f"scene_tetra_move: {what} must be a C-contiguous, writeable array")
     c = A.rows(centers, 3, None, "centers", "scene_tetra_move")
     v = A.rows(velocities, 3, c.shape[0], "velocities", "scene_tetra_move")
-    for arr, what in ((c, "centers"), (v, "velocities")):
-        if not (isinstance(arr, np.ndarray) and arr.flags.c_contiguous and arr.flags.writeable):
-            raise Error(lib.HGCD_ERROR_INVALID_ARGUMENT,
-                        f"scene_tetra_move: {what} must be a C-contiguous, writeable array")
     lib.hgcd_scene_tetra_move(c.shape[0], side, A.ptr("double *", c), A.ptr("double *", v))
 
 

@@ -57,6 +57,9 @@ def test_shapes_refused_before_c(world):
     refused(lambda: world.get_poses(positions=readonly), INVALID, "writeable")
     refused(lambda: world.set_poses(), hgcd.Status.NULL_ARGUMENT, "set_poses")
     refused(lambda: world.create_bodies(world.mesh), INVALID, "count")
+    refused(lambda: world.create_bodies(world.mesh, count=-1), INVALID, "count")
+    refused(lambda: world.create_bodies(world.mesh, positions=3.0), INVALID, "sequences")
+    refused(lambda: world.get_poses(count=-2), INVALID, "count")
     assert world.last_error == ""
 
 

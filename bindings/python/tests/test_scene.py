@@ -42,3 +42,10 @@ def test_scene_refusals():
     assert "C-contiguous" in e.value.message
     with pytest.raises(hgcd.Error):
         hgcd.scene.move(np.zeros((4, 3)), np.zeros((3, 3)), 1.0)
+    with pytest.raises(hgcd.Error) as e:
+        hgcd.scene.move([[0.0, 0, 0]], [[1.0, 0, 0]], 1.0)  # a list would not be moved in place
+    assert "centers" in e.value.message
+    for bad in (-1, 2.5):
+        with pytest.raises(hgcd.Error) as e:
+            hgcd.scene.tetra(bad)
+        assert e.value.status == hgcd.Status.INVALID_ARGUMENT

@@ -103,7 +103,7 @@ def test_velocities_and_step(tetra):
         world.step()  # 5 - 4.5 = 0.5, inside the box
         world.step()  # 0.5 - 4.5 reflected at 0: 4.0, velocity flipped
         assert world.get_poses(bodies[:1])[0][0, 0] == 4.0
-        assert world.get_bodies(bodies[:1])[0][0, 0] == 9.0
+        assert world.get_velocities(bodies[:1])[0, 0] == 9.0
 
 
 def test_pairs_sorted_contacts_and_containment():

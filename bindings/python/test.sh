@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Everything `make test` runs for the Python binding: builds the C library
 # (make lib scene), installs the package with pip into a throw-away venv (system
-# site packages for Debian's numpy and cffi; no network), runs the pytest suite
+# site packages for Debian's numpy, cffi and pip; no network), runs the pytest suite
 # against that installed copy, then builds the module in place and runs the
 # example from the build tree. HGCD_PYTHON names the interpreter (default: the
 # first python3 that imports cffi and numpy, /usr/bin/python3 included).
@@ -26,8 +26,10 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 echo "-- pip install ./bindings/python into a venv ($("$python" --version))"
-"$python" -m venv --system-site-packages "$tmp/venv"
-(cd "$tmp" && "$tmp/venv/bin/pip" install -q --no-index "$here")
+# Debian's pip, run by the venv's python, installs into the venv (no copy of
+# pip is made in it: that would take longer than the rest).
+"$python" -m venv --system-site-packages --without-pip "$tmp/venv"
+(cd "$tmp" && "$tmp/venv/bin/python" -m pip install -q --no-index "$here")
 rm -rf "$here/build" "$here/hgcd.egg-info"  # pip's in-tree build leftovers
 
 echo "-- pytest on the installed package"

@@ -84,6 +84,22 @@ def test_poses_round_trip_through_record_arrays(world, tetra):
     assert np.array_equal(world.get_poses(count=2)[1], rec["q"][:2])
 
 
+def test_strided_rows_are_passed_in_place():
+    from hgcd import _arrays
+
+    rec = np.zeros(10, dtype=[("id", "<u4"), ("pad", "<u4"), ("q", "<f8", 4), ("p", "<f8", 3)])
+    p = rec["p"]
+    assert _arrays.strided(p)[0] is p and _arrays.strided(p)[1] == 64  # the record's size
+    pose = np.zeros((10, 7))
+    cols = pose[:, 3:]
+    assert _arrays.strided(cols)[0] is cols and _arrays.strided(cols)[1] == 56
+    packed = np.zeros((10, 3))
+    assert _arrays.strided(packed) == (packed, 0)
+    for copied in (np.zeros((3, 10)).T, packed[::-1], np.zeros((10, 6))[:, ::2], np.broadcast_to(np.zeros(3), (10, 3))):
+        arr, stride = _arrays.strided(copied)
+        assert arr is not copied and stride == 0 and arr.flags.c_contiguous and np.array_equal(arr, copied)
+
+
 def test_velocities_and_step(tetra):
     with hgcd.World(threads=1, time_step=0.5, bounds=((0, 0, 0), (10, 10, 10))) as world:
         mesh = world.create_mesh(*hgcd.scene.unit_mesh())

@@ -162,11 +162,13 @@ class World:
             raise Error(status, prefix + ffi.string(lib.hgcd_world_last_error(self._w)).decode())
 
     @staticmethod
-    def _const_check(status, call):
-        """Raise for a refused read-only call: those record no message."""
+    def _const_check(status, call, why="refused"):
+        """Raise for a refused read-only call: those record no message, so the
+        binding says what the header gives as the reason."""
         if status != lib.HGCD_OK:
-            name = ffi.string(lib.hgcd_status_string(status)).decode()
-            raise Error(status, f"{call}: refused with {name}")
+            if status == lib.HGCD_ERROR_STALE_ID:
+                why = "an id is not a live body or mesh of this world"
+            raise Error(status, f"{call}: {why}")
 
     # -- world settings ---------------------------------------------------
 
@@ -427,7 +429,8 @@ class World:
         out = ffi.new("hgcd_contact **")
         out_count = ffi.new("size_t *")
         with self._lock:
-            self._const_check(lib.hgcd_world_contacts(self._live(), out, out_count), "world_contacts")
+            self._const_check(lib.hgcd_world_contacts(self._live(), out, out_count), "world_contacts",
+                              "the last step/detect ran with contacts off (World(contacts=True), set_contacts)")
             n = out_count[0]
             if n == 0:
                 return np.empty(0, dtype=CONTACT)

@@ -142,7 +142,7 @@ def test_pairs_sorted_contacts_and_containment():
         world.detect()
         with pytest.raises(hgcd.Error) as e:
             world.contacts()
-        assert e.value.status == hgcd.Status.INVALID_ARGUMENT
+        assert e.value.status == hgcd.Status.INVALID_ARGUMENT and "contacts off" in e.value.message
 
 
 def test_settings(world, tetra):

@@ -19,6 +19,10 @@
 #   REPEAT      runs of each configuration, interleaved; the table gives the
 #               median of their medians [3]
 #   HOG_SECONDS the hogs' time limit, should the script be killed [600]
+#   PRIO        a command prefix for the benchmark and the hogs alike [none];
+#               "chrt -r 1" shuts out the rest of a shared machine's load
+#               (real-time round robin: the runs and the hogs then share the
+#               cores among themselves, in 100 ms slices)
 # The hogs are started per loaded run and killed after it (and on exit).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,6 +42,7 @@ ticks=${TICKS:-21}
 hogs=${HOGS:-2}
 repeat=${REPEAT:-3}
 hog_seconds=${HOG_SECONDS:-600}
+read -r -a prio <<<"${PRIO:-}"
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 
 hog_pids=()
@@ -50,7 +55,7 @@ stop_hogs() {
 start_hogs() {
     local k
     for ((k = 0; k < $1; ++k)); do
-        timeout "$hog_seconds" sh -c 'while :; do :; done' &
+        timeout "$hog_seconds" ${prio[@]+"${prio[@]}"} sh -c 'while :; do :; done' &
         hog_pids+=($!)
     done
     sleep 0.2  # let them reach the run queue
@@ -62,14 +67,14 @@ trap 'stop_hogs; rm -f "$out"' EXIT
 # leaves the environment as it is.
 configs=("0 1 adaptive -" "0 2 adaptive -" "0 2 fixed -" "0 2 fixed passive"
          "$hogs 1 adaptive -" "$hogs 2 adaptive -" "$hogs 2 fixed -" "$hogs 2 fixed passive")
-echo "== $bench, n = $n, $ticks ticks, $repeat runs each; load before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+echo "== $bench, n = $n, $ticks ticks, $repeat runs each${PRIO:+, under $PRIO}; load before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 for ((r = 1; r <= repeat; ++r)); do
     for c in "${configs[@]}"; do
         read -r h t tp policy <<<"$c"
         start_hogs "$h"
         env_args=()
         [ "$policy" != - ] && env_args=(OMP_WAIT_POLICY="$policy")
-        line=$(env "${env_args[@]}" "$bench" --n "$n" --threads "$t" --ticks "$ticks" --mode engine-batch \
+        line=$(env "${env_args[@]}" ${prio[@]+"${prio[@]}"} "$bench" --n "$n" --threads "$t" --ticks "$ticks" --mode engine-batch \
                    --thread-policy "$tp" --commit "$commit" | tail -n 1)
         stop_hogs
         echo "{\"hogs\":$h,\"policy\":\"$policy\",\"run\":$r,\"bench\":$line}" >> "$out"
@@ -77,7 +82,7 @@ for ((r = 1; r <= repeat; ++r)); do
     done
 done
 
-python3 - "$out" "$hogs" <<'PY'
+python3 - "$out" "$hogs" "${PRIO:-}" <<'PY'
 import json, statistics, sys
 rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
 groups = {}
@@ -100,5 +105,6 @@ b = rows[0]["bench"]
 print(f"\nScene tetra, n = {b['n']}, engine-batch mode, {b['ticks']} ticks, commit {b['commit']}; medians over "
       f"{len(rows) // len(groups)} runs of each run's median (worst detect: the largest tick of the library's own timer, "
       f"median over the runs); threads used: the mean over the ticks of the threads a detect ran on; speed-up: the "
-      f"1-thread detect with as many competing processes over this one.")
+      f"1-thread detect with as many competing processes over this one"
+      + (f"; every run and hog under `{sys.argv[3]}`." if sys.argv[3] else "."))
 PY

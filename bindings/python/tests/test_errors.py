@@ -88,6 +88,14 @@ def test_library_refusals_carry_status_and_message(world):
     refused(lambda: world.mesh.set_narrow_phase(-5), INVALID, "NarrowPhase")
 
 
+def test_errors_pickle(world):
+    import pickle
+
+    e = refused(lambda: world.set_poses(np.full((3, 3), np.nan)), INVALID)
+    back = pickle.loads(pickle.dumps(e))
+    assert (back.status, back.name, back.message, str(back)) == (e.status, e.name, e.message, str(e))
+
+
 def test_stale_and_foreign_ids(world):
     bodies = world.create_bodies(world.mesh, count=2)
     world.destroy_bodies(bodies[:1])

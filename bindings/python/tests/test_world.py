@@ -146,6 +146,7 @@ def test_pairs_sorted_contacts_and_containment():
 
 
 def test_settings(world, tetra):
+    world.set_thread_policy(hgcd.ThreadPolicy.FIXED)  # 2 threads every detect, busy cores or not
     world.set_thread_count(2)
     world.create_bodies(tetra, positions=[[0.0, 0, 0], [1, 0, 0]])
     world.detect()

@@ -38,7 +38,7 @@ pub use error::{Error, ErrorKind, Result};
 pub use filter::{BodyType, Filter};
 pub use types::{
     BodyDesc, BodyId, Contact, ContactKind, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose,
-    Stats, WorldDesc,
+    Stats, ThreadPolicy, WorldDesc,
 };
 pub use world::{PairEvent, World};
 

@@ -16,6 +16,13 @@
  * events: scene `tetra` of N objects stepped: hgcd_stats.events_seconds
  *   against the whole tick.
  *
+ * --engine (static mode): the caller moves the dynamic bodies (the same
+ *   reference motion, hgcd_scene_tetra_move) and hands their positions over
+ *   with hgcd_world_set_poses (by index: they are bodies 0 .. D-1), then
+ *   calls hgcd_world_detect, as an engine does; the static bodies are never
+ *   touched; a tick's time is then set_poses plus detect. Default: each tick
+ *   is one hgcd_world_step.
+ *
  * Each round builds world A, runs T ticks, frees it, then the same for B
  * (A/B interleaved by round; building is not timed). Prints one JSON line:
  * medians over every tick of every round, in ms, and the ratios. */
@@ -33,8 +40,14 @@ typedef struct {
     const char *mode, *commit;
     uint64_t n, dynamic;
     unsigned threads;
-    int ticks, rounds;
+    int ticks, rounds, engine;
 } options;
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
     if (s == HGCD_OK) return 0;
@@ -113,14 +126,33 @@ typedef struct {
 
 /* Runs T ticks of w, appending to smp at *at; pairs of tick k mapped to
  * objects (which, or identity) go to pairs_out[k] (when not NULL). */
-static int run(hgcd_world *w, const options *o, samples *smp, int *at, const uint64_t *which,
+static int run(hgcd_world *w, const options *o, const scene *s, samples *smp, int *at, const uint64_t *which,
                uint64_t **pairs_out, size_t *pairs_n) {
+    /* Engine mode: the dynamic bodies are bodies 0 .. D-1 of both worlds
+     * (which[k] = k for k < D), moved by the caller and handed over by index. */
+    const uint64_t D = o->dynamic;
+    double *c = NULL, *v = NULL;
+    if (o->engine) {
+        c = malloc(3 * D * sizeof(double)), v = malloc(3 * D * sizeof(double));
+        memcpy(c, s->centers, 3 * D * sizeof(double));
+        memcpy(v, s->velocities, 3 * D * sizeof(double));
+    }
     for (int k = 0; k < o->ticks; ++k) {
-        if (failed(hgcd_world_step(w), w, "world_step")) return 1;
+        double wall = 0;
+        if (o->engine) {
+            hgcd_scene_tetra_move(D, s->side, c, v);
+            const double t0 = now();
+            if (failed(hgcd_world_set_poses(w, NULL, D, c, 0, NULL, 0), w, "world_set_poses") ||
+                failed(hgcd_world_detect(w), w, "world_detect"))
+                return 1;
+            wall = now() - t0;
+        } else if (failed(hgcd_world_step(w), w, "world_step")) {
+            return 1;
+        }
         hgcd_stats st;
         st.struct_size = sizeof st;
         if (failed(hgcd_world_stats(w, &st), w, "world_stats")) return 1;
-        smp->total[*at] = 1e3 * st.total_seconds;
+        smp->total[*at] = 1e3 * (o->engine ? wall : st.total_seconds);  /* engine: set_poses + detect */
         smp->narrow[*at] = 1e3 * st.narrow_seconds;
         smp->broad[*at] = 1e3 * st.broad_seconds;
         smp->events[*at] = 1e3 * st.events_seconds;
@@ -142,6 +174,7 @@ static int run(hgcd_world *w, const options *o, samples *smp, int *at, const uin
         }
         pairs_n[k] = n;
     }
+    free(c), free(v);
     return 0;
 }
 
@@ -214,9 +247,10 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--ticks")) o.ticks = atoi(v);
         else if (!strcmp(a, "--rounds")) o.rounds = atoi(v);
         else if (!strcmp(a, "--commit")) o.commit = v;
+        else if (!strcmp(a, "--engine")) o.engine = atoi(v);
         else {
             fprintf(stderr, "usage: %s --mode static|mask|events [--n N] [--dynamic D] [--threads K] [--ticks T] "
-                            "[--rounds R] [--commit HASH]\n", argv[0]);
+                            "[--rounds R] [--commit HASH] [--engine 0|1]\n", argv[0]);
             return 2;
         }
     }
@@ -250,11 +284,11 @@ int main(int argc, char **argv) {
     int same = 1;
     for (int r = 0; r < o.rounds; ++r) {
         hgcd_world *w = make_world(&o, &s, NULL, total, type_a, NULL);
-        if (!w || run(w, &o, &A, &at_a, NULL, is_static ? pairs_a : NULL, na)) return 1;
+        if (!w || run(w, &o, &s, &A, &at_a, NULL, is_static ? pairs_a : NULL, na)) return 1;
         hgcd_world_destroy(w);
         if (!strcmp(o.mode, "events")) continue;
         w = make_world(&o, &s, which_b, count_b, type_b, filter_b);
-        if (!w || run(w, &o, &B, &at_b, which_b, is_static ? pairs_b : NULL, nb)) return 1;
+        if (!w || run(w, &o, &s, &B, &at_b, which_b, is_static ? pairs_b : NULL, nb)) return 1;
         hgcd_world_destroy(w);
         for (int k = 0; is_static && k < o.ticks; ++k) {
             qsort(pairs_b[k], nb[k], sizeof(uint64_t), cmp_u64);
@@ -266,9 +300,9 @@ int main(int argc, char **argv) {
     for (int k = 0; k < nt && k < 4096; ++k) ev[k] = A.events[k] / A.total[k];
     const double a_total = median(A.total, nt), a_narrow = median(A.narrow, nt), a_broad = median(A.broad, nt);
     printf("{\"bench\":\"features\",\"mode\":\"%s\",\"commit\":\"%s\",\"n\":%llu,\"threads\":%u,\"ticks\":%d,"
-           "\"rounds\":%d,\"a_tick_ms\":%.3f,\"a_broad_ms\":%.3f,\"a_narrow_ms\":%.3f,\"a_candidates\":%llu,"
+           "\"rounds\":%d,\"engine\":%d,\"a_tick_ms\":%.3f,\"a_broad_ms\":%.3f,\"a_narrow_ms\":%.3f,\"a_candidates\":%llu,"
            "\"a_filtered\":%llu,\"a_narrow_tests\":%llu,\"a_pairs\":%llu",
-           o.mode, o.commit, (unsigned long long)total, o.threads, o.ticks, o.rounds, a_total, a_broad, a_narrow,
+           o.mode, o.commit, (unsigned long long)total, o.threads, o.ticks, o.rounds, o.engine, a_total, a_broad, a_narrow,
            (unsigned long long)A.last.candidate_pairs, (unsigned long long)A.last.filtered_pairs,
            (unsigned long long)A.last.narrow_tests, (unsigned long long)A.last.colliding_pairs);
     if (!strcmp(o.mode, "events")) {

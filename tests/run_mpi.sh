@@ -1,0 +1,15 @@
+#!/bin/sh
+# Runs an MPI program on N ranks of this machine: run_mpi.sh N program [args].
+# --oversubscribe: more ranks than cores; as root, OpenMPI wants to be told.
+n=$1
+shift
+if [ "$(id -u)" = 0 ]; then
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
+# Under AddressSanitizer, OpenMPI's own allocations kept until exit are not
+# reported (mpi-lsan.supp).
+if [ -n "${ASAN_OPTIONS:-}" ]; then
+    export LSAN_OPTIONS="suppressions=$(cd "$(dirname "$0")" && pwd)/mpi-lsan.supp:print_suppressions=0"
+fi
+# One thread per rank; no binding (the ranks share the cores with others).
+exec mpirun --oversubscribe --bind-to none -x OMP_NUM_THREADS=1 -x OMP_WAIT_POLICY=passive -np "$n" "$@"

@@ -117,7 +117,7 @@ $(MPI_STATIC): $(MPI_OBJS)
 
 $(MPI_SHARED): $(MPI_OBJS) $(SHARED) mpi/hgcd_mpi.map
 	$(MPICXX) -shared -Wl,-soname,libhgcd_mpi.so.$(MAJOR) -Wl,--version-script=mpi/hgcd_mpi.map -o $@ \
-	    $(MPI_OBJS) -L$(BUILD) -lhgcd $(LDFLAGS)
+	    $(MPI_OBJS) -L$(BUILD) -lhgcd -fopenmp $(LDFLAGS)
 	ln -sf libhgcd_mpi.so.$(VERSION) $(BUILD)/libhgcd_mpi.so.$(MAJOR)
 	ln -sf libhgcd_mpi.so.$(MAJOR) $(BUILD)/libhgcd_mpi.so
 

@@ -66,6 +66,7 @@ hgcd_status hgcd_mpi_set_poses(hgcd_mpi_world *w, const uint64_t *ids, size_t co
         if (s != HGCD_OK) return fail(w, s, std::string("set_poses: ") + hgcd_world_last_error(w->local));
         const size_t ps = position_stride ? position_stride : 3 * sizeof(double);
         const size_t os = orientation_stride ? orientation_stride : 4 * sizeof(double);
+#pragma omp parallel for num_threads(w->threads) if (count > 4096) schedule(static)
         for (size_t k = 0; k < count; ++k) {
             Record &r = w->owned.rec[ids ? at[k] : k];
             if (positions) std::memcpy(r.position, (const char *)positions + k * ps, sizeof r.position);

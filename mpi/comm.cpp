@@ -78,36 +78,28 @@ std::vector<char> exchange(hgcd_mpi_world *w, const std::vector<std::vector<char
 
 std::vector<char> exchange_neighbours(hgcd_mpi_world *w, const std::vector<int> &peers,
                                       const std::vector<std::vector<char>> &out) {
+    // One message each way per neighbour, possibly empty; the receiver
+    // learns its size by probing.
     const size_t n = peers.size();
-    std::vector<unsigned long> scount(n), rcount(n);
-    std::vector<MPI_Request> req(2 * n);
+    std::vector<MPI_Request> req(n);
     for (size_t k = 0; k < n; ++k) {
-        scount[k] = out[k].size();
-        count_of(scount[k]);
-        MPI_Irecv(&rcount[k], 1, MPI_UNSIGNED_LONG, peers[k], 1, w->comm, &req[k]);
-        MPI_Isend(&scount[k], 1, MPI_UNSIGNED_LONG, peers[k], 1, w->comm, &req[n + k]);
+        MPI_Isend(out[k].data(), count_of(out[k].size()), MPI_BYTE, peers[k], 2, w->comm, &req[k]);
+        ++w->stats.messages_sent;
+        w->stats.bytes_sent += out[k].size();
     }
-    MPI_Waitall((int)req.size(), req.data(), MPI_STATUSES_IGNORE);
-    std::vector<size_t> rdispl(n + 1, 0);
-    for (size_t k = 0; k < n; ++k) rdispl[k + 1] = rdispl[k] + rcount[k];
-    std::vector<char> recv(rdispl[n]);
-    req.clear();
+    std::vector<char> recv;
     for (size_t k = 0; k < n; ++k) {
-        w->stats.messages_sent += 1 + (scount[k] > 0);
-        w->stats.messages_received += 1 + (rcount[k] > 0);
-        w->stats.bytes_sent += sizeof(unsigned long) + scount[k];
-        w->stats.bytes_received += sizeof(unsigned long) + rcount[k];
-        if (rcount[k]) {
-            req.emplace_back();
-            MPI_Irecv(recv.data() + rdispl[k], count_of(rcount[k]), MPI_BYTE, peers[k], 2, w->comm,
-                      &req.back());
-        }
-        if (scount[k]) {
-            req.emplace_back();
-            MPI_Isend(out[k].data(), (int)scount[k], MPI_BYTE, peers[k], 2, w->comm, &req.back());
-        }
+        MPI_Status st;
+        MPI_Probe(peers[k], 2, w->comm, &st);
+        int bytes = 0;
+        MPI_Get_count(&st, MPI_BYTE, &bytes);
+        const size_t at = recv.size();
+        recv.resize(at + (size_t)bytes);
+        MPI_Recv(recv.data() + at, bytes, MPI_BYTE, peers[k], 2, w->comm, MPI_STATUS_IGNORE);
+        ++w->stats.messages_received;
+        w->stats.bytes_received += (size_t)bytes;
     }
-    MPI_Waitall((int)req.size(), req.data(), MPI_STATUSES_IGNORE);
+    MPI_Waitall((int)n, req.data(), MPI_STATUSES_IGNORE);
     return recv;
 }
 

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <new>
 
+#include <omp.h>
+
 #include "internal.hpp"
 
 namespace hgcd_mpi {
@@ -42,7 +44,15 @@ struct Summary {
 
 std::vector<Summary> summarise(hgcd_mpi_world *w) {
     Summary mine{(double)w->owned.rec.size(), Box::empty()};
-    for (const Record &r : w->owned.rec) mine.region.grow(body_box(w, r));
+    const int64_t n = (int64_t)w->owned.rec.size();
+#pragma omp parallel num_threads(w->threads) if (n > 4096)
+    {
+        Box part = Box::empty();
+#pragma omp for schedule(static) nowait
+        for (int64_t k = 0; k < n; ++k) part.grow(body_box(w, w->owned.rec[k]));
+#pragma omp critical(hgcd_mpi_summary)
+        mine.region.grow(part);  // min and max: the order does not matter
+    }
     std::vector<Summary> all(w->size);
     MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, w->comm);
     ++w->stats.collective_calls;
@@ -64,13 +74,24 @@ std::vector<int> send_ghosts(hgcd_mpi_world *w, const std::vector<Summary> &all,
     std::vector<int> peers;
     for (int r = 0; r < w->size; ++r)
         if (r != w->rank && all[r].region.meets(mine)) peers.push_back(r);
-    std::vector<std::vector<char>> out(peers.size());
-    if (!peers.empty())
-        for (const Record &r : w->owned.rec) {
+    // Per thread, per peer, in body order; joined in thread order, so the
+    // ghosts arrive in the same order for any thread count.
+    std::vector<std::vector<std::vector<char>>> parts(w->threads, std::vector<std::vector<char>>(peers.size()));
+    const int64_t n = peers.empty() ? 0 : (int64_t)w->owned.rec.size();
+#pragma omp parallel num_threads(w->threads) if (n > 4096)
+    {
+        auto &mine = parts[omp_get_thread_num()];
+#pragma omp for schedule(static)
+        for (int64_t i = 0; i < n; ++i) {
+            const Record &r = w->owned.rec[i];
             const Box b = body_box(w, r);
             for (size_t k = 0; k < peers.size(); ++k)
-                if (b.meets(all[peers[k]].region)) append(out[k], r);
+                if (b.meets(all[peers[k]].region)) append(mine[k], r);
         }
+    }
+    std::vector<std::vector<char>> out(peers.size());
+    for (auto &part : parts)
+        for (size_t k = 0; k < peers.size(); ++k) out[k].insert(out[k].end(), part[k].begin(), part[k].end());
     for (const auto &o : out) w->stats.ghosts_sent += o.size() / sizeof(Record);
     in = exchange_neighbours(w, peers, out);
     w->stats.neighbour_ranks = peers.size();
@@ -134,22 +155,31 @@ void keep_reported_pairs(hgcd_mpi_world *w) {
 void migrate(hgcd_mpi_world *w, bool all) {
     const Box &d = w->decomp.domains[w->rank];
     std::vector<std::vector<char>> out(w->size);
-    std::vector<uint32_t> leaving;
-    for (uint32_t k = 0; k < w->owned.rec.size(); ++k) {
+    // Where each body goes (-1: stays), in parallel; then sent in order.
+    const int64_t n = (int64_t)w->owned.rec.size();
+    std::vector<int32_t> dest(n);
+#pragma omp parallel for num_threads(w->threads) if (n > 4096) schedule(static)
+    for (int64_t k = 0; k < n; ++k) {
         const double *p = w->owned.rec[k].position;
-        if (inside(d, p)) continue;
-        if (!all && w->motion_allowance > 0 && distance(d, p) <= w->motion_allowance) continue;
-        const int dest = w->decomp.locate(p);
-        if (dest == w->rank) continue;
-        append(out[dest], w->owned.rec[k]);
-        leaving.push_back(k);
+        int32_t to = -1;
+        if (!inside(d, p) && (all || w->motion_allowance == 0 || distance(d, p) > w->motion_allowance)) {
+            to = w->decomp.locate(p);
+            if (to == w->rank) to = -1;
+        }
+        dest[k] = to;
     }
+    std::vector<uint32_t> leaving;
+    for (int64_t k = 0; k < n; ++k)
+        if (dest[k] >= 0) {
+            append(out[dest[k]], w->owned.rec[k]);
+            leaving.push_back((uint32_t)k);
+        }
     const std::vector<char> in = hgcd_mpi::exchange(w, out);
     for (size_t k = leaving.size(); k-- > 0;) remove_owned_at(w, leaving[k]);
-    const size_t n = in.size() / sizeof(Record);
-    for (size_t k = 0; k < n; ++k) add_owned(w, record_at(in, k));
+    const size_t arrived = in.size() / sizeof(Record);
+    for (size_t k = 0; k < arrived; ++k) add_owned(w, record_at(in, k));
     w->stats.migrated_out += leaving.size();
-    w->stats.migrated_in += n;
+    w->stats.migrated_in += arrived;
 }
 
 }  // namespace hgcd_mpi

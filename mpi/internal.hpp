@@ -76,6 +76,7 @@ struct hgcd_mpi_world {
     MPI_Comm comm = MPI_COMM_NULL;
     int rank = 0, size = 1;
     double imbalance_factor = 1.2, motion_allowance = 0;
+    int threads = 1;  // OpenMP threads of this rank's loops over its bodies
     hgcd_world *local = nullptr;     // owned and ghost bodies
     hgcd_world *checking = nullptr;  // validates new bodies as hgcd would
     bool broken = false;             // out of memory mid-way: unusable

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <new>
 
+#include <omp.h>
+
 #include "internal.hpp"
 
 using namespace hgcd_mpi;
@@ -183,6 +185,7 @@ hgcd_status hgcd_mpi_world_create(MPI_Comm comm, const hgcd_mpi_world_desc *desc
     MPI_Comm_dup(comm, &w->comm);
     MPI_Comm_rank(w->comm, &w->rank);
     MPI_Comm_size(w->comm, &w->size);
+    w->threads = desc->thread_count ? (int)desc->thread_count : omp_get_num_procs();
     w->imbalance_factor = desc->imbalance_factor;
     w->motion_allowance = desc->motion_allowance;
     try {

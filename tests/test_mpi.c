@@ -249,9 +249,9 @@ static int cmp_pair(const void *x, const void *y) {
 
 /* ---- the distributed world ---------------------------------------------- */
 
-static hgcd_mpi_world *dist_create(double allowance, double factor) {
+static hgcd_mpi_world *dist_create(double allowance, double factor, uint32_t threads) {
     hgcd_mpi_world_desc d = hgcd_mpi_world_desc_default();
-    d.thread_count = 1;
+    d.thread_count = threads;
     d.motion_allowance = allowance;
     d.imbalance_factor = factor;
     hgcd_mpi_world *w = NULL;
@@ -345,10 +345,10 @@ static size_t check_tick(hgcd_mpi_world *w, reference *r, const scene *s) {
 
 /* 20 ticks of motion, checking every tick; with churn, bodies are removed
  * and added mid-way on ranks chosen without regard to ownership. */
-static void run_scene(scene *s, double allowance, double factor, int churn) {
+static void run_scene(scene *s, double allowance, double factor, int churn, uint32_t threads) {
     reference r = {0};
     if (g_rank == 0) ref_init(&r, s);
-    hgcd_mpi_world *w = dist_create(allowance, factor);
+    hgcd_mpi_world *w = dist_create(allowance, factor, threads);
     dist_add_all(w, s);
     size_t live = 0, pairs = 0;
     for (size_t k = 0; k < s->n; ++k) live += s->live[k];
@@ -415,8 +415,8 @@ static void run_scene(scene *s, double allowance, double factor, int churn) {
 static void test_tetra(void **state) {
     (void)state;
     scene s;
-    make_tetra(&s, 3000);
-    run_scene(&s, 0, 1.2, 0);
+    make_tetra(&s, 6000);
+    run_scene(&s, 0, 1.2, 0, 2); /* 2 threads: the parallel loops over bodies */
     scene_free(&s);
 }
 
@@ -424,16 +424,16 @@ static void test_clustered(void **state) {
     (void)state;
     scene s;
     make_clustered(&s, 1500);
-    run_scene(&s, 0, 1.2, 1);
+    run_scene(&s, 0, 1.2, 1, 1);
     scene_free(&s);
 }
 
-/* A motion allowance and a tight balance (a rebalance nearly every tick). */
+/* A motion allowance and a tight balance factor (a rebalance every few ticks). */
 static void test_clustered_allowance(void **state) {
     (void)state;
     scene s;
     make_clustered(&s, 1000);
-    run_scene(&s, 1.5, 1.02, 1);
+    run_scene(&s, 1.5, 1.02, 1, 1);
     scene_free(&s);
 }
 
@@ -462,7 +462,7 @@ static void test_refusals(void **state) {
     (void)state;
     scene s;
     make_clustered(&s, 300);
-    hgcd_mpi_world *w = dist_create(0, 1.2);
+    hgcd_mpi_world *w = dist_create(0, 1.2, 1);
     dist_add_all(w, &s);
     hgcd_mpi_pair *before;
     const size_t nbefore = gather_copy(w, &before);

@@ -275,8 +275,8 @@ HGCD_API hgcd_status hgcd_mpi_get_poses(const hgcd_mpi_world *world,
  *  Errors: NULL_ARGUMENT, OUT_OF_MEMORY (the world is then unusable).
  *  Cost: O(owned + ghosts) per rank plus the local detect; messages: two
  *  allgathers of a few numbers per rank, an all-to-all of counts (migration)
- *  and point-to-point messages with each neighbouring rank (two per
- *  neighbour each way); a rebalance adds about 64 allreduces per level of
+ *  and one point-to-point message each way per neighbouring rank (the
+ *  ghosts); a rebalance adds about 64 allreduces per level of
  *  log2(ranks) and moves up to every body. */
 HGCD_API hgcd_status hgcd_mpi_detect(hgcd_mpi_world *world);
 

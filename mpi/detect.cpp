@@ -1,6 +1,7 @@
 // One tick of the distributed world: migration, rebalance, ghost exchange,
 // the local detect and the owner rule (hgcd_mpi.h explains each).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <new>
@@ -78,6 +79,9 @@ std::vector<int> send_ghosts(hgcd_mpi_world *w, const std::vector<Summary> &all,
     // ghosts arrive in the same order for any thread count.
     std::vector<std::vector<std::vector<char>>> parts(w->threads, std::vector<std::vector<char>>(peers.size()));
     const int64_t n = peers.empty() ? 0 : (int64_t)w->owned.rec.size();
+    // An exception must not leave the region: a failed append is noted
+    // and thrown after it.
+    std::atomic<bool> oom{false};
 #pragma omp parallel num_threads(w->threads) if (n > 4096)
     {
         auto &mine = parts[omp_get_thread_num()];
@@ -86,9 +90,14 @@ std::vector<int> send_ghosts(hgcd_mpi_world *w, const std::vector<Summary> &all,
             const Record &r = w->owned.rec[i];
             const Box b = body_box(w, r);
             for (size_t k = 0; k < peers.size(); ++k)
-                if (b.meets(all[peers[k]].region)) append(mine[k], r);
+                if (b.meets(all[peers[k]].region)) try {
+                        append(mine[k], r);
+                    } catch (...) {
+                        oom = true;
+                    }
         }
     }
+    if (oom) throw std::bad_alloc();
     std::vector<std::vector<char>> out(peers.size());
     for (auto &part : parts)
         for (size_t k = 0; k < peers.size(); ++k) out[k].insert(out[k].end(), part[k].begin(), part[k].end());

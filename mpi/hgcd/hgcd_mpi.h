@@ -173,7 +173,7 @@ HGCD_API uint64_t hgcd_mpi_world_body_count(const hgcd_mpi_world *world);
  *  Errors: NULL_ARGUMENT, BAD_DESCRIPTOR, INVALID_MESH (as
  *  hgcd_mesh_create), INVALID_ARGUMENT (the data differ between ranks),
  *  CAPACITY, OUT_OF_MEMORY. Cost: as hgcd_mesh_create (twice: the local
- *  world and a checking world) plus two allreduces. */
+ *  world and a checking world) plus three allreduces. */
 HGCD_API hgcd_status hgcd_mpi_mesh_register(hgcd_mpi_world *world,
                                             const hgcd_mesh_desc *desc,
                                             uint32_t *out_mesh);
@@ -272,7 +272,10 @@ HGCD_API hgcd_status hgcd_mpi_get_poses(const hgcd_mpi_world *world,
  *  the ranks whose region meets this rank's, runs hgcd_world_detect on the
  *  local world and keeps the pairs this rank reports (the owner rule),
  *  replacing the previous pairs.
- *  Errors: NULL_ARGUMENT, OUT_OF_MEMORY (the world is then unusable).
+ *  Errors: NULL_ARGUMENT; OUT_OF_MEMORY: when a rank's local detect ran
+ *  out, every rank returns it with its pairs cleared (bodies untouched: the
+ *  next detect may succeed); when moving bodies ran out, the world is
+ *  unusable (see the top of this header).
  *  Cost: O(owned + ghosts) per rank plus the local detect; messages: two
  *  allgathers of a few numbers per rank, an all-to-all of counts (migration)
  *  and one point-to-point message each way per neighbouring rank (the

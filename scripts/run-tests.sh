@@ -3,8 +3,8 @@
 # same suites under AddressSanitizer + UndefinedBehaviorSanitizer, the
 # parallel ones under ThreadSanitizer, every test program under valgrind, a
 # short fuzzing run, hgcd_mpi on 1 to 4 ranks (the meson tests mpi_np*, when
-# OpenMPI is found), the plain Makefile build and install, and the Rust
-# bindings. Called by `make test`.
+# OpenMPI is found), the plain Makefile build and install, and the Python and
+# Rust bindings. Called by `make test`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
@@ -162,6 +162,9 @@ C
 fi
 unset PKG_CONFIG_PATH PKG_CONFIG_SYSROOT_DIR
 rm -rf "$stage"
+
+step "Python binding: pip install into a venv, pytest (pairs equal to a C program's, misuse, lifetime), the example"
+bindings/python/test.sh
 
 if [ -x bindings/rust/test.sh ]; then
     step "Rust bindings"

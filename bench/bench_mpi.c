@@ -10,6 +10,9 @@
  * hgcd_mpi_detect (timed: detect). Orientations do not change (the scene's
  * motion has none). One detect at the initial poses comes first, untimed.
  *
+ * After it, one line per rank ("bench":"mpi-rank") with that rank's own
+ * medians: each phase, bytes and messages sent, ghosts and owned bodies.
+ *
  * --plain runs the same loop on one ordinary hgcd world (hgcd_world_set_poses
  * with all bodies by index, then hgcd_world_detect), one process: the
  * comparison for "p ranks x 1 thread against 1 rank x p threads".
@@ -242,6 +245,25 @@ int main(int argc, char **argv) {
                1e3 * med[0], 1e3 * med[1], 1e3 * med[2], 1e3 * med[3], 1e3 * med[4], 1e3 * med[5], 1e3 * med[6],
                1e3 * med[7], med[8], med[9], med[10], med[11], med[kFields + 1], med[kFields + 2], med[12], med[13],
                npairs, (unsigned long long)pairs_fnv);
+    /* Each rank's own medians, one line per rank (time per phase per rank). */
+    double mine[kFields];
+    for (int field = 0; field < kFields; ++field) {
+        for (int t = 0; t < ticks; ++t) v[t] = ((const double *)&fig[t])[field];
+        mine[field] = median(v, ticks);
+    }
+    double *every = rank == 0 ? malloc((size_t)size * kFields * sizeof(double)) : NULL;
+    MPI_Gather(mine, kFields, MPI_DOUBLE, every, kFields, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    if (rank == 0 && !plain)
+        for (int r = 0; r < size; ++r) {
+            const double *m = &every[r * kFields];
+            printf("{\"bench\":\"mpi-rank\",\"n\":%llu,\"ranks\":%d,\"threads\":%d,\"rank\":%d,"
+                   "\"set_poses_ms\":%.3f,\"detect_ms\":%.3f,\"migrate_ms\":%.3f,\"rebalance_ms\":%.3f,"
+                   "\"ghost_exchange_ms\":%.3f,\"ghost_update_ms\":%.3f,\"local_detect_ms\":%.3f,"
+                   "\"pairs_ms\":%.3f,\"bytes_sent\":%.0f,\"messages_sent\":%.0f,\"ghosts\":%.0f,\"owned\":%.0f}\n",
+                   (unsigned long long)n, size, threads, r, 1e3 * m[0], 1e3 * m[1], 1e3 * m[2], 1e3 * m[3], 1e3 * m[4],
+                   1e3 * m[5], 1e3 * m[6], 1e3 * m[7], m[8], m[9], m[10], m[11]);
+        }
+    free(every);
     free(med), free(v), free(fig);
     hgcd_world_destroy(pw);
     hgcd_mpi_world_destroy(mw);

@@ -113,6 +113,7 @@ typedef struct hgcd_stats {
     uint64_t libccd_tests;
     uint64_t libccd_fallback_tests;
     uint64_t unmoved_pairs;
+    uint64_t searched_bodies;
     ...;
 } hgcd_stats;
 hgcd_status hgcd_world_stats(const hgcd_world *world, hgcd_stats *out_stats);

@@ -51,10 +51,12 @@ struct BodyFilter {
 };
 static_assert(sizeof(BodyFilter) == 24, "three 8-byte records for the renumbering");
 
-// Whether the pair of bodies a, b passes the types and the filters (the
-// excluded pairs are looked up separately, for bodies flagged kExcluded).
+// Whether the pair of bodies a, b passes enabling, the types and the
+// filters (the excluded pairs are looked up separately, for bodies flagged
+// kExcluded). A full detect never meets a disabled body (the grid leaves
+// them out); a search around the moved bodies alone may.
 inline bool pair_accepted(const BodyFilter &a, const BodyFilter &b, bool kinematic_pairs) {
-    return types_accept(a.type, b.type, kinematic_pairs) &&
+    return !((a.flags | b.flags) & BodyFilter::kDisabled) && types_accept(a.type, b.type, kinematic_pairs) &&
            filters_accept(a.category, a.mask, a.group, b.category, b.mask, b.group);
 }
 

@@ -258,7 +258,7 @@ static void test_rules_match_oracle(void **state) {
     /* Dense enough for every rule to matter. */
     assert_true(reported > 75 * seeds);
     assert_true(refused > 75 * seeds);
-    assert_true(filtered_stat > refused);
+    assert_true(filtered_stat > 0); /* (a detect around moved bodies searches those alone) */
 }
 
 /* A filtered pair never reaches the narrow phase: with every pair refused

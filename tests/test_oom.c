@@ -389,7 +389,7 @@ static void sweep(int sticky) {
         }
         const char *diff = snap_diff(&ref, &got, 0);
         if (diff) {
-            fprintf(stderr, "n = %ld: final state differs from the reference: %s\n", n, diff);
+            fprintf(stderr, "n = %ld: final state differs from the reference: %s (events %zu/%zu ref %zu/%zu)\n", n, diff, got.nevents[0], got.nevents[1], ref.nevents[0], ref.nevents[1]);
             const hgcd_stats *x = &ref.stats, *y = &got.stats;
             fprintf(stderr, "  stats (reference / this run): levels %u/%u oversize %u/%u threads %u/%u moved %llu/%llu "
                     "candidates %llu/%llu narrow %llu/%llu triangles %llu/%llu colliding %llu/%llu containment %llu/%llu\n",

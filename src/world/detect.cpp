@@ -212,7 +212,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     // (After a failed detect prev_pairs_ holds the last successful pairs:
     // the events compare with them.)
     if (!base_in_prev_) prev_pairs_.swap(pairs_);
-    base_in_prev_ = false;
+    base_in_prev_ = true;  // until this detect succeeds, whatever throws
     base_indexed_ = false;
     pairs_.clear();
     began_.clear();
@@ -242,6 +242,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
             throw;
         }
         clear_moved();  // (destroyed bodies count as moved)
+        base_in_prev_ = false;
         stats_.thread_count = uint32_t(T);
         stats_.total_seconds = stats_.narrow_seconds = omp_get_wtime() - t0;
         coherent_ = true;
@@ -257,6 +258,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
             if (!renumbered) renumber_if_disordered();
             detect_incremental(T, moved, t0);
             clear_moved();
+            base_in_prev_ = false;
             coherent_ = true;
             return HGCD_OK;
         }
@@ -283,6 +285,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         stats_.narrow_seconds = t3 - t2;
         stats_.total_seconds = t3 - t0;
         clear_moved();
+        base_in_prev_ = false;
         coherent_ = !contacts_on_;
         if (adaptive_threads_) governor_.record(full_threads(), t3 - t0, double(live_bodies_) + double(total), meter.lost());
     } catch (...) {

@@ -116,6 +116,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     }
     if (reuse) body_free_.pop_back();
     moved_[slot] = 1;
+    query_.stale = true;
     const size_t i = at_[slot];
     for (int k = 0; k < 3; ++k) {
         place_[i].position[k] = point_[3 * i + k] = d.position[k];
@@ -145,6 +146,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
+    query_.stale = true;
     --mesh_users_[body_mesh_[at_[slot]]];
     --live_bodies_;
     if ((body_gen_[slot] & kCounterMask) != kCounterMask) body_free_.push_back(uint32_t(slot));
@@ -173,6 +175,7 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     apply_pose(at_[slot], position, orientation);
+    query_.stale = true;
     return HGCD_OK;
 }
 

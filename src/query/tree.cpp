@@ -1,0 +1,122 @@
+// The query tree's build (median splits on the longest axis of the boxes'
+// centres) and the conservative segment-box test of the ray traversal.
+#include "query/tree.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hgcd {
+
+namespace {
+
+struct Builder {
+    std::vector<QueryItem> &items;
+    std::vector<QueryNode> &nodes;
+
+    static float centre(const QueryItem &it, int k) { return it.lo[k] + it.hi[k]; }  // (twice; order only)
+
+    void bounds(uint32_t begin, uint32_t end, QueryNode &n) const {
+        for (int k = 0; k < 3; ++k) {
+            n.lo[k] = INFINITY;
+            n.hi[k] = -INFINITY;
+        }
+        for (uint32_t i = begin; i < end; ++i)
+            for (int k = 0; k < 3; ++k) {
+                n.lo[k] = std::min(n.lo[k], items[i].lo[k]);
+                n.hi[k] = std::max(n.hi[k], items[i].hi[k]);
+            }
+    }
+
+    // Node `at` over items [begin, end): children are allocated as a pair.
+    void build(uint32_t at, uint32_t begin, uint32_t end) {
+        QueryNode &n = nodes[at];
+        bounds(begin, end, n);
+        if (end - begin <= kQueryLeafSize) {
+            n.first = begin;
+            n.count = end - begin;
+            return;
+        }
+        float clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (uint32_t i = begin; i < end; ++i)
+            for (int k = 0; k < 3; ++k) {
+                clo[k] = std::min(clo[k], centre(items[i], k));
+                chi[k] = std::max(chi[k], centre(items[i], k));
+            }
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+        const uint32_t mid = begin + (end - begin) / 2;
+        // Ties by slot: the split depends on the items alone.
+        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                         [axis](const QueryItem &x, const QueryItem &y) {
+                             const float cx = centre(x, axis), cy = centre(y, axis);
+                             return cx < cy || (cx == cy && x.slot < y.slot);
+                         });
+        const uint32_t child = uint32_t(nodes.size());
+        nodes.emplace_back();
+        nodes.emplace_back();
+        nodes[at].first = child;
+        nodes[at].count = 0;
+        build(child, begin, mid);
+        build(child + 1, mid, end);
+    }
+};
+
+}  // namespace
+
+void QueryTree::build(std::vector<QueryItem> &&in, int) {
+    items = std::move(in);
+    nodes.clear();
+    if (items.empty()) return;
+    std::sort(items.begin(), items.end(), [](const QueryItem &x, const QueryItem &y) { return x.slot < y.slot; });
+    nodes.reserve(2 * items.size() / kQueryLeafSize * 2 + 2);
+    nodes.emplace_back();
+    Builder b{items, nodes};
+    b.build(0, 0, uint32_t(items.size()));
+}
+
+void SegmentProbe::set(const double *origin, const double *end) {
+    for (int k = 0; k < 3; ++k) {
+        o[k] = origin[k];
+        e[k] = end[k];
+        smin[k] = std::min(o[k], e[k]);
+        smax[k] = std::max(o[k], e[k]);
+        const double d = e[k] - o[k];  // (0 only when e = o on the axis)
+        flat[k] = !(std::fabs(d) >= 0x1p-1020);
+        inv[k] = flat[k] ? 0.0 : 1.0 / d;
+    }
+}
+
+// Why nothing the segment meets is dropped. Per axis not flat, the segment's
+// exact parameters at the planes lo and hi are (lo - o) / (e - o) and (hi -
+// o) / (e - o); the computed ones round e - o, 1 / d, lo - o and the product
+// (relative 5u at most; an underflow adds under 2^-1074, an overflow gives
+// an infinity of the right sign: rounding is monotone). The exact segment
+// meets the box at parameter t in [0, limit] only if, per axis, t lies
+// between its two exact parameters. Then each entry (the smaller of the
+// two) that exceeds 0 is at most limit <= 1, so its computed value is at
+// most t + 5u; each exit that is below 1 is at least t >= 0, so its computed
+// value is at least t - 5u; entries at most 0 and exits at least 1 compute
+// to at most 5u above 0 and 5u below 1 (within 5u relative of a value of
+// that sign... below and above, respectively). So the computed max entry
+// (with 0) and min exit (with limit) are within 2^-50 of values that
+// satisfy enter <= exit: the margin 2^-40 suffices. Flat axes: the segment's
+// span on the axis is compared with the box exactly.
+bool segment_meets_box(const SegmentProbe &s, const float *lo, const float *hi, double limit, double *enter) {
+    double t0 = 0, t1 = limit;
+    for (int k = 0; k < 3; ++k) {
+        const double l = double(lo[k]), h = double(hi[k]);
+        if (s.flat[k]) {
+            if (s.smax[k] < l || s.smin[k] > h) return false;
+            continue;
+        }
+        double a = (l - s.o[k]) * s.inv[k], b = (h - s.o[k]) * s.inv[k];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+    }
+    *enter = t0;
+    return t0 <= t1 + 0x1p-40;
+}
+
+}  // namespace hgcd

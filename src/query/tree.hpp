@@ -1,0 +1,51 @@
+// The scene queries' tree: a bounding volume hierarchy over the live
+// bodies' boxes, built on the first query after the bodies or their poses
+// changed and kept until they change again. Boxes are the grid's (they hold
+// each body's rounded world vertices) rounded outward to float, so the tree
+// only prunes: every body it reports is then decided exactly (solid.cpp).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace hgcd {
+
+struct QueryNode {
+    float lo[3], hi[3];  // holds every box under the node
+    // Internal node (count == 0): children first and first + 1. Leaf: items
+    // first .. first + count - 1.
+    uint32_t first, count;
+};
+
+struct QueryItem {
+    float lo[3], hi[3];  // the body's box, rounded outward
+    uint32_t slot;
+    uint32_t at;  // storage index when the tree was built
+};
+
+constexpr uint32_t kQueryLeafSize = 4;
+constexpr int kQueryStack = 128;  // depth bound: median splits give depth <= log2(n) + 2
+
+struct QueryTree {
+    std::vector<QueryNode> nodes;  // nodes[0] is the root; empty: no bodies
+    std::vector<QueryItem> items;  // in leaf order
+    // Builds over the items (any order; the result depends only on the
+    // items, sorted by slot first, so not on storage order).
+    void build(std::vector<QueryItem> &&in, int threads);
+};
+
+// The closed segment from o to e as the slab test reads it; see
+// segment_meets_box for why the test never drops a box the segment meets.
+struct SegmentProbe {
+    double o[3], e[3];
+    double inv[3];       // 1 / (e - o) rounded, per axis not flat
+    bool flat[3];        // |e - o| below 2^-1020 on the axis: the span is tested instead
+    double smin[3], smax[3];  // the segment's exact box
+    void set(const double *origin, const double *end);
+};
+
+// False only when the closed segment provably misses the closed box
+// [lo, hi] (or meets it only beyond parameter limit, limit in [0, 1]).
+bool segment_meets_box(const SegmentProbe &s, const float *lo, const float *hi, double limit, double *enter);
+
+}  // namespace hgcd

@@ -65,7 +65,7 @@ struct Rng {
         z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
         return z ^ (z >> 31);
     }
-    double unif() { return double(next() >> 11) * 0x1.0p-53; }
+    double unif() { return std::ldexp(double(next() >> 11), -53); }
 };
 
 struct Scene {

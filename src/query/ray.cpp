@@ -115,11 +115,9 @@ hgcd_status World::cast_rays(const hgcd_ray *rays, size_t count, size_t stride, 
                     for (uint32_t i = node.first; i < node.first + node.count; ++i) {
                         const QueryItem &it = tree.items[i];
                         if (!segment_meets_box(probe, it.lo, it.hi, best.upper, &enter)) continue;
-                        const size_t s = it.at;
-                        const Mesh &m = meshes_[body_mesh_[s]];
                         double box[6];
-                        world_vertices(pose_of(&m, place_[s]), world, box);
-                        const SolidView view{&m, world.data(), box};
+                        const SolidView view = query_view(i, world, box);
+                        const Mesh &m = *view.mesh;
                         RayCrossing c;
                         if (m.closed && point_in_solid(view, o)) {
                             c = RayCrossing{0, 0, 0, 0, true, false};

@@ -9,6 +9,7 @@
 
 #include "broad/grid.hpp"
 #include "common/parallel.hpp"
+#include "common/transform.hpp"
 #include "narrow/narrow.hpp"
 #include "query/solid.hpp"
 #include "world/limits.hpp"
@@ -44,10 +45,49 @@ void World::ensure_query_tree() {
         }
         it.slot = slot;
         it.at = at_[slot];
+        it.mesh = body_mesh_[at_[slot]];
         items.push_back(it);
     }
-    query_.tree.build(std::move(items), threads());
+    QueryTree &tree = query_.tree;
+    tree.build(std::move(items), threads());
+    constexpr size_t kCache = 3 * QueryTree::kCachedVertices;
+    tree.world.resize(kCache * tree.items.size());
+    parallel_region(threads(), [&](RegionGuard &) {
+#pragma omp for schedule(static)
+        for (int64_t i = 0; i < int64_t(tree.items.size()); ++i) {
+            const QueryItem &it = tree.items[size_t(i)];
+            const Mesh &m = meshes_[it.mesh];
+            if (m.vertex_count > QueryTree::kCachedVertices) continue;
+            const Placement &p = place_[it.at];
+            const Rotation r = rotation_of(p.orientation);
+            for (uint32_t v = 0; v < m.vertex_count; ++v)
+                transform_point(r, p.position, p.scale, &m.vertices[3 * v], &tree.world[kCache * size_t(i) + 3 * v]);
+        }
+    });
     query_.stale = false;
+}
+
+SolidView World::query_view(size_t i, std::vector<double> &w, double *box) const {
+    const QueryTree &tree = query_.tree;
+    const QueryItem &it = tree.items[i];
+    const Mesh &m = meshes_[it.mesh];
+    const double *wv;
+    if (m.vertex_count <= QueryTree::kCachedVertices) {
+        wv = &tree.world[3 * QueryTree::kCachedVertices * i];
+        for (int k = 0; k < 3; ++k) {
+            box[k] = INFINITY;
+            box[3 + k] = -INFINITY;
+        }
+        for (uint32_t v = 0; v < m.vertex_count; ++v)
+            for (int k = 0; k < 3; ++k) {
+                box[k] = std::min(box[k], wv[3 * v + k]);
+                box[3 + k] = std::max(box[3 + k], wv[3 * v + k]);
+            }
+    } else {
+        world_vertices(pose_of(&m, place_[it.at]), w, box);
+        wv = w.data();
+    }
+    return SolidView{&m, wv, box};
 }
 
 template <class Box, class Accept>
@@ -89,7 +129,7 @@ void World::run_region_queries(size_t count, const hgcd_query_filter *filter, Bo
                             bool away = false;
                             for (int k = 0; k < 3; ++k)
                                 away |= double(it.lo[k]) > hi[k] || double(it.hi[k]) < lo[k];
-                            if (!away && accept(q, size_t(it.at), scratch, narrow)) mine.push_back(it.slot);
+                            if (!away && accept(q, size_t(i), scratch, narrow)) mine.push_back(it.slot);
                         }
                     }
                     std::sort(mine.begin(), mine.end());
@@ -142,12 +182,10 @@ hgcd_status World::query_boxes(const double *boxes, size_t count, size_t stride,
                 hi[a] = b[3 + a];
             }
         },
-        [&](size_t q, size_t s, std::vector<double> &w, NarrowScratch &) {
+        [&](size_t q, size_t i, std::vector<double> &w, NarrowScratch &) {
             const double *b = reinterpret_cast<const double *>(entry(boxes, stride, q));
-            const Mesh &m = meshes_[body_mesh_[s]];
             double box[6];
-            world_vertices(pose_of(&m, place_[s]), w, box);
-            return box_meets_solid(SolidView{&m, w.data(), box}, b, b + 3);
+            return box_meets_solid(query_view(i, w, box), b, b + 3);
         });
     publish(out);
     return HGCD_OK;
@@ -169,12 +207,10 @@ hgcd_status World::query_points(const double *points, size_t count, size_t strid
             const double *p = reinterpret_cast<const double *>(entry(points, stride, q));
             for (int a = 0; a < 3; ++a) lo[a] = hi[a] = p[a];
         },
-        [&](size_t q, size_t s, std::vector<double> &w, NarrowScratch &) {
+        [&](size_t q, size_t i, std::vector<double> &w, NarrowScratch &) {
             const double *p = reinterpret_cast<const double *>(entry(points, stride, q));
-            const Mesh &m = meshes_[body_mesh_[s]];
             double box[6];
-            world_vertices(pose_of(&m, place_[s]), w, box);
-            return point_in_solid(SolidView{&m, w.data(), box}, p);
+            return point_in_solid(query_view(i, w, box), p);
         });
     publish(out);
     return HGCD_OK;
@@ -218,8 +254,9 @@ hgcd_status World::query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, siz
                 hi[a] = qbox[6 * q + 3 + a];
             }
         },
-        [&](size_t q, size_t s, std::vector<double> &, NarrowScratch &narrow) {
+        [&](size_t q, size_t i, std::vector<double> &, NarrowScratch &narrow) {
             const hgcd_mesh_pose &p = *pose(q);
+            const size_t s = query_.tree.items[i].at;
             const BodyPose a{&qm, p.position, p.orientation, p.scale};
             return collide(a, pose_of(&meshes_[body_mesh_[s]], place_[s]), narrow) != Contact::None;
         });

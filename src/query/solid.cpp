@@ -56,6 +56,33 @@ int point_in_tetra(const SolidView &b, const double *p) {
     return inside ? 1 : 0;
 }
 
+// Every corner c[i] strictly on one side of the plane of (v0, v1, v2) (a
+// zero-area triangle has no side: false).
+bool corners_on_one_side(const double *v0, const double *v1, const double *v2, const double (*c)[3]) {
+    const int s = orient3d(v0, v1, v2, c[0]);
+    if (s == 0) return false;
+    for (int i = 1; i < 8; ++i)
+        if (orient3d(v0, v1, v2, c[i]) != s) return false;
+    return true;
+}
+
+bool tetra_separates(const SolidView &b, const double (*c)[3]) {
+    const uint32_t *tri = b.mesh->triangles.data();
+    for (uint32_t f = 0; f < 4; ++f) {
+        const uint32_t *face = tri + 3 * f, *next = tri + 3 * ((f + 1) % 4);
+        uint32_t opp = next[0];
+        for (int i = 0; i < 3; ++i)
+            if (next[i] != face[0] && next[i] != face[1] && next[i] != face[2]) opp = next[i];
+        const double *v0 = b.w + 3 * size_t(face[0]), *v1 = b.w + 3 * size_t(face[1]), *v2 = b.w + 3 * size_t(face[2]);
+        const int so = orient3d(v0, v1, v2, b.w + 3 * size_t(opp));
+        if (so == 0) return false;  // flat: no inside to be away from
+        bool away = true;
+        for (int i = 0; i < 8 && away; ++i) away = orient3d(v0, v1, v2, c[i]) == -so;
+        if (away) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 bool point_in_solid(const SolidView &b, const double *p) {
@@ -80,6 +107,10 @@ bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
     double c[8][3];
     for (int i = 0; i < 8; ++i)
         for (int k = 0; k < 3; ++k) c[i][k] = (i >> k) & 1 ? hi[k] : lo[k];
+    // A tetrahedron's solid is the hull of its vertices: a face plane with
+    // every corner strictly on the side away from the fourth vertex
+    // separates it from the box (exact signs).
+    if (b.mesh->tetra && tetra_separates(b, c)) return false;
     static const int kFace[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
     for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
         double tlo[3], thi[3];
@@ -89,6 +120,8 @@ bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
         // A vertex in the box; else the triangle meets the box only through
         // the box's surface.
         if (!outside(v0, lo, hi) || !outside(v1, lo, hi) || !outside(v2, lo, hi)) return true;
+        // Every corner strictly on one side of the triangle's plane: apart.
+        if (corners_on_one_side(v0, v1, v2, c)) continue;
         for (const auto &f : kFace) {
             if (tri_tri_intersect(v0, v1, v2, c[f[0]], c[f[1]], c[f[2]]) ||
                 tri_tri_intersect(v0, v1, v2, c[f[0]], c[f[2]], c[f[3]]))

@@ -1,5 +1,5 @@
-// The query tree's build (median splits on the longest axis of the boxes'
-// centres) and the conservative segment-box test of the ray traversal.
+// The query tree's build (binned surface area heuristic, median splits
+// where it finds none) and the conservative segment-box test of the ray traversal.
 #include "query/tree.hpp"
 
 #include <algorithm>
@@ -27,8 +27,80 @@ struct Builder {
             }
     }
 
+    static float area(const float *lo, const float *hi) {
+        const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+        return dx * dy + dy * dz + dz * dx;
+    }
+
+    // The split of items [begin, end) by the surface area heuristic over
+    // kBins bins of the centres per axis: returns the axis and the first bin
+    // of the right side, or axis -1 when
+    // no binned split separates them (then the median of the longest axis).
+    static constexpr int kBins = 16;
+    int sah_split(uint32_t begin, uint32_t end, const float *clo, const float *chi, int *cut) const {
+        float best = INFINITY;
+        int best_axis = -1;
+        for (int k = 0; k < 3; ++k) {
+            const float extent = chi[k] - clo[k];
+            if (!(extent > 0)) continue;
+            const float scale = kBins / extent;
+            uint32_t count[kBins] = {};
+            float blo[kBins][3], bhi[kBins][3];
+            for (int b = 0; b < kBins; ++b)
+                for (int a = 0; a < 3; ++a) {
+                    blo[b][a] = INFINITY;
+                    bhi[b][a] = -INFINITY;
+                }
+            for (uint32_t i = begin; i < end; ++i) {
+                const int b = std::min(kBins - 1, int((centre(items[i], k) - clo[k]) * scale));
+                ++count[b];
+                for (int a = 0; a < 3; ++a) {
+                    blo[b][a] = std::min(blo[b][a], items[i].lo[a]);
+                    bhi[b][a] = std::max(bhi[b][a], items[i].hi[a]);
+                }
+            }
+            // Right-to-left sweep of areas and counts, then left to right.
+            float rarea[kBins];
+            uint32_t rcount[kBins];
+            float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            uint32_t c = 0;
+            for (int b = kBins - 1; b > 0; --b) {
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], blo[b][a]);
+                    hi[a] = std::max(hi[a], bhi[b][a]);
+                }
+                c += count[b];
+                rarea[b] = c ? area(lo, hi) : 0;
+                rcount[b] = c;
+            }
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = INFINITY;
+                hi[a] = -INFINITY;
+            }
+            c = 0;
+            for (int b = 0; b + 1 < kBins; ++b) {
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], blo[b][a]);
+                    hi[a] = std::max(hi[a], bhi[b][a]);
+                }
+                c += count[b];
+                if (c == 0 || rcount[b + 1] == 0) continue;
+                const float cost = float(c) * area(lo, hi) + float(rcount[b + 1]) * rarea[b + 1];
+                if (cost < best) {
+                    best = cost;
+                    best_axis = k;
+                    *cut = b + 1;
+                }
+            }
+        }
+        return best_axis;
+    }
+
     // Node `at` over items [begin, end): children are allocated as a pair.
-    void build(uint32_t at, uint32_t begin, uint32_t end) {
+    // Past depth kSahDepth the splits are medians, so the depth stays below
+    // kSahDepth + log2(n) + 2 < kQueryStack (the traversals' stacks).
+    static constexpr int kSahDepth = 40;
+    void build(uint32_t at, uint32_t begin, uint32_t end, int depth) {
         QueryNode &n = nodes[at];
         bounds(begin, end, n);
         if (end - begin <= kQueryLeafSize) {
@@ -42,23 +114,40 @@ struct Builder {
                 clo[k] = std::min(clo[k], centre(items[i], k));
                 chi[k] = std::max(chi[k], centre(items[i], k));
             }
-        int axis = 0;
-        for (int k = 1; k < 3; ++k)
-            if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
-        const uint32_t mid = begin + (end - begin) / 2;
-        // Ties by slot: the split depends on the items alone.
-        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                         [axis](const QueryItem &x, const QueryItem &y) {
-                             const float cx = centre(x, axis), cy = centre(y, axis);
-                             return cx < cy || (cx == cy && x.slot < y.slot);
-                         });
+        int cut_bin = 0;
+        const int sah_axis = depth < kSahDepth ? sah_split(begin, end, clo, chi, &cut_bin) : -1;
+        uint32_t mid;
+        if (sah_axis >= 0) {
+            // The binning above recomputes each item's bin the same way, so
+            // both sides are non-empty. (A stable partition: the order of
+            // each side stays that of the items, sorted by slot at the root.)
+            const float scale = kBins / (chi[sah_axis] - clo[sah_axis]);
+            auto it = std::stable_partition(items.begin() + begin, items.begin() + end, [&](const QueryItem &x) {
+                return std::min(kBins - 1, int((centre(x, sah_axis) - clo[sah_axis]) * scale)) < cut_bin;
+            });
+            mid = uint32_t(it - items.begin());
+        } else {
+            mid = begin;
+        }
+        if (mid == begin || mid == end) {
+            int axis = 0;
+            for (int k = 1; k < 3; ++k)
+                if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+            mid = begin + (end - begin) / 2;
+            // Ties by slot: the split depends on the items alone.
+            std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                             [axis](const QueryItem &x, const QueryItem &y) {
+                                 const float cx = centre(x, axis), cy = centre(y, axis);
+                                 return cx < cy || (cx == cy && x.slot < y.slot);
+                             });
+        }
         const uint32_t child = uint32_t(nodes.size());
         nodes.emplace_back();
         nodes.emplace_back();
         nodes[at].first = child;
         nodes[at].count = 0;
-        build(child, begin, mid);
-        build(child + 1, mid, end);
+        build(child, begin, mid, depth + 1);
+        build(child + 1, mid, end, depth + 1);
     }
 };
 
@@ -69,10 +158,10 @@ void QueryTree::build(std::vector<QueryItem> &&in, int) {
     nodes.clear();
     if (items.empty()) return;
     std::sort(items.begin(), items.end(), [](const QueryItem &x, const QueryItem &y) { return x.slot < y.slot; });
-    nodes.reserve(2 * items.size() / kQueryLeafSize * 2 + 2);
+    nodes.reserve(2 * items.size() + 1);
     nodes.emplace_back();
     Builder b{items, nodes};
-    b.build(0, 0, uint32_t(items.size()));
+    b.build(0, 0, uint32_t(items.size()), 0);
 }
 
 void SegmentProbe::set(const double *origin, const double *end) {

@@ -20,15 +20,23 @@ struct QueryNode {
 struct QueryItem {
     float lo[3], hi[3];  // the body's box, rounded outward
     uint32_t slot;
-    uint32_t at;  // storage index when the tree was built
+    uint32_t at;    // storage index when the tree was built
+    uint32_t mesh;  // mesh slot
+    uint32_t pad = 0;
 };
 
 constexpr uint32_t kQueryLeafSize = 4;
-constexpr int kQueryStack = 128;  // depth bound: median splits give depth <= log2(n) + 2
+constexpr int kQueryStack = 128;  // above the tree's depth bound (tree.cpp, kSahDepth)
 
 struct QueryTree {
     std::vector<QueryNode> nodes;  // nodes[0] is the root; empty: no bodies
     std::vector<QueryItem> items;  // in leaf order
+    // World vertices of the items whose mesh has at most kCachedVertices
+    // vertices (tetrahedra), kCachedVertices * 3 doubles an item in leaf
+    // order, so that a query reaching them reads one place and transforms
+    // nothing (filled by the world after build()).
+    static constexpr uint32_t kCachedVertices = 4;
+    std::vector<double> world;
     // Builds over the items (any order; the result depends only on the
     // items, sorted by slot first, so not on storage order).
     void build(std::vector<QueryItem> &&in, int threads);

@@ -15,6 +15,7 @@
 #include "world/memory.hpp"
 #include "narrow/narrow.hpp"
 #include "query/cache.hpp"
+#include "query/solid.hpp"
 
 namespace hgcd {
 
@@ -215,11 +216,14 @@ class World {
     QueryCache query_;
     void ensure_query_tree();
     // Fills query_'s offsets and bodies with each query's bodies: box(q,
-    // lo, hi) gives query q's box; accept(q, storage index, scratch) decides
-    // a body whose tree box meets it (region.cpp).
+    // lo, hi) gives query q's box; accept(q, i, scratch, narrow) decides the
+    // tree item i whose box meets it (region.cpp).
     template <class Box, class Accept>
     void run_region_queries(size_t count, const hgcd_query_filter *filter, Box &&box, Accept &&accept);
     void publish(hgcd_query_results *out);
+    // The body of tree item i as the exact tests read it: its cached world
+    // vertices, or w filled with them; box receives their exact box.
+    SolidView query_view(size_t i, std::vector<double> &w, double *box) const;
 
     Grid grid_;
     std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs

@@ -10,6 +10,8 @@
 #   make check           quick: the meson build (build/) and its CMocka suites; installs nothing
 #   make test            every test (the suites, -Ofast, no AVX2, sanitizers, valgrind, fuzzing,
 #                        this install, Rust); installs what is missing
+#   make python          the Python module built in place (bindings/python): then
+#                        PYTHONPATH=bindings/python python3 -c 'import hgcd' (PYTHON=... picks python)
 #   make bench           benchmarks (bench/)
 #   make fuzz            the API fuzzer for FUZZ_SECONDS
 #   make deps            installs the packages make test needs
@@ -74,7 +76,7 @@ MAP := src/api/hgcd.map
 # benchmarks, tests and the Rust crate, not part of libhgcd.
 SCENE_LIB := $(BUILD)/libhgcd_scene.a
 
-.PHONY: all lib scene install install-scene uninstall demo check test bench fuzz clean deps FORCE
+.PHONY: all lib scene install install-scene uninstall demo check test bench fuzz clean deps python FORCE
 
 all: lib
 lib: $(STATIC) $(SHARED)
@@ -175,6 +177,13 @@ test:
 	bash scripts/ensure-deps.sh test
 	bash scripts/run-tests.sh
 
+# The Python binding built in place, against this build's libraries
+# (pip install ./bindings/python installs it instead). PYTHON: the first
+# python3 that imports cffi and numpy, unless given.
+PYTHON = $(shell for p in python3 /usr/bin/python3; do $$p -c 'import cffi, numpy' 2>/dev/null && echo $$p && break; done)
+python: lib scene
+	HGCD_LIB_DIR=$(BUILD) HGCD_INCLUDE_DIR=include:scene $(PYTHON) bindings/python/hgcd_build.py
+
 bench:
 	bash scripts/ensure-deps.sh bench
 	bash scripts/run-bench.sh
@@ -188,4 +197,5 @@ fuzz:
 	bash fuzz/run.sh $(FUZZ_SECONDS)
 
 clean:
-	rm -rf $(BUILD) build build-*
+	rm -rf $(BUILD) build build-* bindings/python/build bindings/python/build-cffi bindings/python/hgcd.egg-info
+	rm -f bindings/python/hgcd/_hgcd*.so

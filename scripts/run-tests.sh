@@ -2,8 +2,8 @@
 # Every test of hgcd: the CMocka suites through meson (optimised build), the
 # same suites under AddressSanitizer + UndefinedBehaviorSanitizer, the
 # parallel ones under ThreadSanitizer, every test program under valgrind, a
-# short fuzzing run, the plain Makefile build and install, and the Rust
-# bindings. Called by `make test`.
+# short fuzzing run, the plain Makefile build and install, and the Python
+# and Rust bindings. Called by `make test`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
@@ -120,6 +120,9 @@ fi
 "$stage/demo-static" --n 20000 --ticks 1 --threads 2 | tail -n 2
 unset PKG_CONFIG_PATH PKG_CONFIG_SYSROOT_DIR
 rm -rf "$stage"
+
+step "Python binding: pip install into a venv, pytest (pairs equal to a C program's, misuse, lifetime), the example"
+bindings/python/test.sh
 
 if [ -x bindings/rust/test.sh ]; then
     step "Rust bindings"

@@ -765,8 +765,9 @@ HGCD_API hgcd_status hgcd_mesh_validate(const hgcd_world *world,
  * order, is the same at any thread count.
  *
  * Cost: the first query after bodies were created, destroyed or moved (a
- * pose set, a step) builds a tree over the bodies' boxes, O(n log n) on one
- * thread (about 0.3 s for 750,000 bodies); later queries reuse it. A query
+ * pose set, a step) builds a tree over the bodies' boxes, O(n log n), mostly
+ * on one thread (about half a second for 750,000 bodies); later queries
+ * reuse it. A query
  * then costs about O(log n) plus the exact tests of the bodies its tree
  * search reaches; a mesh of more than 48 triangles is tested triangle by
  * triangle (no tree of its own yet).
@@ -840,8 +841,8 @@ enum hgcd_ray_mode {
  *  Errors (nothing written): NULL_ARGUMENT (world; rays or out_hits with
  *  count > 0), INVALID_ARGUMENT (mode, stride not a multiple of 8 or below
  *  sizeof(hgcd_ray) when not 0, a ray out of range: the message names ray
- *  k), OUT_OF_MEMORY. Cost: see above; count = 0 is
- *  a no-op. */
+ *  k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see
+ *  above; count = 0 is a no-op. */
 HGCD_API hgcd_status hgcd_world_cast_rays(hgcd_world *world,
                                           const hgcd_ray *rays, size_t count,
                                           size_t ray_stride, int32_t mode,

@@ -11,7 +11,7 @@ namespace {
 
 struct Builder {
     std::vector<QueryItem> &items;
-    std::vector<QueryNode> &nodes;
+    std::vector<QueryNode, CacheLineAllocator<QueryNode>> &nodes;
 
     static float centre(const QueryItem &it, int k) { return it.lo[k] + it.hi[k]; }  // (twice; order only)
 
@@ -158,8 +158,9 @@ void QueryTree::build(std::vector<QueryItem> &&in, int) {
     nodes.clear();
     if (items.empty()) return;
     std::sort(items.begin(), items.end(), [](const QueryItem &x, const QueryItem &y) { return x.slot < y.slot; });
-    nodes.reserve(2 * items.size() + 1);
+    nodes.reserve(2 * items.size() + 2);
     nodes.emplace_back();
+    nodes.emplace_back();  // (unused: pairs start at even indices)
     Builder b{items, nodes};
     b.build(0, 0, uint32_t(items.size()), 0);
 }

@@ -6,6 +6,8 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <vector>
 
 namespace hgcd {
@@ -26,10 +28,33 @@ struct QueryItem {
 };
 
 constexpr uint32_t kQueryLeafSize = 4;
+
+// Storage aligned to 64 bytes: a node's two children (2 x 32 bytes, at an
+// even index) then share one cache line, the one line a traversal step reads.
+template <class T>
+struct CacheLineAllocator {
+    using value_type = T;
+    CacheLineAllocator() = default;
+    template <class U>
+    CacheLineAllocator(const CacheLineAllocator<U> &) noexcept {}
+    T *allocate(size_t n) {
+        const size_t bytes = (n * sizeof(T) + 63) / 64 * 64;
+        if (void *p = std::aligned_alloc(64, bytes)) return static_cast<T *>(p);
+        throw std::bad_alloc();
+    }
+    void deallocate(T *p, size_t) noexcept { std::free(p); }
+    template <class U>
+    bool operator==(const CacheLineAllocator<U> &) const noexcept { return true; }
+    template <class U>
+    bool operator!=(const CacheLineAllocator<U> &) const noexcept { return false; }
+};
+static_assert(sizeof(QueryNode) == 32, "two nodes a cache line");
 constexpr int kQueryStack = 128;  // above the tree's depth bound (tree.cpp, kSahDepth)
 
 struct QueryTree {
-    std::vector<QueryNode> nodes;  // nodes[0] is the root; empty: no bodies
+    // nodes[0] is the root, nodes[1] unused, children pairs at even
+    // indices; empty: no bodies.
+    std::vector<QueryNode, CacheLineAllocator<QueryNode>> nodes;
     std::vector<QueryItem> items;  // in leaf order
     // World vertices of the items whose mesh has at most kCachedVertices
     // vertices (tetrahedra), kCachedVertices * 3 doubles an item in leaf

@@ -2296,8 +2296,8 @@ extern "C" {
     #[doc = "  Errors (nothing written): NULL_ARGUMENT (world; rays or out_hits with"]
     #[doc = "  count > 0), INVALID_ARGUMENT (mode, stride not a multiple of 8 or below"]
     #[doc = "  sizeof(hgcd_ray) when not 0, a ray out of range: the message names ray"]
-    #[doc = "  k), OUT_OF_MEMORY. Cost: see above; count = 0 is"]
-    #[doc = "  a no-op."]
+    #[doc = "  k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see"]
+    #[doc = "  above; count = 0 is a no-op."]
     pub fn hgcd_world_cast_rays(
         world: *mut hgcd_world,
         rays: *const hgcd_ray,

@@ -22,7 +22,7 @@ fn rays_hit_the_unit_tetrahedron() {
         Ray { origin: [-5.0, 0.0, 0.0], direction: [1.0, 0.0, 0.0], max_distance: 10.0 },
         Ray { origin: [0.0, 0.0, 0.0], direction: [0.0, 1.0, 0.0], max_distance: 1.0 },
         Ray { origin: [-5.0, 3.0, 0.0], direction: [1.0, 0.0, 0.0], max_distance: 10.0 },
-        Ray { origin: [-5.0, 0.0, 0.0], direction: [2.0, 0.0, 0.0], max_distance: 1.5 },
+        Ray { origin: [-5.0, 0.0, 0.0], direction: [2.0, 0.0, 0.0], max_distance: 2.0 },
     ];
     let hits = world.cast_rays(&rays, RayMode::Closest, None).unwrap();
     assert_eq!(hits[0].body, body);
@@ -30,7 +30,7 @@ fn rays_hit_the_unit_tetrahedron() {
     assert_eq!(hits[0].inside, 0);
     assert!(hits[1].is_hit() && hits[1].inside == 1 && hits[1].distance == 0.0 && hits[1].triangle == u32::MAX);
     assert!(!hits[2].is_hit());
-    assert_eq!(hits[3].distance, 1.5); // ends exactly on the face: t = 1
+    assert_eq!(hits[3].distance, 2.0); // ends exactly on the face: t = 1
     let any = world.cast_rays(&rays, RayMode::Any, None).unwrap();
     for (a, c) in any.iter().zip(&hits) {
         assert_eq!(a.is_hit(), c.is_hit());

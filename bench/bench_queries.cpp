@@ -278,7 +278,7 @@ int main(int argc, char **argv) {
             long agree = 0;
             for (size_t k = 0; k < nrays; ++k) {
                 h += body[k] >= 0;
-                agree += body[k] >= 0 && hits[k].body.generation != 0 && !hits[k].inside &&
+                agree += body[k] >= 0 && hits[k].body.generation != 0 &&
                          uint32_t(body[k]) == hits[k].body.index;
             }
             emit("embree", "rays_closest", threads, nrays, dt, h, agree, "", commit);
@@ -327,7 +327,7 @@ int main(int argc, char **argv) {
             world->rayTest(from, to, cb);
             if (cb.hasHit()) {
                 ++h;
-                agree += hits[k].body.generation != 0 && !hits[k].inside &&
+                agree += hits[k].body.generation != 0 &&
                          uint32_t(cb.m_collisionObject->getUserIndex()) == hits[k].body.index;
             }
         }

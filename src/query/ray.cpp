@@ -28,6 +28,11 @@ struct Hit {
     const double *tri(int i) const { return v + 3 * i; }
 };
 
+inline void prefetch_below(const QueryTree &tree, const QueryNode &n) {
+    if (n.count == 0) __builtin_prefetch(&tree.nodes[n.first]);
+    else __builtin_prefetch(&tree.items[n.first]);
+}
+
 // Is candidate (slot, crossing c on triangle cv) before the best hit?
 bool before(const double *o, const double *e, uint32_t slot, const RayCrossing &c, const double *const *cv,
             const Hit &best) {
@@ -97,6 +102,10 @@ hgcd_status World::cast_rays(const hgcd_ray *rays, size_t count, size_t stride, 
                         const QueryNode &c0 = tree.nodes[node.first], &c1 = tree.nodes[node.first + 1];
                         const bool h0 = segment_meets_box(probe, c0.lo, c0.hi, best.upper, &e0);
                         const bool h1 = segment_meets_box(probe, c1.lo, c1.hi, best.upper, &e1);
+                        // What a child's visit reads next, asked for now (the
+                        // walk is bound by memory latency).
+                        if (h0) prefetch_below(tree, c0);
+                        if (h1) prefetch_below(tree, c1);
                         if (h0 && h1) {  // nearer one on top
                             if (e0 <= e1) {
                                 stack[top++] = {node.first + 1, e1};

@@ -112,16 +112,26 @@ void World::run_region_queries(size_t count, const hgcd_query_filter *filter, Bo
                     mine.clear();
                     double lo[3], hi[3];
                     box(q, lo, hi);
-                    int top = 0;
-                    if (considered && !tree.nodes.empty()) stack[top++] = 0;
-                    while (top > 0) {
-                        const QueryNode &n = tree.nodes[stack[--top]];
+                    const auto meets = [&](const float *nlo, const float *nhi) {
                         bool apart = false;
-                        for (int k = 0; k < 3; ++k) apart |= double(n.lo[k]) > hi[k] || double(n.hi[k]) < lo[k];
-                        if (apart) continue;
+                        for (int k = 0; k < 3; ++k) apart |= double(nlo[k]) > hi[k] || double(nhi[k]) < lo[k];
+                        return !apart;
+                    };
+                    int top = 0;
+                    if (considered && !tree.nodes.empty() && meets(tree.nodes[0].lo, tree.nodes[0].hi))
+                        stack[top++] = 0;
+                    while (top > 0) {  // (the stack holds nodes whose box meets the query's)
+                        const QueryNode &n = tree.nodes[stack[--top]];
                         if (n.count == 0) {
-                            stack[top++] = n.first + 1;
-                            stack[top++] = n.first;
+                            // Both children (one cache line) tested here; what
+                            // the visit of one reads next is asked for now.
+                            for (uint32_t c = n.first + 2; c-- > n.first;) {
+                                const QueryNode &child = tree.nodes[c];
+                                if (!meets(child.lo, child.hi)) continue;
+                                if (child.count == 0) __builtin_prefetch(&tree.nodes[child.first]);
+                                else __builtin_prefetch(&tree.items[child.first]);
+                                stack[top++] = c;
+                            }
                             continue;
                         }
                         for (uint32_t i = n.first; i < n.first + n.count; ++i) {

@@ -39,6 +39,9 @@ class Error(Exception):
         self.message = message
         super().__init__(f"{message} ({self.name})")
 
+    def __reduce__(self):  # pickled as its two arguments (multiprocessing passes errors back)
+        return (Error, (self.status, self.message))
+
 
 def argument_error(message):
     """An argument refused in Python, with the status the library would give."""

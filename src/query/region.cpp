@@ -44,7 +44,6 @@ void World::ensure_query_tree() {
             it.hi[k] = float_at_least(hi[k]);
         }
         it.slot = slot;
-        it.at = at_[slot];
         it.mesh = body_mesh_[at_[slot]];
         items.push_back(it);
     }
@@ -58,7 +57,7 @@ void World::ensure_query_tree() {
             const QueryItem &it = tree.items[size_t(i)];
             const Mesh &m = meshes_[it.mesh];
             if (m.vertex_count > QueryTree::kCachedVertices) continue;
-            const Placement &p = place_[it.at];
+            const Placement &p = place_[at_[it.slot]];
             const Rotation r = rotation_of(p.orientation);
             for (uint32_t v = 0; v < m.vertex_count; ++v)
                 transform_point(r, p.position, p.scale, &m.vertices[3 * v], &tree.world[kCache * size_t(i) + 3 * v]);
@@ -84,7 +83,8 @@ SolidView World::query_view(size_t i, std::vector<double> &w, double *box) const
                 box[3 + k] = std::max(box[3 + k], wv[3 * v + k]);
             }
     } else {
-        world_vertices(pose_of(&m, place_[it.at]), w, box);
+        // (By slot: storage may have been renumbered since the build.)
+        world_vertices(pose_of(&m, place_[at_[it.slot]]), w, box);
         wv = w.data();
     }
     return SolidView{&m, wv, box};
@@ -266,7 +266,7 @@ hgcd_status World::query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, siz
         },
         [&](size_t q, size_t i, std::vector<double> &, NarrowScratch &narrow) {
             const hgcd_mesh_pose &p = *pose(q);
-            const size_t s = query_.tree.items[i].at;
+            const size_t s = at_[query_.tree.items[i].slot];
             const BodyPose a{&qm, p.position, p.orientation, p.scale};
             return collide(a, pose_of(&meshes_[body_mesh_[s]], place_[s]), narrow) != Contact::None;
         });

@@ -22,9 +22,7 @@ struct QueryNode {
 struct QueryItem {
     float lo[3], hi[3];  // the body's box, rounded outward
     uint32_t slot;
-    uint32_t at;    // storage index when the tree was built
-    uint32_t mesh;  // mesh slot
-    uint32_t pad = 0;
+    uint32_t mesh;  // mesh slot (storage indices change when the world renumbers)
 };
 
 constexpr uint32_t kQueryLeafSize = 4;

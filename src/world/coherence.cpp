@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstring>
 
-#include <omp.h>
 
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
@@ -41,13 +40,13 @@ uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) 
     for (size_t s = 0; s < slots; ++s) prev_start_[s + 1] += prev_start_[s];
     moved_at_.resize(n);
     std::vector<uint64_t> kept(size_t(threads), 0);
-    parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(static)
-        for (int64_t s = 0; s < int64_t(n); ++s) moved_at_[size_t(s)] = moved_[slot_of_[size_t(s)]];
-        // One candidate list a thread (find_pairs made one per thread): its
-        // untested pairs leave it, the colliding ones go to that thread's hits.
-#pragma omp for schedule(dynamic, 1)
-        for (int t = 0; t < threads; ++t) guard.run([&] {
+    parallel_for(threads, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        for (int64_t s = b; s < e; ++s) moved_at_[size_t(s)] = moved_[slot_of_[size_t(s)]];
+    });
+    // One candidate list a worker (find_pairs made one per worker): its
+    // untested pairs leave it, the colliding ones go to that list's hits.
+    parallel_for(threads, threads, 1, Schedule::Dynamic, [&](int64_t t0, int64_t t1, int) {
+        for (int64_t t = t0; t < t1; ++t) {
             PairBuffer &list = found[size_t(t)];
             uint64_t *pairs = list.data();
             size_t write = 0;
@@ -68,7 +67,7 @@ uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) 
             }
             list.shrink(write);
             kept[size_t(t)] = here;
-        });
+        }
     });
     uint64_t total = 0;
     for (uint64_t k : kept) total += k;

@@ -35,8 +35,11 @@ void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<u
     for (Level &lv : levels_)
         for (List *list : {&lv.residents, &lv.guests}) {
             uint32_t *slot = list->slot.data();
-            parallel_for(threads, int64_t(list->count()), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
-                for (int64_t k = b; k < e; ++k) slot[k] = new_of_old[slot[k]];
+            const uint32_t *map = new_of_old.data();
+            parallel_for(threads, int64_t(list->count()), 4096, Schedule::Static, [=](int64_t b, int64_t e, int) {
+                uint32_t *const to = slot;  // (locals: the stores cannot change them)
+                const uint32_t *const by = map;
+                for (int64_t k = b; k < e; ++k) to[k] = by[to[k]];
             });
         }
     permute_records<2>(cell_.data(), old_of_new.data(), n, scratch, threads);

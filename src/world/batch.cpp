@@ -140,23 +140,26 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     std::vector<Entry> staging(size_t(T) * kBlock);
     parallel_for(T, int64_t(blocks), 1, Schedule::Static, [&](int64_t blk0, int64_t blk1, int me) {
         Entry *in = staging.data() + size_t(me) * kBlock;
+        // (Locals, not the captures: the copies below might write those.)
+        const double *const positions_ = positions, *const orientations_ = orientations;
+        const size_t ps_ = ps, os_ = os, count_ = count, n_ = n;
         for (int64_t blk = blk0; blk < blk1; ++blk) {
-            const size_t begin = size_t(blk) * kBlock, end = std::min(n, begin + kBlock);
+            const size_t begin = size_t(blk) * kBlock, end = std::min(n_, begin + kBlock);
             for (size_t i = begin; i < end; ++i) {
                 const size_t k = slot_of_[i];
-                if (k >= count || !stored_gen_[i]) continue;
-                if (positions) std::memcpy(in[i - begin].position, entry(positions, ps, k), sizeof(Entry::position));
-                if (orientations) {
-                    std::memcpy(in[i - begin].orientation, entry(orientations, os, k), sizeof(Entry::orientation));
+                if (k >= count_ || !stored_gen_[i]) continue;
+                if (positions_) std::memcpy(in[i - begin].position, entry(positions_, ps_, k), sizeof(Entry::position));
+                if (orientations_) {
+                    std::memcpy(in[i - begin].orientation, entry(orientations_, os_, k), sizeof(Entry::orientation));
                     __builtin_prefetch(&meshes_[body_mesh_[i]].box_points);  // (scattered where meshes are per body)
                 }
             }
             for (size_t i = begin; i < end; ++i) {
                 const size_t k = slot_of_[i];
-                if (k >= count || !stored_gen_[i]) continue;
-                if (orientations && i + 8 < end) __builtin_prefetch(meshes_[body_mesh_[i + 8]].box_points.data());
-                apply_pose(i, positions ? in[i - begin].position : nullptr,
-                           orientations ? in[i - begin].orientation : nullptr);
+                if (k >= count_ || !stored_gen_[i]) continue;
+                if (orientations_ && i + 8 < end) __builtin_prefetch(meshes_[body_mesh_[i + 8]].box_points.data());
+                apply_pose(i, positions_ ? in[i - begin].position : nullptr,
+                           orientations_ ? in[i - begin].orientation : nullptr);
             }
         }
     });
@@ -195,10 +198,12 @@ hgcd_status World::get_poses(const hgcd_body *bodies, size_t count, double *posi
     if (first_failing(count, [&](size_t k) { return slot_of(k) >= 0; }) != kNone) return HGCD_ERROR_STALE_ID;
     const int T = count >= kParallelEntries ? threads() : 1;
     parallel_for(T, int64_t(count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        double *const positions_ = positions, *const orientations_ = orientations;  // (locals, as in set_poses)
+        const size_t ps_ = ps, os_ = os;
         for (int64_t k = b; k < e; ++k) {
             const Placement &pl = place_[at_[size_t(slot_of(size_t(k)))]];
-            if (positions) std::memcpy(entry(positions, ps, size_t(k)), pl.position, sizeof pl.position);
-            if (orientations) std::memcpy(entry(orientations, os, size_t(k)), pl.orientation, sizeof pl.orientation);
+            if (positions_) std::memcpy(entry(positions_, ps_, size_t(k)), pl.position, sizeof pl.position);
+            if (orientations_) std::memcpy(entry(orientations_, os_, size_t(k)), pl.orientation, sizeof pl.orientation);
         }
     });
     return HGCD_OK;

@@ -47,12 +47,12 @@ struct Grid::Census {
     CensusInput in;
     uint32_t slot_count;
     std::vector<uint8_t> flag;
-    // Per thread: a histogram of the exponents (kExponents counts: no branch
+    // Per worker: a histogram of the exponents (kExponents counts: no branch
     // on which exponent a body has, which is random), the oversize slots
-    // (ascending: static schedule, thread t has the t-th range of slots),
-    // the changed bodies and their count, and the changed bodies per level
-    // (before or after; touched_stride apart, a cache line from the next
-    // thread's).
+    // (ascending within a range of slots; OpenMP's static schedule gives
+    // worker t the t-th range, a task system any), the changed bodies and
+    // their count, and the changed bodies per level (before or after;
+    // touched_stride apart, a cache line from the next worker's).
     std::vector<uint64_t> histogram;
     std::vector<std::vector<uint32_t>> oversize;
     std::vector<std::vector<Moved>> changed;
@@ -61,8 +61,8 @@ struct Grid::Census {
     std::vector<uint64_t> touched;
 };
 
-// What one thread appends, in its own frame (the per-thread vectors share
-// cache lines), handed over after the loop.
+// What one worker appends, in its own heap record (the per-worker vectors
+// share cache lines), handed over after the loop.
 struct Grid::CensusThread {
     uint64_t *histogram;
     uint64_t *touched;

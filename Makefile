@@ -1,5 +1,6 @@
 # hgcd: plain build with only a C++ compiler (g++ or clang++) and make.
 #   make                 libhgcd.a and libhgcd.so.MAJOR.MINOR.PATCH (soname libhgcd.so.MAJOR)
+#                        plus libhgcd_mpi.a/.so (mpi/) when OpenMPI's mpicxx is found
 #   make scene           build-make/libhgcd_scene.a: the reference scenes' generator (scene/),
 #                        a support library for the demo, benchmarks, tests and Rust crate
 #   make install         PREFIX=/usr/local LIBDIR= INCLUDEDIR= DESTDIR= : the product only
@@ -66,6 +67,20 @@ LDLIBS_LIB := -fopenmp $(filter-out -lm,$(CCD_LIBS)) -lm
 # asks the same script).
 RUNTIME_LIBS = $(shell sh scripts/pc-libs-private.sh $(CXX) $(CXXFLAGS))
 
+# Optional MPI library hgcd_mpi (mpi/, hgcd/hgcd_mpi.h): built beside libhgcd
+# when OpenMPI's compiler wrapper mpicxx is found (Debian libopenmpi-dev);
+# MPI=no never builds it. libhgcd itself never depends on MPI.
+MPI ?= auto
+ifneq ($(MPI),no)
+MPICXX ?= $(shell command -v mpicxx 2>/dev/null)
+endif
+ifneq ($(MPICXX),)
+MPI_OBJS := $(patsubst mpi/%.cpp,$(BUILD)/mpi/%.o,$(wildcard mpi/*.cpp))
+MPI_STATIC := $(BUILD)/libhgcd_mpi.a
+MPI_SHARED := $(BUILD)/libhgcd_mpi.so.$(VERSION)
+MPI_LIBS := $(MPI_STATIC) $(MPI_SHARED)
+endif
+
 SRCS := $(wildcard src/*/*.cpp)
 OBJS := $(patsubst src/%.cpp,$(BUILD)/obj/%.o,$(SRCS))
 STATIC := $(BUILD)/libhgcd.a
@@ -79,7 +94,7 @@ SCENE_LIB := $(BUILD)/libhgcd_scene.a
 .PHONY: all lib scene install install-scene uninstall demo check test bench fuzz clean deps python FORCE
 
 all: lib
-lib: $(STATIC) $(SHARED)
+lib: $(STATIC) $(SHARED) $(MPI_LIBS)
 scene: $(SCENE_LIB)
 
 $(BUILD)/obj/%.o: src/%.cpp | $(BUILD)
@@ -94,7 +109,21 @@ $(SCENE_LIB): $(BUILD)/scene/scene.o
 	rm -f $@
 	ar rcs $@ $^
 
--include $(OBJS:.o=.d) $(BUILD)/scene/scene.d
+$(BUILD)/mpi/%.o: mpi/%.cpp | $(BUILD)
+	@mkdir -p $(dir $@)
+	$(MPICXX) $(BASE_CXXFLAGS) -Impi $(LIB_CPPFLAGS) $(CXXFLAGS) $(HGCD_IEEE_FLAGS) -c $< -o $@
+
+$(MPI_STATIC): $(MPI_OBJS)
+	rm -f $@
+	ar rcs $@ $^
+
+$(MPI_SHARED): $(MPI_OBJS) $(SHARED) mpi/hgcd_mpi.map
+	$(MPICXX) -shared -Wl,-soname,libhgcd_mpi.so.$(MAJOR) -Wl,--version-script=mpi/hgcd_mpi.map -o $@ \
+	    $(MPI_OBJS) -L$(BUILD) -lhgcd -fopenmp $(LDFLAGS)
+	ln -sf libhgcd_mpi.so.$(VERSION) $(BUILD)/libhgcd_mpi.so.$(MAJOR)
+	ln -sf libhgcd_mpi.so.$(MAJOR) $(BUILD)/libhgcd_mpi.so
+
+-include $(OBJS:.o=.d) $(BUILD)/scene/scene.d $(MPI_OBJS:.o=.d)
 
 $(BUILD):
 	mkdir -p $(BUILD)
@@ -130,6 +159,13 @@ install: lib $(BUILD)/hgcd.pc
 	ln -sf libhgcd.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
 	ln -sf $(SONAME) $(DESTDIR)$(LIBDIR)/libhgcd.so
 	install -m 644 $(BUILD)/hgcd.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
+ifneq ($(MPICXX),)
+	install -m 644 mpi/hgcd/hgcd_mpi.h $(DESTDIR)$(INCLUDEDIR)/hgcd/
+	install -m 644 $(MPI_STATIC) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(MPI_SHARED) $(DESTDIR)$(LIBDIR)/
+	ln -sf libhgcd_mpi.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libhgcd_mpi.so.$(MAJOR)
+	ln -sf libhgcd_mpi.so.$(MAJOR) $(DESTDIR)$(LIBDIR)/libhgcd_mpi.so
+endif
 
 # `make install` leaves the scene generator out: it is not the product (not
 # in hgcd.h, static only, no ABI promise), only the tool that builds the
@@ -147,6 +183,7 @@ FORCE:
 uninstall:
 	rm -rf $(DESTDIR)$(INCLUDEDIR)/hgcd
 	rm -f $(DESTDIR)$(LIBDIR)/libhgcd.a $(DESTDIR)$(LIBDIR)/libhgcd.so* $(DESTDIR)$(LIBDIR)/pkgconfig/hgcd.pc
+	rm -f $(DESTDIR)$(LIBDIR)/libhgcd_mpi.a $(DESTDIR)$(LIBDIR)/libhgcd_mpi.so*
 	rm -f $(DESTDIR)$(LIBDIR)/libhgcd_scene.a
 
 # The main job: scene `tetra` of docs/scenes.md through the C API.

@@ -18,6 +18,8 @@ case "$target" in
            "/usr/include/ccd/ccd.h:libccd-dev" "bindgen:bindgen" "clang:clang"
            "valgrind:valgrind" "cargo:cargo" "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev"
            "/usr/include/assimp/Importer.hpp:libassimp-dev"
+           # hgcd_mpi (mpi/) and its tests on 1 to 4 ranks:
+           "mpicxx:libopenmpi-dev" "mpirun:openmpi-bin"
            # ThreadSanitizer run (LLVM OpenMP + Archer) and the libFuzzer target:
            "/usr/lib/llvm-14/lib/libarcher.so:libomp-dev"
            "/usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a:libclang-rt-14-dev"
@@ -35,7 +37,8 @@ case "$target" in
            "/usr/include/ccd/ccd.h:libccd-dev"
            "/usr/include/fcl/config.h:libfcl-dev" "/usr/include/bullet/btBulletCollisionCommon.h:libbullet-dev"
            "/usr/include/ode/ode.h:libode-dev" "python3:python3"
-           "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev" "/usr/include/assimp/Importer.hpp:libassimp-dev") ;;
+           "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev" "/usr/include/assimp/Importer.hpp:libassimp-dev"
+           "mpicxx:libopenmpi-dev" "mpirun:openmpi-bin") ;;
   *) echo "usage: $0 demo|check|test|bench" >&2; exit 2 ;;
 esac
 

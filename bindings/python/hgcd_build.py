@@ -37,6 +37,7 @@ enum hgcd_status_code {
 enum hgcd_narrow_phase {
     HGCD_NARROW_WORLD, HGCD_NARROW_EXACT, HGCD_NARROW_GJK, HGCD_NARROW_MPR, ...
 };
+enum hgcd_thread_policy { HGCD_THREADS_ADAPTIVE, HGCD_THREADS_FIXED, ... };
 enum hgcd_contact_kind {
     HGCD_CONTACT_SURFACE, HGCD_CONTACT_A_CONTAINS_B, HGCD_CONTACT_B_CONTAINS_A,
     HGCD_CONTACT_PENETRATION, ...
@@ -62,6 +63,7 @@ typedef struct hgcd_world_desc {
     double max_cell_size;
     int32_t narrow_phase;
     uint32_t contacts;
+    int32_t thread_policy;
     ...;
 } hgcd_world_desc;
 hgcd_world_desc hgcd_world_desc_default(void);
@@ -73,6 +75,7 @@ uint32_t hgcd_world_mesh_count(const hgcd_world *world);
 hgcd_status hgcd_world_set_thread_count(hgcd_world *world, uint32_t thread_count);
 hgcd_status hgcd_world_set_narrow_phase(hgcd_world *world, int32_t narrow_phase);
 hgcd_status hgcd_world_set_contacts(hgcd_world *world, uint32_t enable);
+hgcd_status hgcd_world_set_thread_policy(hgcd_world *world, int32_t thread_policy);
 hgcd_status hgcd_world_step(hgcd_world *world);
 hgcd_status hgcd_world_detect(hgcd_world *world);
 hgcd_status hgcd_world_pairs(const hgcd_world *world, const hgcd_pair **out_pairs,
@@ -110,6 +113,7 @@ typedef struct hgcd_stats {
     uint64_t libccd_tests;
     uint64_t libccd_fallback_tests;
     uint64_t unmoved_pairs;
+    uint64_t searched_bodies;
     ...;
 } hgcd_stats;
 hgcd_status hgcd_world_stats(const hgcd_world *world, hgcd_stats *out_stats);
@@ -199,8 +203,7 @@ def _repo_build():
     if not (os.path.isfile(os.path.join(REPO, "Makefile"))
             and os.path.isfile(os.path.join(REPO, "include", "hgcd", "hgcd.h"))):
         return None
-    if os.environ.get("HGCD_NO_MAKE") != "1":
-        subprocess.run(["make", "-s", "-C", REPO, "lib", "scene"], check=True)
+    subprocess.run(["make", "-s", "-C", REPO, "lib", "scene"], check=True)
     build = os.path.join(REPO, "build-make")
     return build, [os.path.join(REPO, "include"), os.path.join(REPO, "scene")]
 

@@ -5,17 +5,35 @@
 #include <algorithm>
 #include <cstring>
 
-
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
 #include "world/world.hpp"
 
 namespace hgcd {
 
-size_t World::unmoved_bodies() const {
-    size_t unmoved = 0;
-    for (size_t s = 0; s < moved_.size(); ++s) unmoved += live_gen_[s] != 0 && !moved_[s];
-    return unmoved;
+World::MovedCount World::count_moved(int threads) const {
+    const size_t n = stored_gen_.size(), known = mover_.size();
+    std::vector<MovedCount> of(static_cast<size_t>(threads));
+    parallel_for(threads, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
+        MovedCount mine = of[size_t(me)];
+        for (int64_t i = b; i < e; ++i) {
+            if (!stored_gen_[size_t(i)] || !moved_at_[size_t(i)]) continue;
+            ++mine.moved;
+            mine.new_movers += size_t(i) >= known || !mover_[size_t(i)];
+        }
+        of[size_t(me)] = mine;
+    });
+    MovedCount all;
+    for (const MovedCount &c : of) {
+        all.moved += c.moved;
+        all.new_movers += c.new_movers;
+    }
+    return all;
+}
+
+void World::clear_moved() {
+    std::fill(moved_.begin(), moved_.end(), uint8_t(0));
+    std::fill(moved_at_.begin(), moved_at_.end(), uint8_t(0));
 }
 
 // No live body moved or was created: the last pairs less those of bodies
@@ -34,15 +52,11 @@ void World::reuse_pairs() {
 uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) {
     // Where each slot's pairs start in the last pairs (sorted by (a, b)):
     // a pair (a, b) is looked up among a's few.
-    const size_t slots = moved_.size(), n = stored_gen_.size();
+    const size_t slots = moved_.size();
     prev_start_.assign(slots + 1, 0);
     for (const hgcd_pair &p : prev_pairs_) ++prev_start_[p.a.index + 1];
     for (size_t s = 0; s < slots; ++s) prev_start_[s + 1] += prev_start_[s];
-    moved_at_.resize(n);
     std::vector<uint64_t> kept(size_t(threads), 0);
-    parallel_for(threads, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
-        for (int64_t s = b; s < e; ++s) moved_at_[size_t(s)] = moved_[slot_of_[size_t(s)]];
-    });
     // One candidate list a worker (find_pairs made one per worker): its
     // untested pairs leave it, the colliding ones go to that list's hits.
     parallel_for(threads, threads, 1, Schedule::Dynamic, [&](int64_t t0, int64_t t1, int) {

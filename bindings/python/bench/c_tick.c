@@ -16,12 +16,14 @@ static double clock_seconds(clockid_t clock) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* The world of bench_hgcd's engine modes: reflecting at [0, side]^3, one
- * shared unit tetrahedron, body i from entry i of the arrays. NULL on failure. */
+/* The world of bench_hgcd's engine modes (--thread-policy fixed): reflecting
+ * at [0, side]^3, one shared unit tetrahedron, body i from entry i of the
+ * arrays. NULL on failure. */
 hgcd_world *c_world_create(uint64_t n, double side, unsigned threads, const double *centers,
                            const double *orientations, const double *velocities, const double *scales) {
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = threads;
+    wd.thread_policy = HGCD_THREADS_FIXED; /* as the Python world of tick.py */
     wd.reflect_at_bounds = 1;
     for (int k = 0; k < 3; ++k) wd.bounds_max[k] = side;
     hgcd_world *w = NULL;

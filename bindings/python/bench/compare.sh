@@ -6,6 +6,7 @@
 #     from C (bench/c_tick.c) with the same poses, alternating which goes first;
 #  2. process by process: ROUNDS rounds of bench/bench_hgcd.c --mode
 #     engine-batch and tick.py, the order swapped every round.
+# Both use a fixed thread count (ThreadPolicy.FIXED, --thread-policy fixed).
 # Prints each run's JSON line, then medians and ratios (C: set_poses + detect,
 # pairs read in place; Python: set_poses + detect + pairs copied into numpy),
 # and checks both gave the same pairs.
@@ -38,7 +39,7 @@ PYTHONPATH=$pkg "$python" "$here/tick.py" --n "$n" --threads "$threads" --ticks 
 echo "-- 2. separate processes, $rounds rounds of $ticks ticks"
 out=$build/compare.jsonl
 : >"$out"
-c_run() { "$build/bench_hgcd" --n "$n" --threads "$threads" --ticks "$ticks" --mode engine-batch | tee -a "$out"; }
+c_run() { "$build/bench_hgcd" --n "$n" --threads "$threads" --ticks "$ticks" --mode engine-batch --thread-policy fixed | tee -a "$out"; }
 py_run() { PYTHONPATH=$pkg "$python" "$here/tick.py" --n "$n" --threads "$threads" --ticks "$ticks" | tee -a "$out"; }
 for r in $(seq 1 "$rounds"); do
     if [ $((r % 2)) -eq 1 ]; then c_run; py_run; else py_run; c_run; fi

@@ -122,7 +122,8 @@ def main():
     c_world = CWorld(a.against_c, s, a.threads) if a.against_c else None
     centers, velocities, orientations = s.centers.copy(), s.velocities.copy(), s.orientations.copy()
     py_times, c_times, same = [], [], True
-    with hgcd.World(threads=a.threads, bounds=((0, 0, 0), (s.side,) * 3)) as world:
+    with hgcd.World(threads=a.threads, thread_policy=hgcd.ThreadPolicy.FIXED,
+                    bounds=((0, 0, 0), (s.side,) * 3)) as world:
         mesh = world.create_mesh(*hgcd.scene.unit_mesh())
         world.create_bodies(mesh, centers, orientations, velocities, s.scales, np.arange(a.n, dtype=np.uint64))
         world.detect()

@@ -17,6 +17,13 @@ class NarrowPhase(enum.IntEnum):
     MPR = lib.HGCD_NARROW_MPR
 
 
+class ThreadPolicy(enum.IntEnum):
+    """How many of its threads a world uses (enum hgcd_thread_policy)."""
+
+    ADAPTIVE = lib.HGCD_THREADS_ADAPTIVE  # fewer while the cores are busy with other work
+    FIXED = lib.HGCD_THREADS_FIXED  # always the thread count
+
+
 class ContactKind(enum.IntEnum):
     """What a colliding pair is made of (enum hgcd_contact_kind)."""
 
@@ -57,6 +64,7 @@ class Stats:
     libccd_tests: int
     libccd_fallback_tests: int
     unmoved_pairs: int
+    searched_bodies: int
 
 
 @dataclasses.dataclass(frozen=True)

@@ -7,14 +7,18 @@ from . import _arrays as A
 from ._arrays import BODY_ID, MESH_ID
 from ._errors import Error, Status, argument_error
 from ._hgcd import ffi, lib
-from ._types import CONTACT, NarrowPhase, mesh_info_from_c, stats_from_c
+from ._types import CONTACT, NarrowPhase, ThreadPolicy, mesh_info_from_c, stats_from_c
+
+
+def _enum(cls, value, call):
+    try:
+        return int(cls(value))
+    except ValueError:
+        raise argument_error(f"{call}: {value!r} is not a {cls.__name__}") from None
 
 
 def _narrow(value, call):
-    try:
-        return int(NarrowPhase(value))
-    except ValueError:
-        raise argument_error(f"{call}: {value!r} is not a NarrowPhase") from None
+    return _enum(NarrowPhase, value, call)
 
 
 class Mesh:
@@ -53,6 +57,12 @@ class Mesh:
                                     "mesh_get_info")
         return mesh_info_from_c(out)
 
+    def set_thread_policy(self, policy):
+        """ThreadPolicy.ADAPTIVE or FIXED for the following calls; never changes the pairs."""
+        with self._lock:
+            self._check(lib.hgcd_world_set_thread_policy(self._live(), _enum(ThreadPolicy, policy,
+                                                                             "set_thread_policy")))
+
     def set_narrow_phase(self, narrow_phase):
         """The narrow phase of this mesh's pairs (NarrowPhase; WORLD = follow the world)."""
         with self.world._lock:
@@ -86,14 +96,17 @@ class World:
     step() run without the GIL, so other Python threads (and other worlds)
     keep running meanwhile.
 
-    Keyword arguments (hgcd_world_desc): threads (0 = all cores), bounds
+    Keyword arguments (hgcd_world_desc): threads (0 = all cores),
+    thread_policy (ThreadPolicy: ADAPTIVE, the default, uses fewer threads
+    while the cores are busy with other work; FIXED always threads), bounds
     ((min xyz, max xyz): step() reflects bodies there; None = no reflection),
     time_step, min_cell_size, max_cell_size, narrow_phase (NarrowPhase),
     contacts (record what each pair is made of: contacts()).
     """
 
     def __init__(self, *, threads=0, bounds=None, time_step=1.0, min_cell_size=0.0,
-                 max_cell_size=0.0, narrow_phase=NarrowPhase.EXACT, contacts=False):
+                 max_cell_size=0.0, narrow_phase=NarrowPhase.EXACT, contacts=False,
+                 thread_policy=ThreadPolicy.ADAPTIVE):
         self._lock = threading.Lock()
         self._w = ffi.NULL
         desc = ffi.new("hgcd_world_desc *", lib.hgcd_world_desc_default())
@@ -103,6 +116,7 @@ class World:
             desc.min_cell_size = min_cell_size
             desc.max_cell_size = max_cell_size
             desc.narrow_phase = _narrow(narrow_phase, "world_create")
+            desc.thread_policy = _enum(ThreadPolicy, thread_policy, "world_create")
         except (TypeError, ValueError, OverflowError) as e:
             raise argument_error(f"world_create: {e}")
         desc.contacts = 1 if contacts else 0
@@ -162,11 +176,13 @@ class World:
             raise Error(status, prefix + ffi.string(lib.hgcd_world_last_error(self._w)).decode())
 
     @staticmethod
-    def _const_check(status, call):
-        """Raise for a refused read-only call: those record no message."""
+    def _const_check(status, call, why="refused"):
+        """Raise for a refused read-only call: those record no message, so the
+        binding says what the header gives as the reason."""
         if status != lib.HGCD_OK:
-            name = ffi.string(lib.hgcd_status_string(status)).decode()
-            raise Error(status, f"{call}: refused with {name}")
+            if status == lib.HGCD_ERROR_STALE_ID:
+                why = "an id is not a live body or mesh of this world"
+            raise Error(status, f"{call}: {why}")
 
     # -- world settings ---------------------------------------------------
 
@@ -192,6 +208,12 @@ class World:
             raise argument_error(f"set_thread_count: threads must be an int >= 0, not {threads!r}")
         with self._lock:
             self._check(lib.hgcd_world_set_thread_count(self._live(), min(int(threads), 2**32 - 1)))
+
+    def set_thread_policy(self, policy):
+        """ThreadPolicy.ADAPTIVE or FIXED for the following calls; never changes the pairs."""
+        with self._lock:
+            self._check(lib.hgcd_world_set_thread_policy(self._live(), _enum(ThreadPolicy, policy,
+                                                                             "set_thread_policy")))
 
     def set_narrow_phase(self, narrow_phase):
         """The world's narrow phase: NarrowPhase.EXACT, GJK or MPR."""
@@ -427,7 +449,8 @@ class World:
         out = ffi.new("hgcd_contact **")
         out_count = ffi.new("size_t *")
         with self._lock:
-            self._const_check(lib.hgcd_world_contacts(self._live(), out, out_count), "world_contacts")
+            self._const_check(lib.hgcd_world_contacts(self._live(), out, out_count), "world_contacts",
+                              "the last step/detect ran with contacts off (World(contacts=True), set_contacts)")
             n = out_count[0]
             if n == 0:
                 return np.empty(0, dtype=CONTACT)

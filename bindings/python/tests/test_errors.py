@@ -84,6 +84,8 @@ def test_library_refusals_carry_status_and_message(world):
     refused(lambda: hgcd.World(bounds=((0, 0, 0), (1, 1))), INVALID, "bounds[1]", "(3,)")
     refused(lambda: hgcd.World(narrow_phase=7), INVALID, "world_create", "NarrowPhase")
     refused(lambda: world.set_narrow_phase(7), INVALID, "set_narrow_phase")
+    refused(lambda: world.set_thread_policy(2), INVALID, "set_thread_policy", "ThreadPolicy")
+    refused(lambda: hgcd.World(thread_policy=-1), INVALID, "world_create", "ThreadPolicy")
     refused(lambda: world.set_narrow_phase(hgcd.NarrowPhase.WORLD), INVALID, "narrow_phase")
     refused(lambda: world.mesh.set_narrow_phase(-5), INVALID, "NarrowPhase")
 

@@ -168,3 +168,41 @@ int oracle_box_meets_solid(const double lo[3], const double hi[3], const double 
     if (k < 0) abort();
     return k;
 }
+
+int oracle_ray_closest(const double o[3], const double e[3], const oracle_solid *bodies, uint32_t count,
+                       uint32_t *body, uint32_t *tri, int *inside, double *t) {
+    int hit = 0;
+    double bt[9], best_t = 0;
+    uint32_t b, f;
+    int k;
+    /* Bodies ascending, triangles ascending: a candidate replaces the best
+     * only when strictly before it. */
+    for (b = 0; b < count; ++b) {
+        const oracle_solid *s = &bodies[b];
+        if (oracle_mesh_is_closed(s->tris, s->tri_count) &&
+            oracle_point_in_solid(o, s->wv, s->vertex_count, s->tris, s->tri_count)) {
+            if (!hit || best_t > 0) {
+                hit = 1;
+                *body = b;
+                *tri = UINT32_MAX;
+                *inside = 1;
+                best_t = 0;
+            }
+            continue;
+        }
+        for (f = 0; f < s->tri_count; ++f) {
+            double tt[9], tp;
+            for (k = 0; k < 9; k++) tt[k] = s->wv[3 * s->tris[3 * f + k / 3] + k % 3];
+            if (!oracle_ray_crossing(o, e, tt, &tp)) continue;
+            if (hit && (*inside || oracle_crossing_compare(o, e, tt, bt) >= 0)) continue;
+            hit = 1;
+            *body = b;
+            *tri = f;
+            *inside = 0;
+            best_t = tp;
+            for (k = 0; k < 9; k++) bt[k] = tt[k];
+        }
+    }
+    if (hit) *t = best_t;
+    return hit;
+}

@@ -30,4 +30,19 @@ int oracle_triangle_box(const double lo[3], const double hi[3], const double t[9
 int oracle_box_meets_solid(const double lo[3], const double hi[3], const double *wv, uint32_t vertex_count,
                            const uint32_t *tris, uint32_t tri_count);
 
+/* A body for oracle_ray_closest: world vertices and triangles. */
+typedef struct {
+    const double *wv;
+    uint32_t vertex_count;
+    const uint32_t *tris;
+    uint32_t tri_count;
+} oracle_solid;
+
+/* The closest hit of [o, e] over the bodies, as hgcd.h defines it: body k
+ * hit at t = 0 (inside) when o lies in its closed mesh, else at its first
+ * transversal crossing; the least (t, body, triangle). Returns 1 and fills
+ * *body, *tri (UINT32_MAX when inside), *inside, *t when there is a hit. */
+int oracle_ray_closest(const double o[3], const double e[3], const oracle_solid *bodies, uint32_t count,
+                       uint32_t *body, uint32_t *tri, int *inside, double *t);
+
 #endif

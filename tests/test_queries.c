@@ -706,10 +706,81 @@ static void test_tree_follows_world(void **state) {
     free(sc.wv[0]);
 }
 
+/* An engine's loop (new poses, a query, a detect, a query again) on 4000
+ * bodies, moved far each tick so that detects renumber storage: every
+ * query equals that of a twin world built afresh at the same poses. */
+static void test_engine_loop(void **state) {
+    enum { N = 4000, TICKS = 8, Q = 300 };
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    hgcd_world *w, *twin;
+    hgcd_mesh mesh, tmesh;
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    static double pos[3 * N], quat[4 * N], pts[3 * Q];
+    static hgcd_ray rays[Q];
+    static hgcd_ray_hit h1[Q], h2[Q];
+    rng r = {99};
+    int tick, pass;
+    size_t i;
+    (void)state;
+    wd.thread_count = 2;
+    md.vertices = tetra_v;
+    md.triangles = tetra_t;
+    md.vertex_count = 4;
+    md.triangle_count = 4;
+    assert_int_equal(hgcd_world_create(&wd, &w), HGCD_OK);
+    assert_int_equal(hgcd_mesh_create(w, &md, &mesh), HGCD_OK);
+    for (i = 0; i < N; ++i) {
+        hgcd_body_desc bd = hgcd_body_desc_default();
+        hgcd_body id;
+        bd.mesh = mesh;
+        assert_int_equal(hgcd_body_create(w, &bd, &id), HGCD_OK);
+    }
+    for (tick = 0; tick < TICKS; ++tick) {
+        for (i = 0; i < N; ++i) {
+            int k;
+            for (k = 0; k < 3; ++k) pos[3 * i + k] = 40 * unif(&r);
+            random_unit_quaternion(&r, quat + 4 * i);
+        }
+        assert_int_equal(hgcd_world_set_poses(w, NULL, N, pos, 0, quat, 0), HGCD_OK);
+        random_rays(&r, rays, Q, 40, 0);
+        for (i = 0; i < Q; ++i) memcpy(pts + 3 * i, pos + 3 * (next(&r) % N), 3 * sizeof(double));
+        assert_int_equal(hgcd_world_create(&wd, &twin), HGCD_OK);
+        assert_int_equal(hgcd_mesh_create(twin, &md, &tmesh), HGCD_OK);
+        for (i = 0; i < N; ++i) {
+            hgcd_body_desc bd = hgcd_body_desc_default();
+            hgcd_body id;
+            bd.mesh = tmesh;
+            memcpy(bd.position, pos + 3 * i, sizeof bd.position);
+            memcpy(bd.orientation, quat + 4 * i, sizeof bd.orientation);
+            assert_int_equal(hgcd_body_create(twin, &bd, &id), HGCD_OK);
+        }
+        assert_int_equal(hgcd_world_cast_rays(twin, rays, Q, 0, HGCD_RAY_CLOSEST, NULL, h2), HGCD_OK);
+        for (pass = 0; pass < 2; ++pass) { /* before and after the detect */
+            hgcd_query_results a, b;
+            size_t k;
+            assert_int_equal(hgcd_world_cast_rays(w, rays, Q, 0, HGCD_RAY_CLOSEST, NULL, h1), HGCD_OK);
+            for (k = 0; k < Q; ++k) {
+                assert_int_equal(h1[k].body.index, h2[k].body.index);
+                assert_int_equal(h1[k].triangle, h2[k].triangle);
+                assert_true(h1[k].distance == h2[k].distance);
+            }
+            assert_int_equal(hgcd_world_query_point(w, pts, Q, 0, NULL, &a), HGCD_OK);
+            assert_int_equal(hgcd_world_query_point(twin, pts, Q, 0, NULL, &b), HGCD_OK);
+            assert_int_equal(a.body_count, b.body_count);
+            assert_memory_equal(a.offsets, b.offsets, (Q + 1) * sizeof(size_t));
+            for (k = 0; k < a.body_count; ++k) assert_int_equal(a.bodies[k].index, b.bodies[k].index);
+            if (pass == 0) assert_int_equal(hgcd_world_detect(w), HGCD_OK);
+        }
+        hgcd_world_destroy(twin);
+    }
+    hgcd_world_destroy(w);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_degenerate_rays),     cmocka_unit_test(test_degenerate_boxes_points),
         cmocka_unit_test(test_refusals),            cmocka_unit_test(test_tree_follows_world),
+        cmocka_unit_test(test_engine_loop),
         cmocka_unit_test(test_random_scenes),       cmocka_unit_test(test_snapped_scenes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

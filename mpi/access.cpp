@@ -61,6 +61,7 @@ hgcd_status by_index(hgcd_mpi_world *w, size_t count, const double *positions, s
     if (bad_stride(position_stride, 3 * sizeof(double)) || bad_stride(orientation_stride, 4 * sizeof(double)))
         return HGCD_ERROR_INVALID_ARGUMENT;
     const size_t n = w->live, pos_at = 0, rot_at = positions ? 3 * n : 0;
+    if (n != w->owned.rec.size() + w->ghosts.rec.size()) return HGCD_ERROR_INTERNAL;  // never: listed path
     w->pose_buffer.resize((positions ? 3 * n : 0) + (orientations ? 4 * n : 0));
     double *buf = w->pose_buffer.data();
     auto put = [&](const hgcd_body b, const double *p, const double *q) {

@@ -347,7 +347,8 @@ typedef struct hgcd_mpi_stats {
     double imbalance;
     /** Wall-clock seconds of the phases on this rank: migration (choosing
      *  and exchanging the bodies that leave, updating the local world),
-     *  rebalance (decomposition and its migration), ghost exchange (choosing,
+     *  rebalance (the exchange of every rank's count and region, and when
+     *  due the decomposition and its migration), ghost exchange (choosing,
      *  packing, messages), ghost update (the local world's ghosts), local
      *  detect (hgcd_world_detect), pairs (applying the owner rule), and the
      *  whole call. Waiting for other ranks shows in the phase that waits. */

@@ -67,13 +67,12 @@ void World::find_events(int threads) {
         cut_new[p] = size_t(std::lower_bound(new_pairs, new_pairs + n_new, split, below) - new_pairs);
     }
     std::vector<std::vector<hgcd_pair_event>> began(static_cast<size_t>(parts)), ended(static_cast<size_t>(parts));
-    parallel_region(parts, [&](RegionGuard &guard) {
-#pragma omp for schedule(static, 1)
-        for (int p = 0; p < parts; ++p) guard.run([&] {
+    parallel_for(parts, parts, 1, Schedule::Static, [&](int64_t first, int64_t last, int) {
+        for (int64_t p = first; p < last; ++p) {
             std::vector<hgcd_pair_event> &b = began[size_t(p)], &e = ended[size_t(p)];
             auto event = [&](const hgcd_pair &x) { return hgcd_pair_event{x, user_data_of(x.a), user_data_of(x.b)}; };
-            size_t i = cut_old[p], j = cut_new[p];
-            const size_t i_end = cut_old[p + 1], j_end = cut_new[p + 1];
+            size_t i = cut_old[size_t(p)], j = cut_new[size_t(p)];
+            const size_t i_end = cut_old[size_t(p) + 1], j_end = cut_new[size_t(p) + 1];
             while (i < i_end && j < j_end) {
                 if (!std::memcmp(&old_pairs[i], &new_pairs[j], sizeof(hgcd_pair))) {  // most pairs last
                     ++i, ++j;
@@ -85,7 +84,7 @@ void World::find_events(int threads) {
             }
             while (i < i_end) e.push_back(event(old_pairs[i++]));
             while (j < j_end) b.push_back(event(new_pairs[j++]));
-        });
+        }
     });
     for (int p = 0; p < parts; ++p) {
         began_.insert(began_.end(), began[size_t(p)].begin(), began[size_t(p)].end());

@@ -2,7 +2,6 @@
 // them, the pass that drops the pairs they refuse between the pair search
 // and the narrow phase, and the live array the grid reads (disabled bodies
 // leave the grid; motion.cpp leaves static and disabled ones where they are).
-#include <omp.h>
 
 #include <algorithm>
 #include <string>
@@ -164,10 +163,9 @@ uint64_t World::drop_filtered_pairs(int threads, std::vector<PairBuffer> &found)
     const uint32_t *slot_of = slot_of_.data();
     const bool kinematic_pairs = kinematic_pairs_;
     std::vector<uint64_t> dropped(size_t(threads), 0);
-    parallel_region(threads, [&](RegionGuard &guard) {
-        // One candidate list a thread, compacted in place.
-#pragma omp for schedule(dynamic, 1)
-        for (int t = 0; t < threads; ++t) guard.run([&] {
+    // One candidate list an item, compacted in place.
+    parallel_for(threads, threads, 1, Schedule::Dynamic, [&](int64_t begin, int64_t end, int) {
+        for (int64_t t = begin; t < end; ++t) {
             PairBuffer &list = found[size_t(t)];
             uint64_t *pairs = list.data();
             const size_t n = list.size();
@@ -183,7 +181,7 @@ uint64_t World::drop_filtered_pairs(int threads, std::vector<PairBuffer> &found)
             }
             dropped[size_t(t)] = n - write;
             list.shrink(write);
-        });
+        }
     });
     uint64_t total = 0;
     for (const uint64_t d : dropped) total += d;
@@ -194,9 +192,8 @@ const uint32_t *World::grid_live(int threads) {
     if (!disabled_bodies_) return stored_gen_.data();
     const size_t n = stored_gen_.size();
     live_scratch_.resize(n);
-    parallel_region(threads, [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t s = 0; s < int64_t(n); ++s)
+    parallel_for(threads, int64_t(n), 4096, Schedule::Static, [&](int64_t begin, int64_t end, int) {
+        for (int64_t s = begin; s < end; ++s)
             live_scratch_[size_t(s)] = (filter_[size_t(s)].flags & BodyFilter::kDisabled) ? 0 : stored_gen_[size_t(s)];
     });
     return live_scratch_.data();

@@ -3,8 +3,10 @@
 mod batch;
 mod events;
 mod filter;
+mod query;
 
 pub use events::PairEvent;
+pub use query::{MeshPose, QueryFilter, QueryResults, Ray, RayHit, RayMode};
 
 use std::ffi::CStr;
 use std::fmt;

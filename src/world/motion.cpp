@@ -191,6 +191,8 @@ bool World::renumber() {
 #pragma omp for schedule(static)
         for (int64_t k = 0; k < int64_t(n); ++k) at_[slot_of_[k]] = uint32_t(k);
     });
+    // The meshes' records follow (where bodies have meshes of their own).
+    pool_.repack(body_mesh_.data(), stored_gen_.data(), n);
     return true;
 }
 

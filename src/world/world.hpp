@@ -12,6 +12,7 @@
 #include "broad/grid.hpp"
 #include "hgcd/hgcd.h"
 #include "world/mesh.hpp"
+#include "world/mesh_pool.hpp"
 #include "world/memory.hpp"
 #include "narrow/narrow.hpp"
 
@@ -153,6 +154,7 @@ class World {
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
+    MeshPool pool_;  // the narrow phase's records of small meshes, by slot
     uint32_t live_meshes_ = 0;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;

@@ -38,6 +38,17 @@ struct Mesh {
     // bounding sphere's. A copy, so a pose reads one buffer.
     static constexpr uint32_t kExactBoxTriangles = 128;
     std::vector<double> box_points;
+    // Separating axes of a small convex mesh (convex, at most kSatVertices
+    // vertices, every vertex used by a triangle; empty otherwise), for the
+    // narrow phase's convex path (narrow/convex.cpp): unit directions in the
+    // mesh frame, 3 doubles each, no two parallel, the sat_faces face
+    // normals first, then the sat_edges edge directions. Any direction is a
+    // valid axis to try: only speed depends on these.
+    static constexpr uint32_t kSatVertices = 64;
+    std::vector<double> sat_axes;
+    uint32_t sat_faces = 0, sat_edges = 0;
+    double sat_reach = 0;  // max over the vertices of |x| + |y| + |z| (mesh frame)
+    bool sat() const { return sat_faces != 0; }
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;

@@ -1,0 +1,164 @@
+// The convex path's filters (narrow/convex.hpp): separating axes for pairs of
+// small convex meshes, each certified against the rounding of its own
+// evaluation, so that a pair is rejected only when its solids cannot share a
+// point.
+#include "narrow/convex.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "narrow/tetra.hpp"
+
+namespace hgcd {
+
+namespace {
+
+// The largest of l . d over the scaled local vertices l = fl(s v) of mesh m.
+inline double local_support(const Mesh &m, double s, const double *d) {
+    const double *v = m.vertices.data();
+    double h = -INFINITY;
+    for (uint32_t i = 0; i < m.vertex_count; ++i, v += 3) {
+        const double lx = s * v[0], ly = s * v[1], lz = s * v[2];
+        h = std::max(h, (lx * d[0] + ly * d[1]) + lz * d[2]);
+    }
+    return h;
+}
+
+}  // namespace
+
+// The separating axis along the line of centres, before any world vertex:
+// tet_axis_separates's test and argument (tetra.hpp), which hold for any
+// number of vertices: the world vertices are fl(c + fl(R l)) with l = fl(s v)
+// here too (transform_point), and reach bounds |v|_1 of every vertex.
+bool convex_centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &ra, const Rotation &rb) {
+    const double *ca = a.position, *cb = b.position;
+    const double u[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
+    double da[3], db[3];
+    for (int j = 0; j < 3; ++j) {
+        da[j] = (ra.m[j] * u[0] + ra.m[3 + j] * u[1]) + ra.m[6 + j] * u[2];
+        db[j] = -1.0 * ((rb.m[j] * u[0] + rb.m[3 + j] * u[1]) + rb.m[6 + j] * u[2]);
+    }
+    const double uu = (u[0] * u[0] + u[1] * u[1]) + u[2] * u[2];
+    const double gap = uu - (local_support(*a.mesh, a.scale, da) + local_support(*b.mesh, b.scale, db));
+    if (!(gap > 0)) return false;
+    const double reach = 2 * (a.scale * a.mesh->sat_reach + b.scale * b.mesh->sat_reach);
+    const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(u[0]) +
+                       (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * std::fabs(u[1])) +
+                      (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * std::fabs(u[2]);
+    return gap > tet::kCentresMargin * (uu + cu) + tet::kUnderflowFloor;
+}
+
+namespace {
+
+// The world vertices w (3 per vertex, n of them) projected on axis N from
+// origin o: the smallest and largest.
+inline void project(const double *w, uint32_t n, const double *o, const double *N, double &lo, double &hi) {
+    lo = INFINITY;
+    hi = -INFINITY;
+    for (uint32_t i = 0; i < n; ++i, w += 3) {
+        const double p = ((w[0] - o[0]) * N[0] + (w[1] - o[1]) * N[1]) + (w[2] - o[2]) * N[2];
+        lo = std::min(lo, p);
+        hi = std::max(hi, p);
+    }
+}
+
+inline void rotate(const Rotation &r, const double *v, double *out) {
+    out[0] = (r.m[0] * v[0] + r.m[1] * v[1]) + r.m[2] * v[2];
+    out[1] = (r.m[3] * v[0] + r.m[4] * v[1]) + r.m[5] * v[2];
+    out[2] = (r.m[6] * v[0] + r.m[7] * v[1]) + r.m[8] * v[2];
+}
+
+// The face axes of m worth trying first: those most nearly along d (the
+// direction to the other body in m's frame), at most kFaceAxes of them.
+constexpr int kFaceAxes = 6;
+int pick_faces(const Mesh &m, const double *d, uint32_t *out) {
+    const uint32_t n = m.sat_faces;
+    if (n <= uint32_t(kFaceAxes)) {
+        for (uint32_t k = 0; k < n; ++k) out[k] = k;
+        return int(n);
+    }
+    double score[kFaceAxes];
+    int count = 0;
+    for (uint32_t k = 0; k < n; ++k) {
+        const double *x = &m.sat_axes[3 * k];
+        const double s = std::fabs((x[0] * d[0] + x[1] * d[1]) + x[2] * d[2]);
+        if (count == kFaceAxes && s <= score[count - 1]) continue;
+        int at = count < kFaceAxes ? count++ : count - 1;
+        for (; at > 0 && score[at - 1] < s; --at) {
+            score[at] = score[at - 1];
+            out[at] = out[at - 1];
+        }
+        score[at] = s;
+        out[at] = k;
+    }
+    return count;
+}
+
+}  // namespace
+
+// Any axis N proves two point sets' hulls disjoint when their projections
+// on it are strictly apart, and each solid lies in the hull of its world
+// vertices, so the axes need not be exact: only the projections' rounding
+// is bounded, as for EdgeAxis (tetra.hpp). With the origin o the low corner
+// of the box holding both bodies, 0 <= fl(x_k - o_k) <= e_k (the box's
+// computed extent; rounding is monotone), so each projection is within
+// 5 eps S of the exact (x - o) . N, S = e . |N|, and a computed gap above
+// 2^-46 S + 2^-960 (128 eps S, and underflowed products) is a real one.
+bool convex_axes_apart(const BodyPose &a, const double *wa, const double *box_a, const Rotation &ra,
+                       const BodyPose &b, const double *wb, const double *box_b, const Rotation &rb) {
+    const Mesh &ma = *a.mesh, &mb = *b.mesh;
+    double o[3], e[3];
+    for (int k = 0; k < 3; ++k) {
+        o[k] = std::min(box_a[k], box_b[k]);
+        e[k] = std::max(box_a[3 + k], box_b[3 + k]) - o[k];
+    }
+    auto apart_on = [&](const double *N) {
+        double amin, amax, bmin, bmax;
+        project(wa, ma.vertex_count, o, N, amin, amax);
+        project(wb, mb.vertex_count, o, N, bmin, bmax);
+        const double margin =
+            tet::kEdgeMargin * ((e[0] * std::fabs(N[0]) + e[1] * std::fabs(N[1])) + e[2] * std::fabs(N[2])) +
+            tet::kUnderflowFloor;
+        return (bmin - amax > margin) | (amin - bmax > margin);
+    };
+    // The direction between the centres in each body's frame picks the face
+    // axes to try.
+    const double u[3] = {b.position[0] - a.position[0], b.position[1] - a.position[1], b.position[2] - a.position[2]};
+    double da[3], db[3];
+    for (int j = 0; j < 3; ++j) {
+        da[j] = (ra.m[j] * u[0] + ra.m[3 + j] * u[1]) + ra.m[6 + j] * u[2];
+        db[j] = (rb.m[j] * u[0] + rb.m[3 + j] * u[1]) + rb.m[6 + j] * u[2];
+    }
+    uint32_t fa[kFaceAxes], fb[kFaceAxes];
+    const int na = pick_faces(ma, da, fa), nb = pick_faces(mb, db, fb);
+    double N[3];
+    for (int k = 0; k < std::max(na, nb); ++k) {
+        if (k < na) {
+            rotate(ra, &ma.sat_axes[3 * fa[k]], N);
+            if (apart_on(N)) return true;
+        }
+        if (k < nb) {
+            rotate(rb, &mb.sat_axes[3 * fb[k]], N);
+            if (apart_on(N)) return true;
+        }
+    }
+    // Edge against edge, when there are few such pairs.
+    const uint64_t pairs = uint64_t(ma.sat_edges) * mb.sat_edges;
+    if (pairs == 0 || pairs > kEdgeAxisPairs) return false;
+    double ea[kEdgeAxisPairs][3];
+    for (uint32_t i = 0; i < ma.sat_edges; ++i) rotate(ra, &ma.sat_axes[3 * (ma.sat_faces + i)], ea[i]);
+    for (uint32_t j = 0; j < mb.sat_edges; ++j) {
+        double eb[3];
+        rotate(rb, &mb.sat_axes[3 * (mb.sat_faces + j)], eb);
+        for (uint32_t i = 0; i < ma.sat_edges; ++i) {
+            const double *x = ea[i];
+            N[0] = x[1] * eb[2] - x[2] * eb[1];
+            N[1] = x[2] * eb[0] - x[0] * eb[2];
+            N[2] = x[0] * eb[1] - x[1] * eb[0];
+            if (apart_on(N)) return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace hgcd

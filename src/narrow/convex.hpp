@@ -1,0 +1,26 @@
+// The convex path of the narrow phase: pairs of small convex meshes
+// (Mesh::sat) are first tried on separating axes, each certified against the
+// rounding of its evaluation, before the exact triangle test. Internal to
+// src/narrow (narrow.cpp calls it).
+#pragma once
+#include "common/transform.hpp"
+#include "narrow/narrow.hpp"
+
+namespace hgcd {
+
+// Edge-edge axes are tried when the two meshes have at most this many pairs
+// of edge directions (box and box: 9; tetrahedron and box: 18).
+constexpr uint32_t kEdgeAxisPairs = 36;
+
+// Certainly apart along the line between the bodies' positions (tested
+// before any world vertex is computed)? ra, rb: the bodies' rotations.
+bool convex_centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &ra, const Rotation &rb);
+
+// Certainly apart along a face normal of either mesh (those most nearly
+// along the line of centres) or, for meshes with few edge directions, the
+// cross product of an edge direction of each? wa, wb: the world vertices
+// (world_vertices), box_a, box_b their exact boxes.
+bool convex_axes_apart(const BodyPose &a, const double *wa, const double *box_a, const Rotation &ra,
+                       const BodyPose &b, const double *wb, const double *box_b, const Rotation &rb);
+
+}  // namespace hgcd

@@ -30,7 +30,7 @@ inline double local_support(const Mesh &m, double s, const double *d) {
 // tet_axis_separates's test and argument (tetra.hpp), which hold for any
 // number of vertices: the world vertices are fl(c + fl(R l)) with l = fl(s v)
 // here too (transform_point), and reach bounds |v|_1 of every vertex.
-bool convex_centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &ra, const Rotation &rb) {
+bool convex_centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &ra, const Rotation &rb, bool *deep) {
     const double *ca = a.position, *cb = b.position;
     const double u[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
     double da[3], db[3];
@@ -39,7 +39,9 @@ bool convex_centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &
         db[j] = -1.0 * ((rb.m[j] * u[0] + rb.m[3 + j] * u[1]) + rb.m[6 + j] * u[2]);
     }
     const double uu = (u[0] * u[0] + u[1] * u[1]) + u[2] * u[2];
-    const double gap = uu - (local_support(*a.mesh, a.scale, da) + local_support(*b.mesh, b.scale, db));
+    const double reach_ab = local_support(*a.mesh, a.scale, da) + local_support(*b.mesh, b.scale, db);
+    const double gap = uu - reach_ab;
+    *deep = reach_ab > kDeep * uu;
     if (!(gap > 0)) return false;
     const double reach = 2 * (a.scale * a.mesh->sat_reach + b.scale * b.mesh->sat_reach);
     const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(u[0]) +
@@ -159,6 +161,110 @@ bool convex_axes_apart(const BodyPose &a, const double *wa, const double *box_a,
         }
     }
     return false;
+}
+
+namespace {
+
+// A triangle's plane for certified signs of orient3d(a, b, c, x) =
+// -(x - a) . n, n = (b - a) x (c - a) as rounded: the filter of
+// exact/predicates.hpp's PlaneFilter (plane_sides3), whose argument covers
+// this evaluation operation for operation: the sign of the computed value is
+// orient3d's when |value| > 2^-50 perm + 2^-960, perm the permanent computed
+// from the same rounded differences.
+struct Plane {
+    const double *a;
+    double n[3], an[3];
+};
+inline void plane_of(const double *a, const double *b, const double *c, Plane &p) {
+    p.a = a;
+    const double e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
+    const double e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
+    const double m0 = e1y * e2z, m1 = e1z * e2y, m2 = e1z * e2x, m3 = e1x * e2z, m4 = e1x * e2y, m5 = e1y * e2x;
+    p.n[0] = m0 - m1;
+    p.n[1] = m2 - m3;
+    p.n[2] = m4 - m5;
+    p.an[0] = std::fabs(m0) + std::fabs(m1);
+    p.an[1] = std::fabs(m2) + std::fabs(m3);
+    p.an[2] = std::fabs(m4) + std::fabs(m5);
+}
+// The sign of orient3d(a, b, c, x) when certain, else 0.
+inline int plane_side(const Plane &p, const double *x) {
+    const double dx = x[0] - p.a[0], dy = x[1] - p.a[1], dz = x[2] - p.a[2];
+    const double det = -((dx * p.n[0] + dy * p.n[1]) + dz * p.n[2]);
+    const double perm = (std::fabs(dx) * p.an[0] + std::fabs(dy) * p.an[1]) + std::fabs(dz) * p.an[2];
+    const double bound = 0x1p-50 * perm + 0x1p-960;
+    return (det > bound) - (-det > bound);
+}
+
+// With p and q strictly on either side of the plane of triangle t: does
+// the segment pq certainly cross t's interior? It does when orient3d(p, q,
+// t0, t1), orient3d(p, q, t1, t2) and orient3d(p, q, t2, t0) have one
+// strict sign (the line pq passes inside all three edges).
+inline bool crosses_inside(const double *p, const double *q, const double *const *t) {
+    int s[3];
+    for (int k = 0; k < 3; ++k) {
+        Plane pl;
+        plane_of(p, q, t[k], pl);
+        s[k] = plane_side(pl, t[(k + 1) % 3]);
+    }
+    return s[0] != 0 && s[0] == s[1] && s[1] == s[2];
+}
+
+inline uint32_t nearest_vertex(const double *w, uint32_t n, const double *c) {
+    uint32_t best = 0;
+    double d2 = INFINITY;
+    for (uint32_t i = 0; i < n; ++i, w += 3) {
+        const double dx = w[0] - c[0], dy = w[1] - c[1], dz = w[2] - c[2];
+        const double d = (dx * dx + dy * dy) + dz * dz;
+        if (d < d2) {
+            d2 = d;
+            best = i;
+        }
+    }
+    return best;
+}
+
+// Meshes of at most this many triangles have all of them tried against
+// each edge; larger ones those at the vertex nearest the edge's start.
+constexpr uint32_t kAllTriangles = 16;
+constexpr uint32_t kMaxTried = 32;
+
+// An edge of mesh me (world vertices we) that certainly crosses the
+// interior of a triangle of mt (world vertices wt), tried on the edges at
+// me's vertex nearest ct (mt's position).
+bool edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double *wt, const double *ct) {
+    const uint32_t v = nearest_vertex(we, me.vertex_count, ct);
+    const double *p = &we[3 * size_t(v)];
+    uint32_t tris[kMaxTried];
+    uint32_t count = 0;
+    if (mt.triangle_count <= kAllTriangles) {
+        for (uint32_t t = 0; t < mt.triangle_count; ++t) tris[count++] = t;
+    } else {
+        const uint32_t u = nearest_vertex(wt, mt.vertex_count, p);
+        for (uint32_t k = mt.vertex_tri_start[u]; k < mt.vertex_tri_start[u + 1] && count < kMaxTried; ++k)
+            tris[count++] = mt.vertex_tris[k];
+    }
+    Plane plane[kMaxTried];
+    int side_p[kMaxTried];
+    const double *corner[kMaxTried][3];
+    for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t *f = &mt.triangles[3 * size_t(tris[k])];
+        for (int i = 0; i < 3; ++i) corner[k][i] = &wt[3 * size_t(f[i])];
+        plane_of(corner[k][0], corner[k][1], corner[k][2], plane[k]);
+        side_p[k] = plane_side(plane[k], p);
+    }
+    for (uint32_t e = me.vertex_edge_start[v]; e < me.vertex_edge_start[v + 1]; ++e) {
+        const double *q = &we[3 * size_t(me.vertex_edges[e])];
+        for (uint32_t k = 0; k < count; ++k)
+            if (side_p[k] && plane_side(plane[k], q) == -side_p[k] && crosses_inside(p, q, corner[k])) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+bool convex_surfaces_cross(const BodyPose &a, const double *wa, const BodyPose &b, const double *wb) {
+    return edge_crosses(*b.mesh, wb, *a.mesh, wa, a.position) || edge_crosses(*a.mesh, wa, *b.mesh, wb, b.position);
 }
 
 }  // namespace hgcd

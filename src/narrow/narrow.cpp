@@ -471,14 +471,18 @@ __attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPo
 __attribute__((noinline)) Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
                                                  Witness *witness) {
     const Rotation ra = rotation_of(a.orientation), rb = rotation_of(b.orientation);
-    if (convex_centres_apart(a, b, ra, rb)) return Contact::None;
+    bool deep;
+    if (convex_centres_apart(a, b, ra, rb, &deep)) return Contact::None;
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);
     if (boxes_disjoint(box_a, box_b)) return Contact::None;
     ++s.exact_tests;
     const double *wa = s.world_a.data(), *wb = s.world_b.data();
+    // (A witness asks for the exact path's first meeting triangles.)
+    if (deep && !witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
     if (convex_axes_apart(a, wa, box_a, ra, b, wb, box_b, rb)) return Contact::None;
+    if (!deep && !witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
     return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
 }

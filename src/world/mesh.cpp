@@ -183,6 +183,33 @@ bool add_axis(std::vector<double> &axes, const double *d) {
     return true;
 }
 
+// Per vertex, its neighbours (each edge once per end) and its triangles.
+void set_adjacency(Mesh &m) {
+    const uint32_t nv = m.vertex_count;
+    std::vector<uint64_t> edges;
+    for (uint32_t t = 0; t < m.triangle_count; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = m.triangles[3 * t + k], b = m.triangles[3 * t + (k + 1) % 3];
+            if (a != b) {
+                edges.push_back(uint64_t(a) << 32 | b);
+                edges.push_back(uint64_t(b) << 32 | a);
+            }
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    m.vertex_edge_start.assign(nv + 1, 0);
+    for (uint64_t e : edges) ++m.vertex_edge_start[(e >> 32) + 1];
+    for (uint32_t v = 0; v < nv; ++v) m.vertex_edge_start[v + 1] += m.vertex_edge_start[v];
+    m.vertex_edges.resize(edges.size());
+    for (size_t k = 0; k < edges.size(); ++k) m.vertex_edges[k] = uint32_t(edges[k]);  // (sorted by first end)
+    m.vertex_tri_start.assign(nv + 1, 0);
+    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) ++m.vertex_tri_start[m.triangles[i] + 1];
+    for (uint32_t v = 0; v < nv; ++v) m.vertex_tri_start[v + 1] += m.vertex_tri_start[v];
+    m.vertex_tris.resize(3 * size_t(m.triangle_count));
+    std::vector<uint32_t> fill(m.vertex_tri_start.begin(), m.vertex_tri_start.end() - 1);
+    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) m.vertex_tris[fill[m.triangles[i]]++] = i / 3;
+}
+
 // The separating axes of a small convex mesh (Mesh::sat_axes): face
 // normals, then edge directions, parallel ones once.
 void set_sat_axes(Mesh &m, const std::vector<char> &used) {
@@ -211,6 +238,7 @@ void set_sat_axes(Mesh &m, const std::vector<char> &used) {
         }
     }
     axes.insert(axes.end(), edge_axes.begin(), edge_axes.end());
+    set_adjacency(m);
     m.sat_axes = std::move(axes);
     m.sat_faces = faces;
     m.sat_edges = edges;

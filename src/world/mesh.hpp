@@ -48,6 +48,10 @@ struct Mesh {
     std::vector<double> sat_axes;
     uint32_t sat_faces = 0, sat_edges = 0;
     double sat_reach = 0;  // max over the vertices of |x| + |y| + |z| (mesh frame)
+    // Adjacency of a small convex mesh, for the convex path's search of an
+    // edge that crosses a triangle: the edges (other end vertices) and the
+    // triangles at each vertex, as offsets (vertex_count + 1) into lists.
+    std::vector<uint32_t> vertex_edge_start, vertex_edges, vertex_tri_start, vertex_tris;
     bool sat() const { return sat_faces != 0; }
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).

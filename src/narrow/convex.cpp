@@ -43,7 +43,7 @@ bool convex_centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &
     const double gap = uu - reach_ab;
     *deep = reach_ab > kDeep * uu;
     if (!(gap > 0)) return false;
-    const double reach = 2 * (a.scale * a.mesh->sat_reach + b.scale * b.mesh->sat_reach);
+    const double reach = 2 * (a.scale * a.mesh->sat->reach + b.scale * b.mesh->sat->reach);
     const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(u[0]) +
                        (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * std::fabs(u[1])) +
                       (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * std::fabs(u[2]);
@@ -73,8 +73,8 @@ inline void rotate(const Rotation &r, const double *v, double *out) {
 // The face axes of m worth trying first: those most nearly along d (the
 // direction to the other body in m's frame), at most kFaceAxes of them.
 constexpr int kFaceAxes = 6;
-int pick_faces(const Mesh &m, const double *d, uint32_t *out) {
-    const uint32_t n = m.sat_faces;
+int pick_faces(const SatData &m, const double *d, uint32_t *out) {
+    const uint32_t n = m.faces;
     if (n <= uint32_t(kFaceAxes)) {
         for (uint32_t k = 0; k < n; ++k) out[k] = k;
         return int(n);
@@ -82,7 +82,7 @@ int pick_faces(const Mesh &m, const double *d, uint32_t *out) {
     double score[kFaceAxes];
     int count = 0;
     for (uint32_t k = 0; k < n; ++k) {
-        const double *x = &m.sat_axes[3 * k];
+        const double *x = &m.axes[3 * k];
         const double s = std::fabs((x[0] * d[0] + x[1] * d[1]) + x[2] * d[2]);
         if (count == kFaceAxes && s <= score[count - 1]) continue;
         int at = count < kFaceAxes ? count++ : count - 1;
@@ -109,6 +109,7 @@ int pick_faces(const Mesh &m, const double *d, uint32_t *out) {
 bool convex_axes_apart(const BodyPose &a, const double *wa, const double *box_a, const Rotation &ra,
                        const BodyPose &b, const double *wb, const double *box_b, const Rotation &rb) {
     const Mesh &ma = *a.mesh, &mb = *b.mesh;
+    const SatData &sa = *ma.sat, &sb = *mb.sat;
     double o[3], e[3];
     for (int k = 0; k < 3; ++k) {
         o[k] = std::min(box_a[k], box_b[k]);
@@ -132,27 +133,27 @@ bool convex_axes_apart(const BodyPose &a, const double *wa, const double *box_a,
         db[j] = (rb.m[j] * u[0] + rb.m[3 + j] * u[1]) + rb.m[6 + j] * u[2];
     }
     uint32_t fa[kFaceAxes], fb[kFaceAxes];
-    const int na = pick_faces(ma, da, fa), nb = pick_faces(mb, db, fb);
+    const int na = pick_faces(sa, da, fa), nb = pick_faces(sb, db, fb);
     double N[3];
     for (int k = 0; k < std::max(na, nb); ++k) {
         if (k < na) {
-            rotate(ra, &ma.sat_axes[3 * fa[k]], N);
+            rotate(ra, &sa.axes[3 * fa[k]], N);
             if (apart_on(N)) return true;
         }
         if (k < nb) {
-            rotate(rb, &mb.sat_axes[3 * fb[k]], N);
+            rotate(rb, &sb.axes[3 * fb[k]], N);
             if (apart_on(N)) return true;
         }
     }
     // Edge against edge, when there are few such pairs.
-    const uint64_t pairs = uint64_t(ma.sat_edges) * mb.sat_edges;
+    const uint64_t pairs = uint64_t(sa.edges) * sb.edges;
     if (pairs == 0 || pairs > kEdgeAxisPairs) return false;
     double ea[kEdgeAxisPairs][3];
-    for (uint32_t i = 0; i < ma.sat_edges; ++i) rotate(ra, &ma.sat_axes[3 * (ma.sat_faces + i)], ea[i]);
-    for (uint32_t j = 0; j < mb.sat_edges; ++j) {
+    for (uint32_t i = 0; i < sa.edges; ++i) rotate(ra, &sa.axes[3 * (sa.faces + i)], ea[i]);
+    for (uint32_t j = 0; j < sb.edges; ++j) {
         double eb[3];
-        rotate(rb, &mb.sat_axes[3 * (mb.sat_faces + j)], eb);
-        for (uint32_t i = 0; i < ma.sat_edges; ++i) {
+        rotate(rb, &sb.axes[3 * (sb.faces + j)], eb);
+        for (uint32_t i = 0; i < sa.edges; ++i) {
             const double *x = ea[i];
             N[0] = x[1] * eb[2] - x[2] * eb[1];
             N[1] = x[2] * eb[0] - x[0] * eb[2];
@@ -241,8 +242,9 @@ bool edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double
         for (uint32_t t = 0; t < mt.triangle_count; ++t) tris[count++] = t;
     } else {
         const uint32_t u = nearest_vertex(wt, mt.vertex_count, p);
-        for (uint32_t k = mt.vertex_tri_start[u]; k < mt.vertex_tri_start[u + 1] && count < kMaxTried; ++k)
-            tris[count++] = mt.vertex_tris[k];
+        const SatData &st = *mt.sat;
+        for (uint32_t k = st.vertex_tri_start[u]; k < st.vertex_tri_start[u + 1] && count < kMaxTried; ++k)
+            tris[count++] = st.vertex_tris[k];
     }
     Plane plane[kMaxTried];
     int side_p[kMaxTried];
@@ -253,8 +255,9 @@ bool edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double
         plane_of(corner[k][0], corner[k][1], corner[k][2], plane[k]);
         side_p[k] = plane_side(plane[k], p);
     }
-    for (uint32_t e = me.vertex_edge_start[v]; e < me.vertex_edge_start[v + 1]; ++e) {
-        const double *q = &we[3 * size_t(me.vertex_edges[e])];
+    const SatData &se = *me.sat;
+    for (uint32_t e = se.vertex_edge_start[v]; e < se.vertex_edge_start[v + 1]; ++e) {
+        const double *q = &we[3 * size_t(se.vertex_edges[e])];
         for (uint32_t k = 0; k < count; ++k)
             if (side_p[k] && plane_side(plane[k], q) == -side_p[k] && crosses_inside(p, q, corner[k])) return true;
     }

@@ -9,7 +9,7 @@
 namespace hgcd {
 
 // Edge-edge axes are tried when the two meshes have at most this many pairs
-// of edge directions (box and box: 9; tetrahedron and box: 18).
+// of edge directions (box and box: 9).
 constexpr uint32_t kEdgeAxisPairs = 36;
 
 // Certainly apart along the line between the bodies' positions (tested

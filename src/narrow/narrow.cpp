@@ -493,7 +493,7 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness 
     // (A tetrahedron has no tree; a witness asks for the general path's
     // triangle order.)
     if (a.mesh->tetra && b.mesh->tetra && !witness) return tet::collide_tetra(a, b, s);
-    if (a.mesh->sat() && b.mesh->sat()) return collide_convex(a, b, s, witness);
+    if (a.mesh->sat && b.mesh->sat) return collide_convex(a, b, s, witness);
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
     return collide_direct(a, b, s, witness);
 }

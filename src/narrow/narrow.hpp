@@ -34,12 +34,11 @@ inline BodyPose pose_of(const Mesh *m, const Placement &p) {
 
 // A mesh's record for the batched kernels, which read it per body in place
 // of the Mesh (world/mesh_pool.hpp packs the records): record_blocks(m)
-// blocks of 8 doubles, 64-byte aligned. A tetrahedron (Mesh::tetra): its
-// local vertices x0..x3 y0..y3 z0..z3 (tetra_local), then tetra_reach (2
-// blocks). Other meshes have none (0 blocks).
+// blocks of 4 doubles, 32-byte aligned. A tetrahedron (Mesh::tetra): its
+// local vertices x0..x3 y0..y3 z0..z3 (tetra_local; 3 blocks). Other meshes
+// have none (0 blocks).
 uint32_t record_blocks(const Mesh &m);
 void write_record(const Mesh &m, double *out);
-constexpr int kTetraReachAt = 12;  // tetra_reach's place in a tetrahedron's record
 
 // A pair of bodies whose meshes are both tetrahedra (Mesh::tetra), with the
 // meshes' records (write_record).

@@ -246,13 +246,10 @@ HGCD_TET_CLONES Contact collide_tetra_two_lane(const BodyPose &a, const BodyPose
 
 }  // namespace tet
 
-uint32_t record_blocks(const Mesh &m) { return m.tetra ? 2 : 0; }
+uint32_t record_blocks(const Mesh &m) { return m.tetra ? 3 : 0; }
 
 void write_record(const Mesh &m, double *out) {
-    if (!m.tetra) return;
-    std::copy(m.tetra_local, m.tetra_local + 12, out);
-    out[kTetraReachAt] = m.tetra_reach;
-    std::fill(out + kTetraReachAt + 1, out + 16, 0.0);
+    if (m.tetra) std::copy(m.tetra_local, m.tetra_local + 12, out);
 }
 
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch) {

@@ -54,20 +54,28 @@ static inline void load_side(const Placement *const *p, const double *const *sha
     s.c[2] = r[2];
     const f64x4 scale = h[3];
     rotation_entries(r[3], h[0], h[1], h[2], s.m);
+    // The reach (Mesh::tetra_reach, the same operations: the same bits) is
+    // worked out here rather than stored: a record of 96 bytes, not 128.
     const double *m0 = shape[0];
     if (shape[1] == m0 && shape[2] == m0 && shape[3] == m0) {  // (shared shapes: the usual case)
+        double reach = 0;
+        for (int v = 0; v < 4; ++v)
+            reach = std::max(reach, (std::fabs(m0[v]) + std::fabs(m0[4 + v])) + std::fabs(m0[8 + v]));
         for (int a = 0; a < 3; ++a)
             for (int v = 0; v < 4; ++v) s.l[a][v] = scale * m0[4 * a + v];
-        s.reach = scale * m0[kTetraReachAt];
+        s.reach = scale * reach;
     } else {
+        f64x4 sum[4];
         for (int a = 0; a < 3; ++a) {
             f64x4 t[4];
             for (int k = 0; k < 4; ++k) t[k] = (f64x4)_mm256_load_pd(shape[k] + 4 * a);
             transpose4(t[0], t[1], t[2], t[3]);
-            for (int v = 0; v < 4; ++v) s.l[a][v] = scale * t[v];
+            for (int v = 0; v < 4; ++v) {
+                s.l[a][v] = scale * t[v];
+                sum[v] = a ? sum[v] + abs4(t[v]) : abs4(t[v]);
+            }
         }
-        s.reach = scale * f64x4{shape[0][kTetraReachAt], shape[1][kTetraReachAt], shape[2][kTetraReachAt],
-                                shape[3][kTetraReachAt]};
+        s.reach = scale * max4(max4(sum[0], sum[1]), max4(sum[2], sum[3]));
     }
 }
 
@@ -433,9 +441,9 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
                     // and the shapes' records (one per body where bodies
                     // have meshes of their own: world/mesh_pool.hpp)
                     __builtin_prefetch(ahead.shape_a);
-                    __builtin_prefetch(ahead.shape_a + 8);
+                    __builtin_prefetch(ahead.shape_a + 11);
                     __builtin_prefetch(ahead.shape_b);
-                    __builtin_prefetch(ahead.shape_b + 8);
+                    __builtin_prefetch(ahead.shape_b + 11);
                 }
             const TetraPair *group[4];
             for (size_t l = 0; l < 4; ++l) group[l] = &pairs[k + l < end ? k + l : k];

@@ -184,7 +184,7 @@ bool add_axis(std::vector<double> &axes, const double *d) {
 }
 
 // Per vertex, its neighbours (each edge once per end) and its triangles.
-void set_adjacency(Mesh &m) {
+void set_adjacency(const Mesh &m, SatData &d) {
     const uint32_t nv = m.vertex_count;
     std::vector<uint64_t> edges;
     for (uint32_t t = 0; t < m.triangle_count; ++t)
@@ -197,23 +197,23 @@ void set_adjacency(Mesh &m) {
         }
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    m.vertex_edge_start.assign(nv + 1, 0);
-    for (uint64_t e : edges) ++m.vertex_edge_start[(e >> 32) + 1];
-    for (uint32_t v = 0; v < nv; ++v) m.vertex_edge_start[v + 1] += m.vertex_edge_start[v];
-    m.vertex_edges.resize(edges.size());
-    for (size_t k = 0; k < edges.size(); ++k) m.vertex_edges[k] = uint32_t(edges[k]);  // (sorted by first end)
-    m.vertex_tri_start.assign(nv + 1, 0);
-    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) ++m.vertex_tri_start[m.triangles[i] + 1];
-    for (uint32_t v = 0; v < nv; ++v) m.vertex_tri_start[v + 1] += m.vertex_tri_start[v];
-    m.vertex_tris.resize(3 * size_t(m.triangle_count));
-    std::vector<uint32_t> fill(m.vertex_tri_start.begin(), m.vertex_tri_start.end() - 1);
-    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) m.vertex_tris[fill[m.triangles[i]]++] = i / 3;
+    d.vertex_edge_start.assign(nv + 1, 0);
+    for (uint64_t e : edges) ++d.vertex_edge_start[(e >> 32) + 1];
+    for (uint32_t v = 0; v < nv; ++v) d.vertex_edge_start[v + 1] += d.vertex_edge_start[v];
+    d.vertex_edges.resize(edges.size());
+    for (size_t k = 0; k < edges.size(); ++k) d.vertex_edges[k] = uint32_t(edges[k]);  // (sorted by first end)
+    d.vertex_tri_start.assign(nv + 1, 0);
+    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) ++d.vertex_tri_start[m.triangles[i] + 1];
+    for (uint32_t v = 0; v < nv; ++v) d.vertex_tri_start[v + 1] += d.vertex_tri_start[v];
+    d.vertex_tris.resize(3 * size_t(m.triangle_count));
+    std::vector<uint32_t> fill(d.vertex_tri_start.begin(), d.vertex_tri_start.end() - 1);
+    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) d.vertex_tris[fill[m.triangles[i]]++] = i / 3;
 }
 
-// The separating axes of a small convex mesh (Mesh::sat_axes): face
-// normals, then edge directions, parallel ones once.
-void set_sat_axes(Mesh &m, const std::vector<char> &used) {
-    if (!m.convex || m.vertex_count > Mesh::kSatVertices) return;
+// The convex path's data (Mesh::sat): face normals, then edge directions,
+// parallel ones once; reach; adjacency.
+void set_sat(Mesh &m, const std::vector<char> &used) {
+    if (!m.convex || m.tetra || m.vertex_count > Mesh::kSatVertices) return;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
         if (!used[v]) return;
     const double *x = m.vertices.data();
@@ -238,12 +238,14 @@ void set_sat_axes(Mesh &m, const std::vector<char> &used) {
         }
     }
     axes.insert(axes.end(), edge_axes.begin(), edge_axes.end());
-    set_adjacency(m);
-    m.sat_axes = std::move(axes);
-    m.sat_faces = faces;
-    m.sat_edges = edges;
+    auto d = std::make_shared<SatData>();
+    set_adjacency(m, *d);
+    d->axes = std::move(axes);
+    d->faces = faces;
+    d->edges = edges;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
-        m.sat_reach = std::max(m.sat_reach, std::fabs(x[3 * v]) + std::fabs(x[3 * v + 1]) + std::fabs(x[3 * v + 2]));
+        d->reach = std::max(d->reach, std::fabs(x[3 * v]) + std::fabs(x[3 * v + 1]) + std::fabs(x[3 * v + 2]));
+    m.sat = std::move(d);
 }
 
 }  // namespace
@@ -267,7 +269,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     m.closed = is_closed(m);
     set_convexity(m, used);
     set_tetra(m);
-    set_sat_axes(m, used);
+    set_sat(m, used);
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
     *out = std::move(m);

@@ -44,19 +44,19 @@ void MeshPool::add(uint32_t slot, const Mesh &m) noexcept {
     used_ += n;
 }
 
-void MeshPool::remove(uint32_t slot) noexcept {
-    if (slot >= offset_.size() || offset_[slot] == kNone) return;
+bool MeshPool::remove(uint32_t slot) noexcept {
+    if (slot >= offset_.size() || offset_[slot] == kNone) return false;
     used_ -= size_[slot];
     offset_[slot] = kNone;
     size_[slot] = 0;
     // Holes are closed when they reach half the pool (or by the next repack).
-    if (end_ > 64 && 2 * used_ < end_) repack(nullptr, nullptr, 0);
+    return end_ > 64 && 2 * used_ < end_ && repack(nullptr, nullptr, 0);
 }
 
-void MeshPool::repack(const uint32_t *body_mesh, const uint32_t *live, size_t n) noexcept {
+bool MeshPool::repack(const uint32_t *body_mesh, const uint32_t *live, size_t n) noexcept {
     if (!used_) {
         end_ = 0;
-        return;
+        return false;
     }
     Block *fresh;
     std::vector<uint32_t> where;
@@ -64,7 +64,7 @@ void MeshPool::repack(const uint32_t *body_mesh, const uint32_t *live, size_t n)
         where.assign(offset_.size(), kNone);
         fresh = static_cast<Block *>(allocate_large(capacity_ * sizeof(Block), alignof(Block)));
     } catch (const std::bad_alloc &) {
-        return;
+        return false;
     }
     size_t at = 0;
     auto place = [&](uint32_t m) {
@@ -80,6 +80,7 @@ void MeshPool::repack(const uint32_t *body_mesh, const uint32_t *live, size_t n)
     data_ = fresh;
     end_ = used_ = at;
     offset_.swap(where);
+    return true;
 }
 
 }  // namespace hgcd

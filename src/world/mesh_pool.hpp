@@ -1,5 +1,5 @@
 // The narrow phase's records of small meshes (narrow.hpp, write_record),
-// packed in one array of 64-byte blocks, and laid out again, when the world
+// packed in one array of 32-byte blocks, and laid out again, when the world
 // renumbers its bodies' storage, in the order in which the bodies (in storage
 // order) first use them. A world whose every body has a small mesh of its own
 // then reads the records nearly in sequence, beside the placements, where a
@@ -17,8 +17,8 @@ namespace hgcd {
 class MeshPool {
 public:
     static constexpr uint32_t kNone = UINT32_MAX;
-    struct alignas(64) Block {
-        double d[8];
+    struct alignas(32) Block {
+        double d[4];
     };
 
     MeshPool() = default;
@@ -32,7 +32,10 @@ public:
     // The record of mesh m at `slot` (none for a mesh without one), after
     // reserve(slot, m).
     void add(uint32_t slot, const Mesh &m) noexcept;
-    void remove(uint32_t slot) noexcept;
+    // Returns whether the records moved (offsets changed).
+    bool remove(uint32_t slot) noexcept;
+    // The first block of the record of the mesh at `slot`, or kNone.
+    uint32_t offset(uint32_t slot) const { return offset_[slot]; }
     // The record of the mesh at `slot`, or null when it has none.
     const double *record(uint32_t slot) const {
         return slot < offset_.size() && offset_[slot] != kNone ? data_[offset_[slot]].d : nullptr;
@@ -44,8 +47,9 @@ public:
     // Lays the records out again in the order of first use by the bodies
     // stored at 0..n-1 (body_mesh: their mesh slots; live[i] == 0: storage i
     // is free), then the records no body uses. Only speed depends on the
-    // order: without the memory for it, nothing changes.
-    void repack(const uint32_t *body_mesh, const uint32_t *live, size_t n) noexcept;
+    // order: without the memory for it, nothing changes. Returns whether the
+    // records moved.
+    bool repack(const uint32_t *body_mesh, const uint32_t *live, size_t n) noexcept;
 
 private:
     bool grow(size_t blocks);  // capacity for `blocks` in all (false: no memory)

@@ -186,14 +186,25 @@ bool World::renumber() {
         permute_records<1>(user_data_.data(), perm, n, tmp);
         permute_records<1>(r_level_.data(), perm, n, tmp);
         permute_records<1>(body_mesh_.data(), perm, n, tmp);
+        permute_records<1>(body_record_.data(), perm, n, tmp);
         permute_records<1>(stored_gen_.data(), perm, n, tmp);
         permute_records<1>(slot_of_.data(), perm, n, tmp);
 #pragma omp for schedule(static)
         for (int64_t k = 0; k < int64_t(n); ++k) at_[slot_of_[k]] = uint32_t(k);
     });
     // The meshes' records follow (where bodies have meshes of their own).
-    pool_.repack(body_mesh_.data(), stored_gen_.data(), n);
+    if (pool_.repack(body_mesh_.data(), stored_gen_.data(), n)) refresh_records();
     return true;
+}
+
+void World::refresh_records() {
+    const size_t n = body_mesh_.size();
+    const uint32_t *offset = pool_.offsets();
+    parallel_region(threads(), [&](RegionGuard &) {
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < int64_t(n); ++k)
+            body_record_[k] = stored_gen_[k] ? offset[body_mesh_[k]] : MeshPool::kNone;
+    });
 }
 
 }  // namespace hgcd

@@ -128,7 +128,7 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
     if (mesh_free_.capacity() == mesh_free_.size()) mesh_free_.reserve(2 * mesh_free_.size() + 8);
     mesh_alive_[slot] = 0;
     meshes_[slot] = Mesh();
-    pool_.remove(uint32_t(slot));
+    if (pool_.remove(uint32_t(slot))) refresh_records();  // (the pool closed its holes)
     --live_meshes_;
     // A slot whose generation counter would wrap is retired, so no id is reused.
     if ((mesh_gen_[slot] & kCounterMask) != kCounterMask) mesh_free_.push_back(uint32_t(slot));

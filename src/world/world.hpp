@@ -133,6 +133,8 @@ class World {
     // Moves every body's storage to the grid's sweep order (see at_); false,
     // changing nothing, when there is no memory for it.
     bool renumber();
+    // body_record_ again from the pool, after it moved its records.
+    void refresh_records();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     int threads() const;
     GridLimits grid_limits(int threads);
@@ -175,6 +177,9 @@ class World {
     LargeVector<Placement> place_;  // (narrow.hpp)
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
+    // The first block of the mesh's record in pool_ (MeshPool::kNone: none),
+    // read by the narrow phase beside the placements (refresh_records()).
+    LargeVector<uint32_t> body_record_;
     std::vector<uint64_t> user_data_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).

@@ -217,8 +217,8 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
         if (!hgcd::build_mesh(meshes + 12 * size_t(m), 4, faces, 4, &mesh[m], &error) || !mesh[m].tetra) return -1;
     }
     // The meshes' records, as the world's pool holds them (aligned blocks).
-    std::vector<hgcd::MeshPool::Block> record(2 * size_t(mesh_count));
-    for (uint32_t m = 0; m < mesh_count; ++m) hgcd::write_record(mesh[m], record[2 * size_t(m)].d);
+    std::vector<hgcd::MeshPool::Block> record(3 * size_t(mesh_count));
+    for (uint32_t m = 0; m < mesh_count; ++m) hgcd::write_record(mesh[m], record[3 * size_t(m)].d);
     std::vector<hgcd::Placement> place(2 * size_t(pair_count));
     std::vector<hgcd::TetraPair> pairs(pair_count);
     for (uint32_t k = 0; k < pair_count; ++k) {
@@ -231,7 +231,7 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
         }
         const uint32_t ma = pair_mesh[2 * size_t(k)], mb = pair_mesh[2 * size_t(k) + 1];
         pairs[k] = hgcd::TetraPair{&mesh[ma], &mesh[mb], &place[2 * size_t(k)], &place[2 * size_t(k) + 1],
-                                   record[2 * size_t(ma)].d, record[2 * size_t(mb)].d};
+                                   record[3 * size_t(ma)].d, record[3 * size_t(mb)].d};
     }
     hgcd::NarrowScratch one, batch;
     std::vector<hgcd::Contact> verdict(pair_count);

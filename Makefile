@@ -1,5 +1,6 @@
 # hgcd: plain build with only a C++ compiler (g++ or clang++) and make.
 #   make                 libhgcd.a and libhgcd.so.MAJOR.MINOR.PATCH (soname libhgcd.so.MAJOR)
+#                        plus libhgcd_mpi.a/.so (mpi/) when OpenMPI's mpicxx is found
 #   make scene           build-make/libhgcd_scene.a: the reference scenes' generator (scene/),
 #                        a support library for the demo, benchmarks, tests and Rust crate
 #   make install         PREFIX=/usr/local LIBDIR= INCLUDEDIR= DESTDIR= : the product only
@@ -10,6 +11,8 @@
 #   make check           quick: the meson build (build/) and its CMocka suites; installs nothing
 #   make test            every test (the suites, -Ofast, no AVX2, sanitizers, valgrind, fuzzing,
 #                        this install, Rust); installs what is missing
+#   make python          the Python module built in place (bindings/python): then
+#                        PYTHONPATH=bindings/python python3 -c 'import hgcd' (PYTHON=... picks python)
 #   make bench           benchmarks (bench/)
 #   make fuzz            the API fuzzer for FUZZ_SECONDS
 #   make deps            installs the packages make test needs
@@ -64,6 +67,20 @@ LDLIBS_LIB := -fopenmp $(filter-out -lm,$(CCD_LIBS)) -lm
 # asks the same script).
 RUNTIME_LIBS = $(shell sh scripts/pc-libs-private.sh $(CXX) $(CXXFLAGS))
 
+# Optional MPI library hgcd_mpi (mpi/, hgcd/hgcd_mpi.h): built beside libhgcd
+# when OpenMPI's compiler wrapper mpicxx is found (Debian libopenmpi-dev);
+# MPI=no never builds it. libhgcd itself never depends on MPI.
+MPI ?= auto
+ifneq ($(MPI),no)
+MPICXX ?= $(shell command -v mpicxx 2>/dev/null)
+endif
+ifneq ($(MPICXX),)
+MPI_OBJS := $(patsubst mpi/%.cpp,$(BUILD)/mpi/%.o,$(wildcard mpi/*.cpp))
+MPI_STATIC := $(BUILD)/libhgcd_mpi.a
+MPI_SHARED := $(BUILD)/libhgcd_mpi.so.$(VERSION)
+MPI_LIBS := $(MPI_STATIC) $(MPI_SHARED)
+endif
+
 SRCS := $(wildcard src/*/*.cpp)
 OBJS := $(patsubst src/%.cpp,$(BUILD)/obj/%.o,$(SRCS))
 STATIC := $(BUILD)/libhgcd.a
@@ -74,10 +91,10 @@ MAP := src/api/hgcd.map
 # benchmarks, tests and the Rust crate, not part of libhgcd.
 SCENE_LIB := $(BUILD)/libhgcd_scene.a
 
-.PHONY: all lib scene install install-scene uninstall demo check test bench fuzz clean deps FORCE
+.PHONY: all lib scene install install-scene uninstall demo check test bench fuzz clean deps python FORCE
 
 all: lib
-lib: $(STATIC) $(SHARED)
+lib: $(STATIC) $(SHARED) $(MPI_LIBS)
 scene: $(SCENE_LIB)
 
 $(BUILD)/obj/%.o: src/%.cpp | $(BUILD)
@@ -92,7 +109,21 @@ $(SCENE_LIB): $(BUILD)/scene/scene.o
 	rm -f $@
 	ar rcs $@ $^
 
--include $(OBJS:.o=.d) $(BUILD)/scene/scene.d
+$(BUILD)/mpi/%.o: mpi/%.cpp | $(BUILD)
+	@mkdir -p $(dir $@)
+	$(MPICXX) $(BASE_CXXFLAGS) -Impi $(LIB_CPPFLAGS) $(CXXFLAGS) $(HGCD_IEEE_FLAGS) -c $< -o $@
+
+$(MPI_STATIC): $(MPI_OBJS)
+	rm -f $@
+	ar rcs $@ $^
+
+$(MPI_SHARED): $(MPI_OBJS) $(SHARED) mpi/hgcd_mpi.map
+	$(MPICXX) -shared -Wl,-soname,libhgcd_mpi.so.$(MAJOR) -Wl,--version-script=mpi/hgcd_mpi.map -o $@ \
+	    $(MPI_OBJS) -L$(BUILD) -lhgcd -fopenmp $(LDFLAGS)
+	ln -sf libhgcd_mpi.so.$(VERSION) $(BUILD)/libhgcd_mpi.so.$(MAJOR)
+	ln -sf libhgcd_mpi.so.$(MAJOR) $(BUILD)/libhgcd_mpi.so
+
+-include $(OBJS:.o=.d) $(BUILD)/scene/scene.d $(MPI_OBJS:.o=.d)
 
 $(BUILD):
 	mkdir -p $(BUILD)
@@ -128,6 +159,13 @@ install: lib $(BUILD)/hgcd.pc
 	ln -sf libhgcd.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
 	ln -sf $(SONAME) $(DESTDIR)$(LIBDIR)/libhgcd.so
 	install -m 644 $(BUILD)/hgcd.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
+ifneq ($(MPICXX),)
+	install -m 644 mpi/hgcd/hgcd_mpi.h $(DESTDIR)$(INCLUDEDIR)/hgcd/
+	install -m 644 $(MPI_STATIC) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(MPI_SHARED) $(DESTDIR)$(LIBDIR)/
+	ln -sf libhgcd_mpi.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libhgcd_mpi.so.$(MAJOR)
+	ln -sf libhgcd_mpi.so.$(MAJOR) $(DESTDIR)$(LIBDIR)/libhgcd_mpi.so
+endif
 
 # `make install` leaves the scene generator out: it is not the product (not
 # in hgcd.h, static only, no ABI promise), only the tool that builds the
@@ -145,6 +183,7 @@ FORCE:
 uninstall:
 	rm -rf $(DESTDIR)$(INCLUDEDIR)/hgcd
 	rm -f $(DESTDIR)$(LIBDIR)/libhgcd.a $(DESTDIR)$(LIBDIR)/libhgcd.so* $(DESTDIR)$(LIBDIR)/pkgconfig/hgcd.pc
+	rm -f $(DESTDIR)$(LIBDIR)/libhgcd_mpi.a $(DESTDIR)$(LIBDIR)/libhgcd_mpi.so*
 	rm -f $(DESTDIR)$(LIBDIR)/libhgcd_scene.a
 
 # The main job: scene `tetra` of docs/scenes.md through the C API.
@@ -175,6 +214,13 @@ test:
 	bash scripts/ensure-deps.sh test
 	bash scripts/run-tests.sh
 
+# The Python binding built in place, against this build's libraries
+# (pip install ./bindings/python installs it instead). PYTHON: the first
+# python3 that imports cffi and numpy, unless given.
+PYTHON = $(shell for p in python3 /usr/bin/python3; do $$p -c 'import cffi, numpy' 2>/dev/null && echo $$p && break; done)
+python: lib scene
+	HGCD_LIB_DIR=$(BUILD) HGCD_INCLUDE_DIR=include:scene $(PYTHON) bindings/python/hgcd_build.py
+
 bench:
 	bash scripts/ensure-deps.sh bench
 	bash scripts/run-bench.sh
@@ -188,4 +234,5 @@ fuzz:
 	bash fuzz/run.sh $(FUZZ_SECONDS)
 
 clean:
-	rm -rf $(BUILD) build build-*
+	rm -rf $(BUILD) build build-* bindings/python/build bindings/python/build-cffi bindings/python/hgcd.egg-info
+	rm -f bindings/python/hgcd/_hgcd*.so

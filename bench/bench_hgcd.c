@@ -3,8 +3,11 @@
  *   bench_hgcd [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
  *              [--lib NAME] [--min-cell-size W] [--side L] [--check]
  *              [--mode step|engine-batch|engine-single] [--mesh-per-body]
- *              [--turn A] [--per-tick]
+ *              [--turn A] [--per-tick] [--thread-policy adaptive|fixed]
  *
+ * --thread-policy sets the world's hgcd_world_desc.thread_policy (default
+ * adaptive, the library's default: fewer threads while the cores are busy
+ * with other work; fixed: always --threads).
  * --lib sets the JSON's "lib" field (default hgcd; make bench's 100-tick
  * runs are hgcd-long).
  * --min-cell-size sets the world descriptor's min_cell_size (default 0: the
@@ -35,6 +38,10 @@
  * Prints ONE JSON line on stdout:
  *
  *   lib, scene, n, seed, threads, ticks, commit, mode,
+ *   thread_policy, threads_used_mean   the policy, and the mean over the
+ *                     ticks of the threads each tick's detect ran on
+ *                     (hgcd_stats.thread_count; threads: the initial
+ *                     detect's, all of them);
  *   broad_ms, narrow_ms, update_ms, motion_ms, tick_ms  medians over the ticks
  *       of the library's own per-phase timers (hgcd_world_stats);
  *   wall_ms           median wall-clock time of hgcd's part of a tick seen
@@ -138,7 +145,7 @@ static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
 static void usage(const char *argv0) {
     fprintf(stderr,
             "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--lib NAME] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
-            "          [--mode step|engine-batch|engine-single] [--mesh-per-body] [--turn A]\n"
+            "          [--mode step|engine-batch|engine-single] [--mesh-per-body] [--turn A] [--thread-policy adaptive|fixed]\n"
             "  --threads 0 = all cores; --check compares the initial detect with docs/scenes.md\n",
             argv0);
 }
@@ -155,7 +162,7 @@ static const char *const mode_names[] = {"step", "engine-batch", "engine-single"
 typedef struct options {
     uint64_t n, seed;
     unsigned threads;
-    int ticks, check, per_tick, mesh_per_body;
+    int ticks, check, per_tick, mesh_per_body, fixed_threads;
     enum mode mode;
     const char *commit, *lib;
     double min_cell, side, turn;
@@ -193,6 +200,8 @@ static int parse_options(int argc, char **argv, options *o) {
         else if (!strcmp(a, "--min-cell-size")) o->min_cell = strtod(v, NULL);
         else if (!strcmp(a, "--side")) o->side = strtod(v, NULL);
         else if (!strcmp(a, "--turn")) o->turn = strtod(v, NULL);
+        else if (!strcmp(a, "--thread-policy") && (!strcmp(v, "adaptive") || !strcmp(v, "fixed")))
+            o->fixed_threads = !strcmp(v, "fixed");
         else if (!strcmp(a, "--mode")) {
             int found = 0;
             for (int m = 0; m < 3; ++m)
@@ -314,7 +323,7 @@ static int create_bodies(hgcd_world *w, const options *o, const caller_state *c)
 
 /* Per-tick samples in ms, each an array of `ticks` entries. */
 enum sample {
-    S_TOTAL, S_BROAD, S_NARROW, S_UPDATE, S_MOTION, S_WALL, S_SET_POSES, S_DETECT, S_CALLER, S_COUNT
+    S_TOTAL, S_BROAD, S_NARROW, S_UPDATE, S_MOTION, S_WALL, S_SET_POSES, S_DETECT, S_CALLER, S_THREADS, S_COUNT
 };
 
 /* FNV-1a over the pairs of the last step/detect (indices, in order): two
@@ -379,6 +388,7 @@ static int run_ticks(hgcd_world *w, const options *o, caller_state *c, double *s
         s[S_NARROW][k] = 1e3 * st->narrow_seconds;
         s[S_UPDATE][k] = 1e3 * st->update_seconds;
         s[S_MOTION][k] = 1e3 * st->motion_seconds;
+        s[S_THREADS][k] = st->thread_count;
         if (o->per_tick) {
             uint64_t hash = 0;
             if (pairs_hash(w, &hash)) return 1;
@@ -431,9 +441,9 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
     /* The means first: median() sorts its array. */
     const double tick_mean = mean(s[S_TOTAL], ticks), tick_max = maximum(s[S_TOTAL], ticks);
     const double update_mean = mean(s[S_UPDATE], ticks), broad_mean = mean(s[S_BROAD], ticks);
-    const double narrow_mean = mean(s[S_NARROW], ticks);
+    const double narrow_mean = mean(s[S_NARROW], ticks), threads_used = mean(s[S_THREADS], ticks);
     printf("{\"lib\":\"%s\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
-           "\"commit\":\"%s\",\"version\":\"%s\",\"mode\":\"%s\",\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
+           "\"commit\":\"%s\",\"version\":\"%s\",\"mode\":\"%s\",\"thread_policy\":\"%s\",\"threads_used_mean\":%.2f,\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
            "\"containment_pairs\":%llu,\"triangle_tests\":%llu,\"moved_bodies\":%llu,\"pairs_fnv\":\"%016llx\","
@@ -442,8 +452,9 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
            "\"peak_rss_mb\":%.1f,\"bytes_per_body\":%.1f,"
            "\"tick_mean_ms\":%.3f,\"tick_max_ms\":%.3f,\"update_mean_ms\":%.3f,\"broad_mean_ms\":%.3f,"
            "\"narrow_mean_ms\":%.3f,",
-           o->lib, (unsigned long long)o->n, (unsigned long long)o->seed, st->thread_count, ticks, o->commit,
-           hgcd_version_string(), mode_names[o->mode], o->min_cell, median(s[S_BROAD], ticks),
+           o->lib, (unsigned long long)o->n, (unsigned long long)o->seed, r->initial.thread_count, ticks, o->commit,
+           hgcd_version_string(), mode_names[o->mode], o->fixed_threads ? "fixed" : "adaptive", threads_used,
+           o->min_cell, median(s[S_BROAD], ticks),
            median(s[S_NARROW], ticks), median(s[S_UPDATE], ticks), median(s[S_MOTION], ticks),
            median(s[S_TOTAL], ticks), median(s[S_WALL], ticks), (unsigned long long)st->candidate_pairs,
            (unsigned long long)st->narrow_tests, (unsigned long long)st->colliding_pairs,
@@ -468,6 +479,7 @@ static int make_world(const options *o, const hgcd_scene_tetra_desc *sd, const c
                       hgcd_world **out) {
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = o->threads;
+    wd.thread_policy = o->fixed_threads ? HGCD_THREADS_FIXED : HGCD_THREADS_ADAPTIVE;
     wd.reflect_at_bounds = 1;
     wd.min_cell_size = o->min_cell;
     for (int k = 0; k < 3; ++k) {

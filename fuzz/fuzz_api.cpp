@@ -1034,6 +1034,11 @@ void op_read(Input &in, Model &m) {
         const hgcd_status s = hgcd_world_set_thread_count(m.w, t);
         EXPECT(s == (t > 4096 ? HGCD_ERROR_INVALID_ARGUMENT : HGCD_OK), "set_thread_count %u", t);
         if (s == HGCD_OK && (t == 0 || t > 2)) hgcd_world_set_thread_count(m.w, 1 + t % 2);  // keep runs cheap
+        // The thread policy: either valid one (the pairs never depend on it), or a bad value refused.
+        const int32_t policy = int32_t(in.u8() % 4) - 1;
+        const bool valid = policy == HGCD_THREADS_ADAPTIVE || policy == HGCD_THREADS_FIXED;
+        EXPECT(hgcd_world_set_thread_policy(m.w, policy) == (valid ? HGCD_OK : HGCD_ERROR_INVALID_ARGUMENT),
+               "set_thread_policy %d", int(policy));
     } else {
         const hgcd_pair *p;
         size_t n;

@@ -18,15 +18,27 @@ case "$target" in
            "/usr/include/ccd/ccd.h:libccd-dev" "bindgen:bindgen" "clang:clang"
            "valgrind:valgrind" "cargo:cargo" "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev"
            "/usr/include/assimp/Importer.hpp:libassimp-dev"
+           # hgcd_mpi (mpi/) and its tests on 1 to 4 ranks:
+           "mpicxx:libopenmpi-dev" "mpirun:openmpi-bin"
            # ThreadSanitizer run (LLVM OpenMP + Archer) and the libFuzzer target:
            "/usr/lib/llvm-14/lib/libarcher.so:libomp-dev"
-           "/usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a:libclang-rt-14-dev") ;;
+           "/usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a:libclang-rt-14-dev"
+           # The Python binding (bindings/python/test.sh): its build, a venv to pip-install
+           # into, pytest, and the example's mesh reader and plotting.
+           "/usr/include/python3*/Python.h:python3-dev" "/usr/lib/python3/dist-packages/pip/__init__.py:python3-pip"
+           "/usr/lib/python3/dist-packages/cffi/__init__.py:python3-cffi"
+           "/usr/lib/python3/dist-packages/numpy/__init__.py:python3-numpy"
+           "/usr/lib/python3/dist-packages/setuptools/__init__.py:python3-setuptools"
+           "/usr/lib/python3/dist-packages/pytest/__init__.py:python3-pytest"
+           "/usr/lib/python3/dist-packages/matplotlib/__init__.py:python3-matplotlib"
+           "/usr/lib/python3/dist-packages/meshio/__init__.py:python3-meshio") ;;
   bench)
     need+=("meson:meson" "ninja:ninja-build" "pkg-config:pkg-config"
            "/usr/include/ccd/ccd.h:libccd-dev"
            "/usr/include/fcl/config.h:libfcl-dev" "/usr/include/bullet/btBulletCollisionCommon.h:libbullet-dev"
            "/usr/include/ode/ode.h:libode-dev" "python3:python3"
-           "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev" "/usr/include/assimp/Importer.hpp:libassimp-dev") ;;
+           "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev" "/usr/include/assimp/Importer.hpp:libassimp-dev"
+           "mpicxx:libopenmpi-dev" "mpirun:openmpi-bin") ;;
   *) echo "usage: $0 demo|check|test|bench" >&2; exit 2 ;;
 esac
 

@@ -2,8 +2,9 @@
 # Every test of hgcd: the CMocka suites through meson (optimised build), the
 # same suites under AddressSanitizer + UndefinedBehaviorSanitizer, the
 # parallel ones under ThreadSanitizer, every test program under valgrind, a
-# short fuzzing run, the plain Makefile build and install, and the Rust
-# bindings. Called by `make test`.
+# short fuzzing run, hgcd_mpi on 1 to 4 ranks (the meson tests mpi_np*, when
+# OpenMPI is found), the plain Makefile build and install, and the Python and
+# Rust bindings. Called by `make test`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
@@ -118,8 +119,52 @@ if grep -q 'NEEDED.*libhgcd' <<<"$(readelf -d "$stage/pairs-static")"; then
 fi
 "$stage/pairs-static"
 "$stage/demo-static" --n 20000 --ticks 1 --threads 2 | tail -n 2
+# hgcd_mpi, when the Makefile built it: a program of its header alone,
+# linked statically against the staged libraries, on 2 ranks.
+if [ -f "$stage/usr/include/hgcd/hgcd_mpi.h" ]; then
+    cat >"$stage/mpi_pairs.c" <<'C'
+#include <hgcd/hgcd_mpi.h>
+#include <stdio.h>
+int main(int argc, char **argv) {
+    MPI_Init(&argc, &argv);
+    int rank;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    static const double v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+    static const uint32_t t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+    hgcd_mpi_world_desc wd = hgcd_mpi_world_desc_default();
+    hgcd_mpi_world *w = NULL;
+    if (hgcd_mpi_world_create(MPI_COMM_WORLD, &wd, &w) != HGCD_OK) MPI_Abort(MPI_COMM_WORLD, 1);
+    hgcd_mesh_desc md = hgcd_mesh_desc_default();
+    md.vertices = v, md.triangles = t, md.vertex_count = 4, md.triangle_count = 4;
+    uint32_t mesh;
+    hgcd_mpi_body_desc b[3];
+    static const double x[] = {0, 1.5, 10};
+    for (int i = 0; i < 3; ++i) {
+        b[i] = hgcd_mpi_body_desc_default();
+        b[i].id = 100 + i, b[i].mesh = 0, b[i].position[0] = x[i];
+    }
+    const hgcd_mpi_pair *p;
+    size_t n = 0;
+    if (hgcd_mpi_mesh_register(w, &md, &mesh) != HGCD_OK || hgcd_mpi_bodies_add(w, b, rank == 0 ? 3 : 0) != HGCD_OK ||
+        hgcd_mpi_detect(w) != HGCD_OK || hgcd_mpi_gather_pairs(w, 0, &p, &n) != HGCD_OK)
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    int ok = rank != 0 || (n == 1 && p[0].a == 100 && p[0].b == 101);
+    if (rank == 0) printf("hgcd_mpi: %zu pair(s) gathered\n", n);
+    hgcd_mpi_world_destroy(w);
+    MPI_Finalize();
+    return ok ? 0 : 1;
+}
+C
+    # shellcheck disable=SC2046
+    mpicc -std=c99 "$stage/mpi_pairs.c" -o "$stage/mpi_pairs" "$stage/usr/lib/libhgcd_mpi.a" \
+        $(pkg-config --static --cflags --libs hgcd)
+    sh tests/run_mpi.sh 2 "$stage/mpi_pairs"
+fi
 unset PKG_CONFIG_PATH PKG_CONFIG_SYSROOT_DIR
 rm -rf "$stage"
+
+step "Python binding: pip install into a venv, pytest (pairs equal to a C program's, misuse, lifetime), the example"
+bindings/python/test.sh
 
 if [ -x bindings/rust/test.sh ]; then
     step "Rust bindings"

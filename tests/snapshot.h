@@ -69,6 +69,7 @@ static void snap_take(snapshot *s, const hgcd_world *w, const hgcd_body *bodies,
     hgcd_world_stats(w, &s->stats);
     s->stats.motion_seconds = s->stats.update_seconds = s->stats.broad_seconds = 0;
     s->stats.narrow_seconds = s->stats.total_seconds = 0;
+    s->stats.thread_count = 0; /* the adaptive thread policy's choice, like a timing */
 }
 
 static void snap_free(snapshot *s) {

@@ -25,6 +25,7 @@ static int setup(void **state) {
     static fixture f;
     hgcd_world_desc d = hgcd_world_desc_default();
     d.thread_count = 2;
+    d.thread_policy = HGCD_THREADS_FIXED; /* the stats report 2 threads */
     if (hgcd_world_create(&d, &f.w) != HGCD_OK) return -1;
     hgcd_mesh_desc md = hgcd_mesh_desc_default();
     md.vertices = kTetraVerts;

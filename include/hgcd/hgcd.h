@@ -211,6 +211,30 @@ enum hgcd_libccd_precision {
     HGCD_LIBCCD_DOUBLE = 2
 };
 
+/** How many of its threads a world's step, detect and batch calls use
+ *  (hgcd_world_desc.thread_policy, hgcd_world_set_thread_policy). The pairs
+ *  never depend on it. */
+enum hgcd_thread_policy {
+    /** The default: thread_count threads while they get the cores, fewer
+     *  while they are descheduled. OpenMP threads spin while they wait (the
+     *  runtime's default), so on cores shared with other busy processes a
+     *  region's threads wait for a descheduled one while holding the core it
+     *  needs: there, 2 threads can be several times slower than 1. Each
+     *  detect measures the time its threads spend off a core (two reads of
+     *  the thread's CPU clock per thread and parallel region) and its time
+     *  per unit of work (bodies plus candidate pairs); when threads lost a
+     *  quarter of their time, the next detect tries half as many threads,
+     *  and the world keeps the count that does the work faster. While on
+     *  fewer threads it tries the larger count again after 8 detects, then
+     *  after 16, 32, ... 512 detects while that stays slower. Batch calls
+     *  (hgcd_world_set_poses ...) use the count of the last detect.
+     *  hgcd_stats.thread_count reports each detect's count. */
+    HGCD_THREADS_ADAPTIVE = 0,
+    /** Always thread_count threads (e.g. for benchmarks, or when the caller
+     *  manages the machine's load itself). */
+    HGCD_THREADS_FIXED = 1
+};
+
 /** Whether this build can use libccd: an enum hgcd_libccd_precision value.
  *  With HGCD_LIBCCD_NONE every request for GJK or MPR fails with
  *  HGCD_ERROR_NOT_SUPPORTED ("not built with libccd"). Any thread. */
@@ -224,7 +248,9 @@ typedef struct hgcd_world_desc {
     /** Set by hgcd_world_desc_default(); catches uninitialised descriptors. */
     uint32_t init_tag;
     /** OpenMP threads per parallel region of step/detect; 0 (default) = all
-     *  cores (omp_get_num_procs). At most 4096. */
+     *  cores (omp_get_num_procs). At most 4096. Under the default
+     *  thread_policy (ADAPTIVE) a detect may use fewer while the cores are
+     *  busy with other work. */
     uint32_t thread_count;
     /** Non-zero: hgcd_world_step keeps bodies inside [bounds_min,
      *  bounds_max] by reflection (docs/semantics.md, "Motion"). Default 0:
@@ -258,6 +284,10 @@ typedef struct hgcd_world_desc {
      *  (hgcd_world_contacts). Default 0: nothing is recorded and costs
      *  nothing. Never changes the pairs. */
     uint32_t contacts;
+    /** enum hgcd_thread_policy: ADAPTIVE (0, default: fewer threads while
+     *  the cores are busy with other work) or FIXED (always thread_count).
+     *  Never changes the pairs. */
+    int32_t thread_policy;
 } hgcd_world_desc;
 
 /** A world descriptor with every default filled in (see the fields).
@@ -299,6 +329,14 @@ HGCD_API uint32_t hgcd_world_mesh_count(const hgcd_world *world);
  *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (more than 4096). */
 HGCD_API hgcd_status hgcd_world_set_thread_count(hgcd_world *world,
                                                  uint32_t thread_count);
+
+/** Sets the world's thread policy (enum hgcd_thread_policy: ADAPTIVE or
+ *  FIXED) for the following calls, as hgcd_world_desc.thread_policy; the
+ *  adaptive policy starts again from all threads, as after a change of
+ *  thread count. The pairs never depend on it.
+ *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (any other value). Cost: O(1). */
+HGCD_API hgcd_status hgcd_world_set_thread_policy(hgcd_world *world,
+                                                  int32_t thread_policy);
 
 /** Sets the world's narrow phase (enum hgcd_narrow_phase: EXACT, GJK or
  *  MPR), used from the next step/detect by every mesh set to

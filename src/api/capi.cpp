@@ -110,6 +110,8 @@ hgcd_status hgcd_world_create(const hgcd_world_desc *desc, hgcd_world **out_worl
     if (!initialised(desc)) return HGCD_ERROR_BAD_DESCRIPTOR;
     if (!std::isfinite(desc->time_step) || desc->time_step < 0) return HGCD_ERROR_INVALID_ARGUMENT;
     if (desc->thread_count > 4096) return HGCD_ERROR_INVALID_ARGUMENT;
+    if (desc->thread_policy != HGCD_THREADS_ADAPTIVE && desc->thread_policy != HGCD_THREADS_FIXED)
+        return HGCD_ERROR_INVALID_ARGUMENT;
     for (int k = 0; k < 3 && desc->reflect_at_bounds; ++k)  // (the bounds serve the reflection only)
         if (!hgcd::coordinate_ok(desc->bounds_min[k]) || !hgcd::coordinate_ok(desc->bounds_max[k]) ||
             !(desc->bounds_min[k] < desc->bounds_max[k]))
@@ -142,6 +144,15 @@ hgcd_status hgcd_world_set_thread_count(hgcd_world *world, uint32_t thread_count
         return refuse(world, HGCD_ERROR_INVALID_ARGUMENT, "world_set_thread_count",
                       "thread_count is more than 4096");
     world->impl.set_thread_count(thread_count);
+    return HGCD_OK;
+}
+
+hgcd_status hgcd_world_set_thread_policy(hgcd_world *world, int32_t thread_policy) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (thread_policy != HGCD_THREADS_ADAPTIVE && thread_policy != HGCD_THREADS_FIXED)
+        return refuse(world, HGCD_ERROR_INVALID_ARGUMENT, "world_set_thread_policy",
+                      "thread_policy is not HGCD_THREADS_ADAPTIVE or HGCD_THREADS_FIXED");
+    world->impl.set_thread_policy(thread_policy);
     return HGCD_OK;
 }
 

@@ -228,6 +228,9 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         coherent_ = true;
         return HGCD_OK;
     }
+    // (The adaptive thread policy's measure: none under the fixed policy.)
+    LoadMeter meter;
+    const LoadMeter::Attach attach(adaptive_threads_ ? &meter : nullptr);
     try {
         if (!renumbered) renumber_if_disordered();
         const GridUpdateStats us = update_grid(T, motion);
@@ -255,6 +258,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         stats_.total_seconds = t3 - t0;
         std::fill(moved_.begin(), moved_.end(), uint8_t(0));
         coherent_ = !contacts_on_;
+        if (adaptive_threads_) governor_.record(full_threads(), t3 - t0, double(live_bodies_) + double(total), meter.lost());
     } catch (...) {
         // The grid may be half updated: drop it, the next detect rebuilds it.
         grid_ = Grid();
@@ -281,10 +285,12 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
 size_t World::find_candidates(int threads, bool keep_unmoved, std::vector<NarrowChunk> &chunks) {
     // Kept across detects: a tick's candidates need not grow fresh buffers
     // (and fault in fresh pages) every time.
+    // (Never shrunk: the adaptive thread policy changes the count back and
+    // forth. Lists past `threads` stay empty.)
     std::vector<PairBuffer> &found = candidates_;
-    found.resize(size_t(threads));
+    if (found.size() < size_t(threads)) found.resize(size_t(threads));
     for (auto &f : found) f.clear();
-    hits_.resize(size_t(threads));
+    if (hits_.size() < size_t(threads)) hits_.resize(size_t(threads));
     for (auto &h : hits_) h.clear();
     grid_.find_pairs(boxes(), threads, found);
     size_t total = 0;
@@ -324,7 +330,7 @@ void World::narrow_phase(int threads, const NarrowPlan &plan,
     // Kept across detects, as the candidates: fresh buffers would grow (and
     // fault in pages) every tick. (hits_ holds the pairs temporal coherence
     // kept: find_candidates.)
-    sort_scratch_.resize(size_t(threads));
+    if (sort_scratch_.size() < size_t(threads)) sort_scratch_.resize(size_t(threads));
     struct Counts {
         uint64_t narrow_tests, triangle_tests, containment, libccd_tests, libccd_fallback;
     };

@@ -47,7 +47,9 @@ const char *check_narrow_phase(int32_t mode, bool per_mesh, hgcd_status *status)
 }  // namespace
 
 World::World(const hgcd_world_desc &d)
-    : thread_count_(d.thread_count), time_step_(d.time_step), reflect_(d.reflect_at_bounds != 0) {
+    : thread_count_(d.thread_count),
+      adaptive_threads_(d.thread_policy == HGCD_THREADS_ADAPTIVE),
+      time_step_(d.time_step), reflect_(d.reflect_at_bounds != 0) {
     // From a count of worlds created, not from an address, so a program that
     // creates its worlds in the same order gets the same ids on every run.
     // An odd multiplier walks all 256 tags before one repeats.
@@ -69,9 +71,11 @@ hgcd_status World::fail(hgcd_status status, std::string message) const {
     return status;
 }
 
-int World::threads() const {
+int World::full_threads() const {
     return thread_count_ ? int(thread_count_) : std::max(1, omp_get_num_procs());
 }
+
+int World::threads() const { return adaptive_threads_ ? governor_.threads(full_threads()) : full_threads(); }
 
 int64_t World::live_mesh(hgcd_mesh id) const {
     if (id.index >= mesh_alive_.size() || !mesh_alive_[id.index] || mesh_gen_[id.index] != id.generation)

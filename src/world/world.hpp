@@ -13,6 +13,7 @@
 #include "hgcd/hgcd.h"
 #include "world/mesh.hpp"
 #include "world/mesh_pool.hpp"
+#include "world/threads.hpp"
 #include "world/memory.hpp"
 #include "narrow/narrow.hpp"
 
@@ -63,7 +64,14 @@ class World {
 
     hgcd_status step();
     hgcd_status detect();
-    void set_thread_count(uint32_t n) { thread_count_ = n; }
+    void set_thread_count(uint32_t n) {
+        thread_count_ = n;
+        governor_.reset();
+    }
+    void set_thread_policy(int32_t policy) {
+        adaptive_threads_ = policy == HGCD_THREADS_ADAPTIVE;
+        governor_.reset();
+    }
     // Narrow phase choice (enum hgcd_narrow_phase) and contacts (hgcd.h).
     hgcd_status set_narrow_phase(int32_t mode);
     hgcd_status set_mesh_narrow_phase(hgcd_mesh id, int32_t mode);
@@ -136,7 +144,10 @@ class World {
     // body_record_ again from the pool, after it moved its records.
     void refresh_records();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
+    // The threads of the next detect or batch call: the world's count, or
+    // fewer under the adaptive policy while the cores are busy (threads.hpp).
     int threads() const;
+    int full_threads() const;
     GridLimits grid_limits(int threads);
     // Candidate pairs per body expected of boxes spread evenly over their
     // positions' box; -1 when there is no such box.
@@ -144,6 +155,8 @@ class World {
 
     uint32_t tag_;  // of the ids' generations
     uint32_t thread_count_;
+    bool adaptive_threads_;
+    ThreadGovernor governor_;
     double time_step_;
     bool reflect_;
     double bounds_min_[3], bounds_max_[3];

@@ -16,6 +16,7 @@
 #include "broad/grid.hpp"
 #include "world/mesh.hpp"
 #include "world/mesh_pool.hpp"
+#include "world/threads.hpp"
 #include "narrow/narrow.hpp"
 #include "common/ieee.hpp"
 
@@ -252,6 +253,16 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
     counts[4] = hits;
     counts[5] = contained;
     return differ;
+}
+
+void hgcdi_thread_governor(int full, uint32_t count, const double *rate, const double *lost, int *used) {
+    hgcd::ThreadGovernor g;
+    for (uint32_t k = 0; k < count; ++k) {
+        const int t = g.threads(full);
+        used[k] = t;
+        const size_t at = size_t(k) * size_t(full + 1) + size_t(t);
+        g.record(full, rate[at], 1.0, lost[at]);
+    }
 }
 
 }  // extern "C"

@@ -67,6 +67,13 @@ int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint
 int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
                                 const double *poses, uint32_t pair_count, uint64_t *counts);
 
+/* The adaptive thread policy's decisions (src/world/threads.hpp) on a
+ * simulated machine, for a world set to `full` threads: detect k (k <
+ * count) run on t threads takes rate[k * (full + 1) + t] seconds per unit of
+ * work and its threads lose lost[k * (full + 1) + t] of their time off a
+ * core. Writes the threads each detect ran on to used[k]. */
+void hgcdi_thread_governor(int full, uint32_t count, const double *rate, const double *lost, int *used);
+
 #ifdef __cplusplus
 }
 #endif

@@ -262,6 +262,28 @@ pub const HGCD_LIBCCD_DOUBLE: hgcd_libccd_precision = 2;
 #[doc = " Precision of the libccd compiled in (hgcd_feature_libccd), read from"]
 #[doc = "  libccd's own config.h at build time."]
 pub type hgcd_libccd_precision = u32;
+#[doc = " The default: thread_count threads while they get the cores, fewer"]
+#[doc = "  while they are descheduled. OpenMP threads spin while they wait (the"]
+#[doc = "  runtime's default), so on cores shared with other busy processes a"]
+#[doc = "  region's threads wait for a descheduled one while holding the core it"]
+#[doc = "  needs: there, 2 threads can be several times slower than 1. Each"]
+#[doc = "  detect measures the time its threads spend off a core (two reads of"]
+#[doc = "  the thread's CPU clock per thread and parallel region) and its time"]
+#[doc = "  per unit of work (bodies plus candidate pairs); when threads lost a"]
+#[doc = "  quarter of their time, the next detect tries half as many threads,"]
+#[doc = "  and the world keeps the count that does the work faster. While on"]
+#[doc = "  fewer threads it tries the larger count again after 8 detects, then"]
+#[doc = "  after 16, 32, ... 512 detects while that stays slower. Batch calls"]
+#[doc = "  (hgcd_world_set_poses ...) use the count of the last detect."]
+#[doc = "  hgcd_stats.thread_count reports each detect's count."]
+pub const HGCD_THREADS_ADAPTIVE: hgcd_thread_policy = 0;
+#[doc = " Always thread_count threads (e.g. for benchmarks, or when the caller"]
+#[doc = "  manages the machine's load itself)."]
+pub const HGCD_THREADS_FIXED: hgcd_thread_policy = 1;
+#[doc = " How many of its threads a world's step, detect and batch calls use"]
+#[doc = "  (hgcd_world_desc.thread_policy, hgcd_world_set_thread_policy). The pairs"]
+#[doc = "  never depend on it."]
+pub type hgcd_thread_policy = u32;
 extern "C" {
     #[doc = " Whether this build can use libccd: an enum hgcd_libccd_precision value."]
     #[doc = "  With HGCD_LIBCCD_NONE every request for GJK or MPR fails with"]
@@ -278,7 +300,9 @@ pub struct hgcd_world_desc {
     #[doc = " Set by hgcd_world_desc_default(); catches uninitialised descriptors."]
     pub init_tag: u32,
     #[doc = " OpenMP threads per parallel region of step/detect; 0 (default) = all"]
-    #[doc = "  cores (omp_get_num_procs). At most 4096."]
+    #[doc = "  cores (omp_get_num_procs). At most 4096. Under the default"]
+    #[doc = "  thread_policy (ADAPTIVE) a detect may use fewer while the cores are"]
+    #[doc = "  busy with other work."]
     pub thread_count: u32,
     #[doc = " Non-zero: hgcd_world_step keeps bodies inside [bounds_min,"]
     #[doc = "  bounds_max] by reflection (docs/semantics.md, \"Motion\"). Default 0:"]
@@ -312,12 +336,16 @@ pub struct hgcd_world_desc {
     #[doc = "  (hgcd_world_contacts). Default 0: nothing is recorded and costs"]
     #[doc = "  nothing. Never changes the pairs."]
     pub contacts: u32,
+    #[doc = " enum hgcd_thread_policy: ADAPTIVE (0, default: fewer threads while"]
+    #[doc = "  the cores are busy with other work) or FIXED (always thread_count)."]
+    #[doc = "  Never changes the pairs."]
+    pub thread_policy: i32,
 }
 #[test]
 fn bindgen_test_layout_hgcd_world_desc() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_world_desc>(),
-        96usize,
+        104usize,
         concat!("Size of: ", stringify!(hgcd_world_desc))
     );
     assert_eq!(
@@ -512,6 +540,23 @@ fn bindgen_test_layout_hgcd_world_desc() {
         );
     }
     test_field_contacts();
+    fn test_field_thread_policy() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).thread_policy) as usize - ptr as usize
+            },
+            96usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(thread_policy)
+            )
+        );
+    }
+    test_field_thread_policy();
 }
 extern "C" {
     #[doc = " A world descriptor with every default filled in (see the fields)."]
@@ -560,6 +605,14 @@ extern "C" {
     #[doc = "  pairs never depend on it. The process's OpenMP settings are not touched."]
     #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (more than 4096)."]
     pub fn hgcd_world_set_thread_count(world: *mut hgcd_world, thread_count: u32) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets the world's thread policy (enum hgcd_thread_policy: ADAPTIVE or"]
+    #[doc = "  FIXED) for the following calls, as hgcd_world_desc.thread_policy; the"]
+    #[doc = "  adaptive policy starts again from all threads, as after a change of"]
+    #[doc = "  thread count. The pairs never depend on it."]
+    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (any other value). Cost: O(1)."]
+    pub fn hgcd_world_set_thread_policy(world: *mut hgcd_world, thread_policy: i32) -> hgcd_status;
 }
 extern "C" {
     #[doc = " Sets the world's narrow phase (enum hgcd_narrow_phase: EXACT, GJK or"]

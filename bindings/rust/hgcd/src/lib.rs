@@ -36,7 +36,7 @@ pub use hgcd_sys as sys;
 pub use error::{Error, ErrorKind, Result};
 pub use types::{
     BodyDesc, BodyId, Contact, ContactKind, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose,
-    Stats, WorldDesc,
+    Stats, ThreadPolicy, WorldDesc,
 };
 pub use world::World;
 

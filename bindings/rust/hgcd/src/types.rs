@@ -177,6 +177,10 @@ pub struct WorldDesc {
     pub narrow_phase: NarrowPhase,
     /// Record what each colliding pair is made of ([`crate::World::contacts`]).
     pub contacts: bool,
+    /// How many of `thread_count` threads a detect uses: `Adaptive`
+    /// (default: fewer while the cores are busy with other work) or `Fixed`
+    /// (see [`ThreadPolicy`]).
+    pub thread_policy: ThreadPolicy,
 }
 
 impl Default for WorldDesc {
@@ -193,6 +197,7 @@ impl Default for WorldDesc {
             max_cell_size: d.max_cell_size,
             narrow_phase: NarrowPhase::from_raw(d.narrow_phase),
             contacts: d.contacts != 0,
+            thread_policy: ThreadPolicy::from_raw(d.thread_policy),
         }
     }
 }
@@ -212,6 +217,7 @@ impl WorldDesc {
         d.max_cell_size = self.max_cell_size;
         d.narrow_phase = self.narrow_phase.to_raw();
         d.contacts = u32::from(self.contacts);
+        d.thread_policy = self.thread_policy.to_raw();
         d
     }
 }
@@ -442,6 +448,39 @@ impl NarrowPhase {
             NarrowPhase::Gjk => sys::HGCD_NARROW_GJK,
             NarrowPhase::Mpr => sys::HGCD_NARROW_MPR,
             NarrowPhase::Unknown(v) => v,
+        }
+    }
+}
+
+/// How many of its threads a world's detects use (`enum hgcd_thread_policy`).
+/// The pairs never depend on it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ThreadPolicy {
+    /// All `thread_count` threads while they get the cores; fewer while they
+    /// are descheduled (other busy processes on the cores), measured per
+    /// detect, with the larger count tried again now and then (see hgcd.h).
+    #[default]
+    Adaptive,
+    /// Always `thread_count` threads.
+    Fixed,
+    /// A value this crate does not know (from a newer library).
+    Unknown(i32),
+}
+
+impl ThreadPolicy {
+    pub fn from_raw(v: i32) -> ThreadPolicy {
+        match v {
+            v if v == sys::HGCD_THREADS_ADAPTIVE as i32 => ThreadPolicy::Adaptive,
+            v if v == sys::HGCD_THREADS_FIXED as i32 => ThreadPolicy::Fixed,
+            other => ThreadPolicy::Unknown(other),
+        }
+    }
+
+    pub fn to_raw(self) -> i32 {
+        match self {
+            ThreadPolicy::Adaptive => sys::HGCD_THREADS_ADAPTIVE as i32,
+            ThreadPolicy::Fixed => sys::HGCD_THREADS_FIXED as i32,
+            ThreadPolicy::Unknown(v) => v,
         }
     }
 }

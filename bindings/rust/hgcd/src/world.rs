@@ -12,7 +12,7 @@ use hgcd_sys as sys;
 use crate::error::{Error, ErrorKind, Result};
 use crate::types::{
     BodyDesc, BodyId, Contact, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose, Stats,
-    WorldDesc,
+    ThreadPolicy, WorldDesc,
 };
 
 /// A collision world: meshes, bodies placed from them, and the pairs of the
@@ -200,6 +200,15 @@ impl World {
     pub fn set_thread_count(&mut self, thread_count: u32) -> Result<()> {
         // SAFETY: live world, exclusively borrowed.
         let s = unsafe { sys::hgcd_world_set_thread_count(self.raw.as_ptr(), thread_count) };
+        self.check(s)
+    }
+
+    /// The thread policy of the following calls
+    /// (`hgcd_world_set_thread_policy`): `Adaptive` or `Fixed`; another
+    /// value is refused as `InvalidArgument`.
+    pub fn set_thread_policy(&mut self, policy: ThreadPolicy) -> Result<()> {
+        // SAFETY: live world, exclusively borrowed.
+        let s = unsafe { sys::hgcd_world_set_thread_policy(self.raw.as_ptr(), policy.to_raw()) };
         self.check(s)
     }
 

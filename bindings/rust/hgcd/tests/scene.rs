@@ -5,7 +5,7 @@ use std::collections::HashSet;
 
 use hgcd::scene::{self, TetraDesc};
 use hgcd::sys;
-use hgcd::{ErrorKind, Pair, World};
+use hgcd::{ErrorKind, Pair, ThreadPolicy, World, WorldDesc};
 
 /// FNV-1a over the pairs' index words, in order. Generations carry a
 /// per-world tag (hgcd.h, "Ids"), so two worlds' pairs agree on indices only;
@@ -181,6 +181,38 @@ fn thread_count_does_not_change_pairs() {
     let one = safe_ticks(20000, 7, 2, 1);
     let two = safe_ticks(20000, 7, 2, 2);
     assert_eq!(one, two);
+}
+
+/// The thread policy: the default is adaptive, either policy gives the same
+/// pairs, the fixed one always reports its thread count, and a value the
+/// library does not know is refused.
+#[test]
+fn thread_policy_does_not_change_pairs() {
+    assert_eq!(WorldDesc::default().thread_policy, ThreadPolicy::Adaptive);
+    let run = |policy: ThreadPolicy| {
+        let mut world = scene::tetra_world(&TetraDesc::new(20000, 7), 2).unwrap();
+        world.set_thread_policy(policy).unwrap();
+        let mut out = Vec::new();
+        for _ in 0..6 {
+            world.step().unwrap();
+            let threads = world.stats().thread_count;
+            match policy {
+                ThreadPolicy::Fixed => assert_eq!(threads, 2),
+                _ => assert!(threads == 1 || threads == 2),
+            }
+            out.push(hash_pairs(world.pairs().iter().map(words)));
+        }
+        out
+    };
+    assert_eq!(run(ThreadPolicy::Fixed), run(ThreadPolicy::Adaptive));
+    let mut world = World::new(&WorldDesc::default()).unwrap();
+    let err = world.set_thread_policy(ThreadPolicy::Unknown(9)).unwrap_err();
+    assert_eq!(err.kind(), ErrorKind::InvalidArgument);
+    let bad = WorldDesc {
+        thread_policy: ThreadPolicy::Unknown(-3),
+        ..WorldDesc::default()
+    };
+    assert_eq!(World::new(&bad).unwrap_err().kind(), ErrorKind::InvalidArgument);
 }
 
 #[test]

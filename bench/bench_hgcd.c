@@ -3,7 +3,8 @@
  *   bench_hgcd [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
  *              [--lib NAME] [--min-cell-size W] [--side L] [--check]
  *              [--mode step|engine-batch|engine-single] [--mesh-per-body]
- *              [--turn A] [--per-tick] [--thread-policy adaptive|fixed]
+ *              [--turn A] [--moving-fraction F] [--per-tick]
+ *              [--thread-policy adaptive|fixed]
  *
  * --thread-policy sets the world's hgcd_world_desc.thread_policy (default
  * adaptive, the library's default: fewer threads while the cores are busy
@@ -33,7 +34,12 @@
  * body's initial velocity direction, then q is normalised; --turn 0 hands the
  * unchanged orientations over (the same bits every tick), so that
  * set_poses's path for an unchanged orientation is measured, and the pairs
- * equal step mode's at every tick count.
+ * equal step mode's at every tick count. --moving-fraction F (default 1,
+ * engine modes): only the bodies whose index hashes below F (splitmix64 of
+ * the index, over 2^64) move and turn; the others rest bit for bit where
+ * they are (their poses are handed over all the same), as in a pile where
+ * some bodies settle: F = 0.1 measures the detect where one body in ten
+ * moves, F = 0 the detect where none does.
  *
  * Prints ONE JSON line on stdout:
  *
@@ -66,10 +72,16 @@
  *                     reference counts of docs/scenes.md (pairs and containment;
  *                     null when docs/scenes.md has no row for this n and seed);
  *   mesh_per_body     true or false (in step mode only when true);
- *   engine modes only: turn (A), set_poses_ms, detect_ms, caller_ms
- *                     medians of the wall-clock time of handing the poses
- *                     over, of hgcd_world_detect, and of the caller's own
- *                     motion and turning (not hgcd's work).
+ *   engine modes only: turn (A), moving_fraction (F) and moving_bodies,
+ *                     set_poses_ms, detect_ms, caller_ms  medians of the
+ *                     wall-clock time of handing the poses over, of
+ *                     hgcd_world_detect, and of the caller's own motion and
+ *                     turning (not hgcd's work); set_poses_cpu_ms,
+ *                     detect_cpu_ms  medians of the process's CPU time
+ *                     (all threads) in those calls: on 1 thread, the
+ *                     figure to compare on a machine busy with other work;
+ *                     searched_bodies and unmoved_pairs of the last tick
+ *                     (hgcd_stats).
  *
  * --per-tick prints each tick's times and pairs_fnv to stderr. Diagnostics go
  * to stderr. Exit status: 0 when the JSON line was printed (even with
@@ -89,6 +101,14 @@
 static double now_seconds(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CPU time of the process (all its threads), for machines shared with
+ * other work: on 1 thread it counts this run's work alone. */
+static double cpu_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -145,7 +165,8 @@ static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
 static void usage(const char *argv0) {
     fprintf(stderr,
             "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--lib NAME] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
-            "          [--mode step|engine-batch|engine-single] [--mesh-per-body] [--turn A] [--thread-policy adaptive|fixed]\n"
+            "          [--mode step|engine-batch|engine-single] [--mesh-per-body] [--turn A] [--moving-fraction F]\n"
+            "          [--thread-policy adaptive|fixed]\n"
             "  --threads 0 = all cores; --check compares the initial detect with docs/scenes.md\n",
             argv0);
 }
@@ -165,13 +186,13 @@ typedef struct options {
     int ticks, check, per_tick, mesh_per_body, fixed_threads;
     enum mode mode;
     const char *commit, *lib;
-    double min_cell, side, turn;
+    double min_cell, side, turn, moving_fraction;
 } options;
 
 /* 0 on success, 2 on a usage error (printed). */
 static int parse_options(int argc, char **argv, options *o) {
     *o = (options){.n = 100000, .seed = 1, .threads = 1, .ticks = 5, .mode = MODE_STEP,
-                   .commit = "unknown", .lib = "hgcd", .turn = 0.01};
+                   .commit = "unknown", .lib = "hgcd", .turn = 0.01, .moving_fraction = 1};
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--per-tick")) {
@@ -200,6 +221,7 @@ static int parse_options(int argc, char **argv, options *o) {
         else if (!strcmp(a, "--min-cell-size")) o->min_cell = strtod(v, NULL);
         else if (!strcmp(a, "--side")) o->side = strtod(v, NULL);
         else if (!strcmp(a, "--turn")) o->turn = strtod(v, NULL);
+        else if (!strcmp(a, "--moving-fraction")) o->moving_fraction = strtod(v, NULL);
         else if (!strcmp(a, "--thread-policy") && (!strcmp(v, "adaptive") || !strcmp(v, "fixed")))
             o->fixed_threads = !strcmp(v, "fixed");
         else if (!strcmp(a, "--mode")) {
@@ -218,18 +240,26 @@ static int parse_options(int argc, char **argv, options *o) {
             return 2;
         }
     }
-    if (o->n == 0 || o->ticks < 1 || !(o->turn >= 0 && o->turn <= 1)) {
-        fprintf(stderr, "bench_hgcd: need n >= 1, ticks >= 1 and 0 <= turn <= 1\n");
+    if (o->n == 0 || o->ticks < 1 || !(o->turn >= 0 && o->turn <= 1) ||
+        !(o->moving_fraction >= 0 && o->moving_fraction <= 1)) {
+        fprintf(stderr, "bench_hgcd: need n >= 1, ticks >= 1, 0 <= turn <= 1 and 0 <= moving fraction <= 1\n");
+        return 2;
+    }
+    if (o->mode == MODE_STEP && o->moving_fraction < 1) {
+        fprintf(stderr, "bench_hgcd: --moving-fraction is for the engine modes\n");
         return 2;
     }
     return 0;
 }
 
 /* What the caller of an engine mode keeps of its bodies: the scene's arrays
- * (n entries each), the body ids, and each body's rotation per tick. */
+ * (n entries each), the body ids, each body's rotation per tick, and
+ * whether it moves (--moving-fraction). */
 typedef struct caller_state {
     double *centers, *scales, *orientations, *velocities, *turns;
     hgcd_body *bodies;
+    unsigned char *moving;
+    uint64_t moving_count;
 } caller_state;
 
 static void caller_free(caller_state *c) {
@@ -239,6 +269,7 @@ static void caller_free(caller_state *c) {
     free(c->velocities);
     free(c->turns);
     free(c->bodies);
+    free(c->moving);
 }
 
 /* The rotation per tick of each body: the quaternion (h u, 1) normalised, u
@@ -257,10 +288,12 @@ static void make_turns(uint64_t n, double turn, const double *velocities, double
     }
 }
 
-/* q = q * r for each body, then normalised: |q|^2 is 1 within a few ulps, so
- * one Newton step of 1/sqrt from 1, (3 - |q|^2) / 2, is exact to ~1e-32. */
-static void turn_bodies(uint64_t n, double *orientations, const double *turns) {
+/* q = q * r for each moving body, then normalised: |q|^2 is 1 within a few
+ * ulps, so one Newton step of 1/sqrt from 1, (3 - |q|^2) / 2, is exact to
+ * ~1e-32. */
+static void turn_bodies(uint64_t n, double *orientations, const double *turns, const unsigned char *moving) {
     for (uint64_t i = 0; i < n; ++i) {
+        if (!moving[i]) continue;
         double *q = orientations + 4 * i;
         const double *r = turns + 4 * i;
         const double x = q[3] * r[0] + q[0] * r[3] + q[1] * r[2] - q[2] * r[1];
@@ -285,7 +318,8 @@ static int caller_init(const options *o, const hgcd_scene_tetra_desc *sd, caller
     c->velocities = malloc(n * 3 * sizeof(double));
     c->turns = malloc(n * 4 * sizeof(double));
     c->bodies = malloc(n * sizeof(hgcd_body));
-    if (!c->centers || !c->scales || !c->orientations || !c->velocities || !c->turns || !c->bodies) {
+    c->moving = malloc(n);
+    if (!c->centers || !c->scales || !c->orientations || !c->velocities || !c->turns || !c->bodies || !c->moving) {
         fprintf(stderr, "bench_hgcd: out of memory for n = %llu\n", (unsigned long long)o->n);
         return 1;
     }
@@ -293,6 +327,17 @@ static int caller_init(const options *o, const hgcd_scene_tetra_desc *sd, caller
                "scene_tetra_generate"))
         return 1;
     make_turns(o->n, o->turn, c->velocities, c->turns);
+    /* The resting bodies: velocity 0, so the caller's motion keeps their
+     * centres' bits (c + 0 = c), and no turn. */
+    for (uint64_t i = 0; i < o->n; ++i) {
+        uint64_t z = (i + 1) * 0x9E3779B97F4A7C15ull;
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        z ^= z >> 31;
+        c->moving[i] = o->moving_fraction >= 1 || (double)(z >> 11) * 0x1.0p-53 < o->moving_fraction;
+        c->moving_count += c->moving[i];
+        if (!c->moving[i]) memset(c->velocities + 3 * i, 0, 3 * sizeof(double));
+    }
     return 0;
 }
 
@@ -323,7 +368,8 @@ static int create_bodies(hgcd_world *w, const options *o, const caller_state *c)
 
 /* Per-tick samples in ms, each an array of `ticks` entries. */
 enum sample {
-    S_TOTAL, S_BROAD, S_NARROW, S_UPDATE, S_MOTION, S_WALL, S_SET_POSES, S_DETECT, S_CALLER, S_THREADS, S_COUNT
+    S_TOTAL, S_BROAD, S_NARROW, S_UPDATE, S_MOTION, S_WALL, S_SET_POSES, S_DETECT, S_CALLER, S_SET_POSES_CPU,
+    S_DETECT_CPU, S_THREADS, S_COUNT
 };
 
 /* FNV-1a over the pairs of the last step/detect (indices, in order): two
@@ -348,8 +394,8 @@ static int engine_tick(hgcd_world *w, const options *o, caller_state *c, double 
     const double side = o->side > 0 ? o->side : hgcd_scene_tetra_desc_default().side;
     double t0 = now_seconds();
     hgcd_scene_tetra_move(o->n, side, c->centers, c->velocities);
-    if (o->turn > 0) turn_bodies(o->n, c->orientations, c->turns);
-    const double t1 = now_seconds();
+    if (o->turn > 0) turn_bodies(o->n, c->orientations, c->turns, c->moving);
+    const double t1 = now_seconds(), c1 = cpu_seconds();
     if (o->mode == MODE_ENGINE_BATCH) {
         if (failed(hgcd_world_set_poses(w, NULL, (size_t)o->n, c->centers, 0, c->orientations, 0), w,
                    "world_set_poses"))
@@ -360,9 +406,11 @@ static int engine_tick(hgcd_world *w, const options *o, caller_state *c, double 
                        "body_set_pose"))
                 return 1;
     }
-    const double t2 = now_seconds();
+    const double t2 = now_seconds(), c2 = cpu_seconds();
     if (failed(hgcd_world_detect(w), w, "world_detect")) return 1;
-    const double t3 = now_seconds();
+    const double t3 = now_seconds(), c3 = cpu_seconds();
+    s[S_SET_POSES_CPU][k] = 1e3 * (c2 - c1);
+    s[S_DETECT_CPU][k] = 1e3 * (c3 - c2);
     s[S_CALLER][k] = 1e3 * (t1 - t0);
     s[S_SET_POSES][k] = 1e3 * (t2 - t1);
     s[S_DETECT][k] = 1e3 * (t3 - t2);
@@ -430,7 +478,7 @@ static const char *check_reference(const options *o, const hgcd_stats *initial, 
 typedef struct results {
     hgcd_stats last, initial;
     double initial_ms, setup_ms, rss_before, rss_after;
-    uint64_t pairs_fnv;
+    uint64_t pairs_fnv, moving_bodies;
 } results;
 
 static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
@@ -467,8 +515,13 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
     if (o->mode != MODE_STEP || o->mesh_per_body)
         printf("\"mesh_per_body\":%s,", o->mesh_per_body ? "true" : "false");
     if (o->mode != MODE_STEP)
-        printf("\"turn\":%g,\"set_poses_ms\":%.3f,\"detect_ms\":%.3f,\"caller_ms\":%.3f,", o->turn,
-               median(s[S_SET_POSES], ticks), median(s[S_DETECT], ticks), median(s[S_CALLER], ticks));
+        printf("\"turn\":%g,\"moving_fraction\":%g,\"moving_bodies\":%llu,\"set_poses_ms\":%.3f,\"detect_ms\":%.3f,"
+               "\"caller_ms\":%.3f,\"set_poses_cpu_ms\":%.3f,\"detect_cpu_ms\":%.3f,\"searched_bodies\":%llu,"
+               "\"unmoved_pairs\":%llu,",
+               o->turn, o->moving_fraction, (unsigned long long)r->moving_bodies, median(s[S_SET_POSES], ticks),
+               median(s[S_DETECT], ticks), median(s[S_CALLER], ticks), median(s[S_SET_POSES_CPU], ticks),
+               median(s[S_DETECT_CPU], ticks), (unsigned long long)st->searched_bodies,
+               (unsigned long long)st->unmoved_pairs);
     if (reference_pairs) printf("\"reference_pairs\":%llu,", (unsigned long long)reference_pairs);
     printf("\"reference_ok\":%s}\n", reference_ok);
     fflush(stdout);
@@ -532,6 +585,7 @@ int main(int argc, char **argv) {
     if (run_ticks(w, &o, &c, s, &r.last)) return 1;
     r.rss_after = peak_rss_bytes();
     if (pairs_hash(w, &r.pairs_fnv)) return 1;
+    r.moving_bodies = c.moving_count;
     print_json(&o, &r, s);
 
     hgcd_world_destroy(w);

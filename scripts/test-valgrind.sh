@@ -42,6 +42,7 @@ runs=(
     "limits *"
     "batch *"
     "coherence *"
+    "incremental test_incremental_two_threads"
     "validation *"
     "oom *"
     "threads *"

@@ -365,7 +365,9 @@ static void sweep(int sticky) {
          * reused or kept the last answers: the counts of searches and tests
          * may differ, never the pairs. Everything else must agree. */
         got.stats.moved_bodies = ref.stats.moved_bodies;
-        if (got.stats.unmoved_pairs != ref.stats.unmoved_pairs || got.stats.candidate_pairs != ref.stats.candidate_pairs) {
+        if (got.stats.unmoved_pairs != ref.stats.unmoved_pairs || got.stats.candidate_pairs != ref.stats.candidate_pairs ||
+            got.stats.searched_bodies != ref.stats.searched_bodies) {
+            got.stats.searched_bodies = ref.stats.searched_bodies;
             got.stats.candidate_pairs = ref.stats.candidate_pairs;
             got.stats.unmoved_pairs = ref.stats.unmoved_pairs;
             got.stats.narrow_tests = ref.stats.narrow_tests;

@@ -113,6 +113,7 @@ typedef struct hgcd_stats {
     uint64_t libccd_tests;
     uint64_t libccd_fallback_tests;
     uint64_t unmoved_pairs;
+    uint64_t searched_bodies;
     ...;
 } hgcd_stats;
 hgcd_status hgcd_world_stats(const hgcd_world *world, hgcd_stats *out_stats);
@@ -202,8 +203,7 @@ def _repo_build():
     if not (os.path.isfile(os.path.join(REPO, "Makefile"))
             and os.path.isfile(os.path.join(REPO, "include", "hgcd", "hgcd.h"))):
         return None
-    if os.environ.get("HGCD_NO_MAKE") != "1":
-        subprocess.run(["make", "-s", "-C", REPO, "lib", "scene"], check=True)
+    subprocess.run(["make", "-s", "-C", REPO, "lib", "scene"], check=True)
     build = os.path.join(REPO, "build-make")
     return build, [os.path.join(REPO, "include"), os.path.join(REPO, "scene")]
 

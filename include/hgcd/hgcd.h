@@ -374,8 +374,11 @@ HGCD_API hgcd_status hgcd_world_step(hgcd_world *world);
  *  count; the pairs do not depend on it. The world keeps its working memory
  *  for the next call. Cost: about O(bodies + candidate pairs x pair test),
  *  the pair test growing with the meshes' sizes; a pair of bodies whose
- *  poses did not change since the previous detect is not tested again, and
- *  when no body moved or was created, no search is made: O(bodies + pairs)
+ *  poses did not change since the previous detect is not tested again; when
+ *  few bodies moved (up to about a quarter since the grid was last brought
+ *  up to date), only they search for pairs: O(pairs + moved bodies x their
+ *  candidates x pair test) beside a pass over a byte per body; when no body
+ *  moved or was created, no search is made: O(pairs) beside that pass
  *  (temporal coherence: docs/semantics.md). */
 HGCD_API hgcd_status hgcd_world_detect(hgcd_world *world);
 
@@ -510,11 +513,18 @@ typedef struct hgcd_stats {
     uint64_t libccd_fallback_tests;
     /** Pairs whose answer is the previous detect's (temporal coherence):
      *  candidate pairs of two bodies whose poses did not change since then,
-     *  counted in candidate_pairs, not in narrow_tests. When no body moved
-     *  or was created, the detect makes no search: candidate_pairs is 0 and
+     *  counted in candidate_pairs, not in narrow_tests. When the search ran
+     *  around the moved bodies only (searched_bodies below the live bodies),
+     *  the unmoved pairs are not searched for: this counts those of them
+     *  that collide (reported again without a test). When no body moved or
+     *  was created, the detect makes no search: candidate_pairs is 0 and
      *  this counts the pairs reported. Always 0 for hgcd_world_step, with
      *  contacts on, and after a change of narrow phase. */
     uint64_t unmoved_pairs;
+    /** Bodies the broad phase searched pairs for: every live body, or, when
+     *  few bodies moved since the previous detect (temporal coherence), the
+     *  bodies created or moved since then alone; 0 when none was. */
+    uint64_t searched_bodies;
 } hgcd_stats;
 
 /** Copies the statistics of the last step/detect into *out_stats, whose

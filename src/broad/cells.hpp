@@ -78,6 +78,23 @@ inline uint64_t clamp_bias(int64_t c) {
 // each row is a sweep along x.
 inline CellKey row_key(uint64_t z, uint64_t y) { return (CellKey(z) << kAxisBits) | CellKey(y); }
 
+// The rows [z_lo, z_hi] x [y_lo, y_hi] of a level of cell width w = 2^exponent
+// that can hold a resident whose box meets the box [lo, hi]: a resident's
+// box lies within w / 2 of its point (Grid::exponent_of), so its point is
+// within w / 2 of [lo, hi]. Widened past the rounding of these bounds, which
+// grows with the coordinates. (Clamping is monotone: a far row stays in
+// range.)
+struct RowRange {
+    uint64_t y_lo, y_hi, z_lo, z_hi;
+};
+inline RowRange rows_meeting(const double *lo, const double *hi, int exponent) {
+    const double w = cell_width(exponent);
+    auto wide = [](double v, double d) { return v + d * (1 + 1e-9) + (d < 0 ? -1 : 1) * std::fabs(v) * 0x1p-50; };
+    const int e = exponent + kRowShift;
+    return RowRange{clamp_bias(cell_coord(wide(lo[1], -w / 2), e)), clamp_bias(cell_coord(wide(hi[1], w / 2), e)),
+                    clamp_bias(cell_coord(wide(lo[2], -w / 2), e)), clamp_bias(cell_coord(wide(hi[2], w / 2), e))};
+}
+
 // The row (y, z) of point p on the level of the given exponent.
 inline void row_cell(const double *p, int level_exponent, int64_t *cell) {
     const int e = level_exponent + kRowShift;

@@ -153,6 +153,26 @@ class Grid {
     // last update.
     void find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &out) const;
 
+    // Where a run of queries (query()) found each level's rows last, and the
+    // start of its scan in each row: queries in sweep order then move their
+    // cursors a little each. One per thread; any content is valid.
+    struct QueryCursors {
+        std::vector<size_t> row;                   // per level
+        std::vector<std::vector<uint32_t>> entry;  // per level, per occupied row
+    };
+    // Appends (self << 32 | slot) to out for every resident of every level
+    // (as of the last update) whose box, as the lists hold it, meets the box
+    // [lo, hi] (closed intervals on every axis; float bounds): every
+    // resident whose exact box meets a box that [lo, hi] holds, and possibly
+    // some whose float box only does. Not the oversize bodies (oversize()).
+    // Read-only but for the cursors: threads may query at once, each with
+    // its own. May throw bad_alloc. (sweep.cpp)
+    void query(const float *lo, const float *hi, uint32_t self, QueryCursors &cursors, PairBuffer &out) const;
+    // The oversize bodies of the last update, ascending.
+    const std::vector<uint32_t> &oversize() const { return oversize_; }
+    // Whether an update has built the grid (false for a new or dropped one).
+    bool built() const { return built_; }
+
     // The slots of every body in the grid, each once, in sweep order: the
     // residents of each level as their lists hold them, then the oversize.
     void order(std::vector<uint32_t> &out) const;

@@ -40,18 +40,14 @@ void Grid::query_levels(const double *lo, const double *hi, uint32_t slot, size_
         const BoxArrays S = R.arrays();
         const size_t m = R.count();
         if (m == 0) continue;
-        // A resident j meeting the box has its point p_j within w / 2 of
-        // its box, so within w / 2 of [lo, hi], and its low x at least lo_x
-        // less w (its box is at most w wide). Widened past the rounding of
-        // these bounds, which grows with the coordinates, and past the
-        // float rounding of the list's low x (at most |x| 2^-23 below).
+        // A resident j meeting the box has its row among rows_meeting's,
+        // and its low x at least lo_x less w (its box is at most w wide),
+        // widened past the rounding of that bound and past the float
+        // rounding of the list's low x (at most |x| 2^-23 below).
         const double w = cell_width(lv.exponent);
         auto wide = [&](double v, double d) { return v + d * (1 + 1e-9) + (d < 0 ? -1 : 1) * std::fabs(v) * 0x1p-50; };
-        const int e = lv.exponent + kRowShift;
-        const uint64_t y_lo = clamp_bias(cell_coord(wide(lo[1], -w / 2), e));
-        const uint64_t y_hi = clamp_bias(cell_coord(wide(hi[1], w / 2), e));
-        const uint64_t z_lo = clamp_bias(cell_coord(wide(lo[2], -w / 2), e));
-        const uint64_t z_hi = clamp_bias(cell_coord(wide(hi[2], w / 2), e));
+        const RowRange rr = rows_meeting(lo, hi, lv.exponent);
+        const uint64_t y_lo = rr.y_lo, y_hi = rr.y_hi, z_lo = rr.z_lo, z_hi = rr.z_hi;
         const double rows = double(z_hi - z_lo + 1) * double(y_hi - y_lo + 1);
         if (rows * 32 >= double(R.row_keys.size())) {  // (most rows: every entry)
             for (size_t j = 0; j < m; ++j)

@@ -316,6 +316,68 @@ HGCD_SWEEP_INLINE void sweep_guest_rows(const RowsView &G, const RowsView &R, in
     }
 }
 
+// The first index i of [b, e) with !(v[i] < x) (or e) in an ascending
+// array, searched from the hint h outwards by doubling steps, then by
+// bisection: a few steps when the answer is near the hint.
+template <class T>
+HGCD_SWEEP_INLINE size_t seek(const T *v, size_t b, size_t e, size_t h, const T &x) {
+    h = std::min(std::max(h, b), e);
+    if (h < e && v[h] < x) {  // the answer is past h
+        size_t lo = h + 1, step = 1, p = lo;
+        while (p < e && v[p] < x) {
+            lo = p + 1;
+            step *= 2;
+            p = lo + step - 1;
+        }
+        return size_t(std::lower_bound(v + lo, v + std::min(p, e), x) - v);
+    }
+    size_t hi = h, step = 1;  // the answer is at most h
+    while (hi - b >= step && !(v[hi - step] < x)) {
+        hi -= step;
+        step *= 2;
+    }
+    const size_t lo = hi - b >= step ? hi - step + 1 : b;
+    return size_t(std::lower_bound(v + lo, v + hi, x) - v);
+}
+
+// The pairs of the box q (low x, high x, low y, high y, low z, high z) with
+// the entries of the rows of R in the range rr: each row found from the
+// last one found (row_hint), keys of one z in a run; in each row, the scan
+// starts at the first entry whose reach (the row's largest high x so far)
+// reaches the box's low x (those before it end before the box), searched
+// from where it started last time in that row (entry_hint), and stops with
+// the block that passes its high x.
+template <class Lanes>
+HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, uint32_t self, const RowRange &rr,
+                                  size_t &row_hint, uint32_t *entry_hint, PairBuffer &out) {
+    const CellKey *keys = R.keys.data();
+    const size_t rows = R.keys.size();
+    const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
+    const Lanes lanes(box, 0);
+    const CellKey last = row_key(rr.z_hi, rr.y_hi);
+    size_t k = row_hint = seek(keys, 0, rows, row_hint, row_key(rr.z_lo, rr.y_lo));
+    while (k < rows && keys[k] <= last) {
+        const uint64_t y = uint64_t(keys[k]) & kAxisMask, z = uint64_t(keys[k] >> kAxisBits);
+        if (y < rr.y_lo || y > rr.y_hi) {  // (z + 1 stays within the key's 42 bits)
+            k = seek(keys, k, rows, k, y < rr.y_lo ? row_key(z, rr.y_lo) : row_key(z + 1, rr.y_lo));
+            continue;
+        }
+        const size_t b = R.start[k], e = R.start[k + 1];
+        const size_t j = seek(R.box.reach, b, e, entry_hint[k], q[0]);
+        entry_hint[k] = uint32_t(j);
+        if (j < e && R.box.low_x[j] <= q[1]) scan(lanes, R.box, j, e, q[1], self, out);
+        ++k;
+    }
+}
+
+#if HGCD_AVX2
+__attribute__((target("avx2"), noinline)) void query_rows_avx2(const RowsView &R, const float *q, uint32_t self,
+                                                               const RowRange &rr, size_t &row_hint,
+                                                               uint32_t *entry_hint, PairBuffer &out) {
+    query_rows<Lanes8>(R, q, self, rr, row_hint, entry_hint, out);
+}
+#endif
+
 #if HGCD_AVX2
 __attribute__((target("avx2"), noinline)) void sweep_resident_rows_avx2(const RowsView &R, int exponent,
                                                                         size_t begin, size_t end,
@@ -346,6 +408,31 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end, PairBuffer &o
     if (use_avx2()) return sweep_guest_rows_avx2(G, R, lv.exponent, begin, end, out);
 #endif
     sweep_guest_rows<Lanes4>(G, R, lv.exponent, begin, end, out);
+}
+
+void Grid::query(const float *lo, const float *hi, uint32_t self, QueryCursors &cursors, PairBuffer &out) const {
+    const size_t levels = levels_.size();
+    if (cursors.row.size() != levels) {
+        cursors.row.assign(levels, 0);
+        cursors.entry.assign(levels, {});
+    }
+    const double dlo[3] = {lo[0], lo[1], lo[2]}, dhi[3] = {hi[0], hi[1], hi[2]};
+    const float q[6] = {lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]};
+    for (size_t l = 0; l < levels; ++l) {
+        const List &list = levels_[l].residents;
+        if (list.count() == 0) continue;
+        std::vector<uint32_t> &entry = cursors.entry[l];
+        if (entry.size() != list.row_keys.size()) entry.assign(list.row_keys.size(), 0);
+        const RowsView R{list.row_keys, list.row_start.data(), list.arrays()};
+        const RowRange rr = rows_meeting(dlo, dhi, levels_[l].exponent);
+#if HGCD_AVX2
+        if (use_avx2()) {
+            query_rows_avx2(R, q, self, rr, cursors.row[l], entry.data(), out);
+            continue;
+        }
+#endif
+        query_rows<Lanes4>(R, q, self, rr, cursors.row[l], entry.data(), out);
+    }
 }
 
 }  // namespace hgcd

@@ -95,6 +95,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             point_.reserve(3 * cap);
             at_.reserve(cap);
             moved_.reserve(cap);
+            moved_at_.reserve(cap);
             slot_of_.reserve(cap);
             stored_gen_.reserve(cap);
             live_gen_.reserve(cap);  // last: its capacity says all are reserved
@@ -113,12 +114,13 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         point_.resize(3 * n);
         at_.push_back(slot);
         moved_.push_back(1);
+        moved_at_.push_back(1);
         slot_of_.push_back(slot);
         stored_gen_.push_back(0);
     }
     if (reuse) body_free_.pop_back();
-    moved_[slot] = 1;
     const size_t i = at_[slot];
+    moved_[slot] = moved_at_[i] = 1;
     for (int k = 0; k < 3; ++k) {
         place_[i].position[k] = point_[3 * i + k] = d.position[k];
         velocity_[3 * i + k] = d.velocity[k];
@@ -148,6 +150,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
+    moved_[slot] = moved_at_[at_[slot]] = 1;  // (its last pairs end)
     --mesh_users_[body_mesh_[at_[slot]]];
     --live_bodies_;
     if ((body_gen_[slot] & kCounterMask) != kCounterMask) body_free_.push_back(uint32_t(slot));
@@ -168,7 +171,7 @@ void World::apply_pose(size_t i, const double *p, const double *q) {
         set_box_offsets(i);
         moved = true;
     }
-    if (moved) moved_[slot_of_[i]] = 1;
+    if (moved) moved_[slot_of_[i]] = moved_at_[i] = 1;
 }
 
 hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {

@@ -13,10 +13,30 @@
 
 namespace hgcd {
 
-size_t World::unmoved_bodies() const {
-    size_t unmoved = 0;
-    for (size_t s = 0; s < moved_.size(); ++s) unmoved += live_gen_[s] != 0 && !moved_[s];
-    return unmoved;
+World::MovedCount World::count_moved(int threads) const {
+    const size_t n = stored_gen_.size(), known = mover_.size();
+    std::vector<MovedCount> of(static_cast<size_t>(threads));
+    parallel_region(threads, [&](RegionGuard &) {
+        MovedCount mine;
+#pragma omp for schedule(static) nowait
+        for (int64_t i = 0; i < int64_t(n); ++i) {
+            if (!stored_gen_[size_t(i)] || !moved_at_[size_t(i)]) continue;
+            ++mine.moved;
+            mine.new_movers += size_t(i) >= known || !mover_[size_t(i)];
+        }
+        of[size_t(omp_get_thread_num())] = mine;
+    });
+    MovedCount all;
+    for (const MovedCount &c : of) {
+        all.moved += c.moved;
+        all.new_movers += c.new_movers;
+    }
+    return all;
+}
+
+void World::clear_moved() {
+    std::fill(moved_.begin(), moved_.end(), uint8_t(0));
+    std::fill(moved_at_.begin(), moved_at_.end(), uint8_t(0));
 }
 
 // No live body moved or was created: the last pairs less those of bodies
@@ -35,15 +55,12 @@ void World::reuse_pairs() {
 uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) {
     // Where each slot's pairs start in the last pairs (sorted by (a, b)):
     // a pair (a, b) is looked up among a's few.
-    const size_t slots = moved_.size(), n = stored_gen_.size();
+    const size_t slots = moved_.size();
     prev_start_.assign(slots + 1, 0);
     for (const hgcd_pair &p : prev_pairs_) ++prev_start_[p.a.index + 1];
     for (size_t s = 0; s < slots; ++s) prev_start_[s + 1] += prev_start_[s];
-    moved_at_.resize(n);
     std::vector<uint64_t> kept(size_t(threads), 0);
     parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(static)
-        for (int64_t s = 0; s < int64_t(n); ++s) moved_at_[size_t(s)] = moved_[slot_of_[size_t(s)]];
         // One candidate list a thread (find_pairs made one per thread): its
         // untested pairs leave it, the colliding ones go to that thread's hits.
 #pragma omp for schedule(dynamic, 1)

@@ -218,11 +218,13 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     stats_.struct_size = struct_size;
     const int T = threads();
     const double t0 = omp_get_wtime();
-    const size_t unmoved = coherence ? unmoved_bodies() : 0;
+    const MovedCount moved = coherence ? count_moved(T) : MovedCount{};
+    const size_t unmoved = coherence ? live_bodies_ - moved.moved : 0;
     if (coherence && unmoved == live_bodies_) {
         // Nothing moved or was born: no search at all (the grid catches up
         // with destroyed bodies at the next detect that searches).
         reuse_pairs();
+        clear_moved();  // (destroyed bodies count as moved)
         stats_.thread_count = uint32_t(T);
         stats_.total_seconds = stats_.narrow_seconds = omp_get_wtime() - t0;
         coherent_ = true;
@@ -232,23 +234,30 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     LoadMeter meter;
     const LoadMeter::Attach attach(adaptive_threads_ ? &meter : nullptr);
     try {
+        if (coherence && incremental_fits(moved)) {
+            // Few bodies moved: a search around them alone (which reads the
+            // moved bodies in storage order, the grid's once renumbered).
+            if (!renumbered) renumber_if_disordered();
+            detect_incremental(T, moved, t0);
+            clear_moved();
+            coherent_ = true;
+            return HGCD_OK;
+        }
+        drop_movers();  // (the grid is brought to every body's box)
         if (!renumbered) renumber_if_disordered();
         const GridUpdateStats us = update_grid(T, motion);
         const double t1 = omp_get_wtime();
-        NarrowPlan plan;
         // (Fewer than two unmoved bodies make no unmoved pair.)
-        const size_t total = find_candidates(T, unmoved >= 2, plan.chunks);
+        const size_t total = find_candidates(T, unmoved >= 2);
         const double t2 = omp_get_wtime();
-        plan_narrow(T, plan);
-        std::vector<std::vector<hgcd_contact>> hit_contacts(T);  // per thread, parallel to hits_
-        narrow_phase(T, plan, hit_contacts);
-        merge_hits(T, plan.want_contacts, hit_contacts);
+        test_candidates(T);
         const double t3 = omp_get_wtime();
 
         stats_.level_count = grid_.level_count();
         stats_.oversize_count = grid_.oversize_count();
         stats_.thread_count = uint32_t(T);
         stats_.moved_bodies = us.moved;
+        stats_.searched_bodies = live_bodies_;
         stats_.candidate_pairs = uint64_t(total);
         candidates_per_body_ = live_bodies_ ? double(total) / live_bodies_ : -1;
         stats_.colliding_pairs = pairs_.size();
@@ -256,11 +265,13 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         stats_.broad_seconds = t2 - t1;
         stats_.narrow_seconds = t3 - t2;
         stats_.total_seconds = t3 - t0;
-        std::fill(moved_.begin(), moved_.end(), uint8_t(0));
+        clear_moved();
         coherent_ = !contacts_on_;
         if (adaptive_threads_) governor_.record(full_threads(), t3 - t0, double(live_bodies_) + double(total), meter.lost());
     } catch (...) {
-        // The grid may be half updated: drop it, the next detect rebuilds it.
+        // The grid may be half updated: drop it (and the movers, whose
+        // boxes it lacks), the next detect rebuilds it.
+        drop_movers();
         grid_ = Grid();
         pairs_.clear();
         contacts_.clear();
@@ -282,7 +293,7 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
     return us;
 }
 
-size_t World::find_candidates(int threads, bool keep_unmoved, std::vector<NarrowChunk> &chunks) {
+size_t World::find_candidates(int threads, bool keep_unmoved) {
     // Kept across detects: a tick's candidates need not grow fresh buffers
     // (and fault in fresh pages) every time.
     // (Never shrunk: the adaptive thread policy changes the count back and
@@ -296,12 +307,21 @@ size_t World::find_candidates(int threads, bool keep_unmoved, std::vector<Narrow
     size_t total = 0;
     for (int t = 0; t < threads; ++t) total += found[t].size();
     if (keep_unmoved) stats_.unmoved_pairs = keep_unmoved_pairs(threads, found);
+    return total;
+}
+
+void World::test_candidates(int threads) {
+    NarrowPlan plan;
     // The narrow phase runs straight over every thread's candidate list.
+    const std::vector<PairBuffer> &found = candidates_;
     for (int t = 0; t < threads; ++t) {
         for (size_t b = 0; b < found[t].size(); b += kNarrowChunk)
-            chunks.push_back({uint32_t(t), b, std::min(found[t].size(), b + kNarrowChunk)});
+            plan.chunks.push_back({uint32_t(t), b, std::min(found[t].size(), b + kNarrowChunk)});
     }
-    return total;
+    plan_narrow(threads, plan);
+    std::vector<std::vector<hgcd_contact>> hit_contacts(static_cast<size_t>(threads));  // per thread, parallel to hits_
+    narrow_phase(threads, plan, hit_contacts);
+    merge_hits(threads, plan.want_contacts, hit_contacts);
 }
 
 void World::plan_narrow(int threads, NarrowPlan &plan) const {
@@ -478,12 +498,14 @@ Contact World::collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, 
     return hit;
 }
 
-// Merges the threads' sorted shares into pairs_ (and contacts_): the output
-// is in (a, b) order whatever the thread count, so identical bit for bit. In
-// T parts of the key range at once (splitters from the longest share), each
-// merging its range of every share into its place.
+// Merges the sorted shares of hits_ (the threads', and any kept from the
+// last detect after them) into pairs_ (and contacts_, from the threads'
+// shares): the output is in (a, b) order whatever the thread count, so
+// identical bit for bit. In one part of the key range per thread at once
+// (splitters from the longest share), each merging its range of every share
+// into its place.
 void World::merge_hits(int threads, bool want_contacts, const std::vector<std::vector<hgcd_contact>> &hit_contacts) {
-    const int T = threads;
+    const int T = int(hits_.size());  // shares
     const std::vector<std::vector<uint64_t>> &hits = hits_;
     size_t count = 0, longest = 0;
     for (int t = 0; t < T; ++t) {
@@ -492,7 +514,7 @@ void World::merge_hits(int threads, bool want_contacts, const std::vector<std::v
     }
     pairs_.resize(count);
     if (want_contacts) contacts_.resize(count);
-    const int parts = count >= 4096 ? T : 1;
+    const int parts = count >= 4096 ? threads : 1;
     // first[p * T + t]: where part p starts in share t (p = parts: the end).
     std::vector<size_t> first(size_t(parts + 1) * T), out_at(parts + 1, 0);
     for (int p = 0; p <= parts; ++p) {

@@ -94,6 +94,7 @@ hgcd_status World::step() {
             return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_step: body " + std::to_string(bad) +
                                                          " would leave the coordinate range (|x| <= 1e15)");
     }
+    drop_movers();             // (the grid is brought to every body's box)
     renumber_if_disordered();  // (before the motion: it then moves storage in order)
     // The moves run inside the grid update's census, a range of slots at a
     // time right before it reads their points (Grid::update), so those are
@@ -151,6 +152,7 @@ bool World::renumber() {
         // The grid may need to grow its per-slot arrays (slots made since
         // the last detect); after this nothing below allocates.
         grid_.reserve_slots(n);
+        if (!side_storage_.empty() && mover_.size() < n) mover_.resize(n, 0);
     } catch (const std::bad_alloc &) {
         return false;  // renumbering only saves time; nothing has changed
     }
@@ -188,10 +190,13 @@ bool World::renumber() {
         permute_records<1>(body_mesh_.data(), perm, n, tmp);
         permute_records<1>(body_record_.data(), perm, n, tmp);
         permute_records<1>(stored_gen_.data(), perm, n, tmp);
+        permute_records<1>(moved_at_.data(), perm, n, tmp);
+        if (!side_storage_.empty()) permute_records<1>(mover_.data(), perm, n, tmp);
         permute_records<1>(slot_of_.data(), perm, n, tmp);
 #pragma omp for schedule(static)
         for (int64_t k = 0; k < int64_t(n); ++k) at_[slot_of_[k]] = uint32_t(k);
     });
+    for (uint32_t &i : side_storage_) i = new_of_old[i];  // (the second grid's slots are its own)
     // The meshes' records follow (where bodies have meshes of their own).
     if (pool_.repack(body_mesh_.data(), stored_gen_.data(), n)) refresh_records();
     return true;

@@ -120,14 +120,34 @@ class World {
     struct NarrowPlan;
     struct NarrowThread;
     GridUpdateStats update_grid(int threads, const SlotPass *motion);
-    // Fills candidates_ and cuts them into chunks; returns their count.
-    size_t find_candidates(int threads, bool keep_unmoved, std::vector<NarrowChunk> &chunks);
+    // Fills candidates_ (and with keep_unmoved hits_ with the unmoved pairs
+    // kept); returns their count.
+    size_t find_candidates(int threads, bool keep_unmoved);
+    // The narrow phase over candidates_, its hits merged with those in
+    // hits_ into pairs_.
+    void test_candidates(int threads);
     // Temporal coherence (coherence.cpp): removes from the candidates the
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.
     uint64_t keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found);
-    size_t unmoved_bodies() const;  // live bodies not created or moved since the last detect
-    void reuse_pairs();             // pairs_ from prev_pairs_ when no live body moved
+    // Live bodies created or moved since the last detect, and how many of
+    // them are not movers yet (see below).
+    struct MovedCount {
+        size_t moved = 0, new_movers = 0;
+    };
+    MovedCount count_moved(int threads) const;
+    void reuse_pairs();  // pairs_ from prev_pairs_ when no live body moved
+    void clear_moved();  // (after a detect)
+    // Incremental detection (incremental.cpp): whether this detect may search
+    // around the moved bodies alone, and that detect (its statistics from t0).
+    bool incremental_fits(const MovedCount &moved) const;
+    void detect_incremental(int threads, const MovedCount &moved, double t0);
+    void list_moved(int threads, size_t count);
+    uint64_t update_movers(int threads);  // returns the bodies that changed cell
+    size_t find_moved_candidates(int threads);
+    size_t keep_unmoved_colliding(int threads);
+    // Forgets the movers (before the grid is updated, or dropped). No throw.
+    void drop_movers() noexcept;
     void plan_narrow(int threads, NarrowPlan &plan) const;
     // Each thread's colliding pairs, sorted, into hits_ (and hit_contacts).
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts);
@@ -208,15 +228,32 @@ class World {
     // pose changed since the last detect; whether the last detect's pairs
     // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not
     // after a failed detect, a change of narrow phase, or with contacts on.
-    std::vector<uint8_t> moved_;
+    std::vector<uint8_t> moved_;  // (destroyed bodies count as moved: their pairs end)
     bool coherent_ = false;
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> prev_pairs_;
-    std::vector<uint8_t> moved_at_;  // moved_ by storage index, during a detect
+    LargeVector<uint8_t> moved_at_;  // moved_ by storage index
     std::vector<uint32_t> prev_start_;  // where each slot's pairs (as a) start in prev_pairs_
     // The batch calls' scratch: each entry's storage index, and the marks
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
     std::vector<uint32_t> batch_at_, batch_mark_;
     uint32_t batch_epoch_ = 0;
+
+    // Incremental detection. The movers: bodies created or moved since the
+    // grid's last update (which still holds their old boxes), marked by
+    // storage index, each with an index into a second grid that holds their
+    // current boxes: arrays by that index of the storage index, the point,
+    // offsets, level radius and generation (0: destroyed since), and whether
+    // the body moved since the last detect. None whenever the grid is
+    // updated. moved_list_: the storage indices of the bodies moved since the
+    // last detect, during one.
+    std::vector<uint8_t> mover_;
+    std::vector<uint32_t> side_storage_, side_gen_;
+    std::vector<double> side_point_, side_r_level_;
+    std::vector<float> side_off_;
+    std::vector<uint8_t> side_now_;
+    Grid side_grid_;
+    std::vector<PairBuffer> side_found_;
+    std::vector<uint32_t> moved_list_;
 
     Grid grid_;
     std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs

@@ -64,6 +64,7 @@ class Stats:
     libccd_tests: int
     libccd_fallback_tests: int
     unmoved_pairs: int
+    searched_bodies: int
 
 
 @dataclasses.dataclass(frozen=True)

@@ -652,8 +652,11 @@ extern "C" {
     #[doc = "  count; the pairs do not depend on it. The world keeps its working memory"]
     #[doc = "  for the next call. Cost: about O(bodies + candidate pairs x pair test),"]
     #[doc = "  the pair test growing with the meshes' sizes; a pair of bodies whose"]
-    #[doc = "  poses did not change since the previous detect is not tested again, and"]
-    #[doc = "  when no body moved or was created, no search is made: O(bodies + pairs)"]
+    #[doc = "  poses did not change since the previous detect is not tested again; when"]
+    #[doc = "  few bodies moved (up to about a quarter since the grid was last brought"]
+    #[doc = "  up to date), only they search for pairs: O(pairs + moved bodies x their"]
+    #[doc = "  candidates x pair test) beside a pass over a byte per body; when no body"]
+    #[doc = "  moved or was created, no search is made: O(pairs) beside that pass"]
     #[doc = "  (temporal coherence: docs/semantics.md)."]
     pub fn hgcd_world_detect(world: *mut hgcd_world) -> hgcd_status;
 }
@@ -948,17 +951,24 @@ pub struct hgcd_stats {
     pub libccd_fallback_tests: u64,
     #[doc = " Pairs whose answer is the previous detect's (temporal coherence):"]
     #[doc = "  candidate pairs of two bodies whose poses did not change since then,"]
-    #[doc = "  counted in candidate_pairs, not in narrow_tests. When no body moved"]
-    #[doc = "  or was created, the detect makes no search: candidate_pairs is 0 and"]
+    #[doc = "  counted in candidate_pairs, not in narrow_tests. When the search ran"]
+    #[doc = "  around the moved bodies only (searched_bodies below the live bodies),"]
+    #[doc = "  the unmoved pairs are not searched for: this counts those of them"]
+    #[doc = "  that collide (reported again without a test). When no body moved or"]
+    #[doc = "  was created, the detect makes no search: candidate_pairs is 0 and"]
     #[doc = "  this counts the pairs reported. Always 0 for hgcd_world_step, with"]
     #[doc = "  contacts on, and after a change of narrow phase."]
     pub unmoved_pairs: u64,
+    #[doc = " Bodies the broad phase searched pairs for: every live body, or, when"]
+    #[doc = "  few bodies moved since the previous detect (temporal coherence), the"]
+    #[doc = "  bodies created or moved since then alone; 0 when none was."]
+    pub searched_bodies: u64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_stats() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_stats>(),
-        128usize,
+        136usize,
         concat!("Size of: ", stringify!(hgcd_stats))
     );
     assert_eq!(
@@ -1272,6 +1282,23 @@ fn bindgen_test_layout_hgcd_stats() {
         );
     }
     test_field_unmoved_pairs();
+    fn test_field_searched_bodies() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).searched_bodies) as usize - ptr as usize
+            },
+            128usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_stats),
+                "::",
+                stringify!(searched_bodies)
+            )
+        );
+    }
+    test_field_searched_bodies();
 }
 extern "C" {
     #[doc = " Copies the statistics of the last step/detect into *out_stats, whose"]

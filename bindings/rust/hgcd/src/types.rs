@@ -384,8 +384,13 @@ pub struct Stats {
     /// convex: tested exactly instead.
     pub libccd_fallback_tests: u64,
     /// Pairs whose answer is the previous detect's (temporal coherence:
-    /// neither body's pose changed since).
+    /// neither body's pose changed since); when the search ran around the
+    /// moved bodies alone, those of them that collide.
     pub unmoved_pairs: u64,
+    /// Bodies the broad phase searched pairs for: every live body, or, when
+    /// few moved since the previous detect, those created or moved since
+    /// alone; 0 when none was.
+    pub searched_bodies: u64,
 }
 
 impl From<&sys::hgcd_stats> for Stats {
@@ -408,6 +413,7 @@ impl From<&sys::hgcd_stats> for Stats {
             libccd_tests: s.libccd_tests,
             libccd_fallback_tests: s.libccd_fallback_tests,
             unmoved_pairs: s.unmoved_pairs,
+            searched_bodies: s.searched_bodies,
         }
     }
 }

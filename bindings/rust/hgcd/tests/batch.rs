@@ -60,6 +60,32 @@ fn index_pairs(pairs: &[Pair]) -> Vec<(u32, u32)> {
     pairs.iter().map(|p| (p.a.index(), p.b.index())).collect()
 }
 
+/// When few bodies move, the search runs around them alone (temporal
+/// coherence, `Stats::searched_bodies`), and the pairs are those of a world
+/// that searches everything afresh at the same poses.
+#[test]
+fn few_moved_search_around_them_alone() {
+    let n = 4000u64;
+    let (mut world, bodies) = scene_world(n, 2);
+    world.detect().unwrap();
+    assert_eq!(world.stats().searched_bodies, n);
+    let (positions, orientations) = new_poses(n);
+    let moved: Vec<usize> = shuffled(bodies.len()).into_iter().take(40).collect();
+    let ids: Vec<BodyId> = moved.iter().map(|&i| bodies[i]).collect();
+    let p: Vec<[f64; 3]> = moved.iter().map(|&i| positions[i]).collect();
+    let q: Vec<[f64; 4]> = moved.iter().map(|&i| orientations[i]).collect();
+    world.set_poses(Some(&ids), Some(&p), Some(&q)).unwrap();
+    let pairs = detect(&mut world);
+    assert_eq!(world.stats().searched_bodies, 40);
+
+    let (mut fresh, others) = scene_world(n, 1);
+    let fresh_ids: Vec<BodyId> = moved.iter().map(|&i| others[i]).collect();
+    fresh.set_poses(Some(&fresh_ids), Some(&p), Some(&q)).unwrap();
+    assert_eq!(pairs, detect(&mut fresh));
+    assert_eq!(fresh.stats().searched_bodies, n);
+    assert!(!pairs.is_empty());
+}
+
 /// Batch == one set_pose per body, for listed (shuffled) ids and for "every
 /// index", with positions and orientations, positions only, orientations
 /// only; below and above the library's parallel threshold (4096 entries).

@@ -1,0 +1,239 @@
+// Detection around the moved bodies only. When few bodies moved since the
+// last detect, the grid is not updated: the bodies created or moved since
+// its last update (the movers) sit in a second, small grid of their own,
+// and only the bodies moved since the last detect search for pairs: among
+// the grid's other residents (whose boxes are still the ones it holds),
+// among the movers, and against the oversize bodies. The pairs of two
+// bodies unmoved since the last detect are that detect's (temporal
+// coherence: the answer depends on poses and meshes only). Once the movers
+// pass a share of the live bodies, a detect updates the grid instead and
+// forgets them.
+//
+// Every pair of bodies whose exact boxes meet and one of which moved is
+// found once: with the other a non-mover resident of the grid (a query of
+// the grid with the moved body's box), a mover (the second grid's own
+// pairs), or a non-mover oversize body of the grid (its box queried in the
+// second grid). The narrow phase decides each exactly, so the pairs are
+// those a full detect finds, bit for bit.
+#include <omp.h>
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "broad/float_box.hpp"
+#include "common/ieee.hpp"
+#include "common/parallel.hpp"
+#include "world/world.hpp"
+
+namespace hgcd {
+
+namespace {
+
+// The movers' share of the live bodies beyond which a detect updates the
+// grid rather than searching around the moved bodies.
+constexpr double kMoverShare = 0.25;
+
+// Bodies a unit of the queries' dynamic schedule.
+constexpr int64_t kQueryChunk = 64;
+
+}  // namespace
+
+bool World::incremental_fits(const MovedCount &moved) const {
+    return grid_.built() && double(side_storage_.size() + moved.new_movers) <= kMoverShare * double(live_bodies_);
+}
+
+void World::drop_movers() noexcept {
+    for (const uint32_t i : side_storage_) mover_[i] = 0;
+    side_storage_.clear();
+    side_grid_ = Grid();
+}
+
+// moved_list_: the storage indices of the `count` live bodies created or
+// moved since the last detect, ascending: storage follows the grid's sweep
+// order, so consecutive queries meet nearby rows and entries.
+void World::list_moved(int threads, size_t count) {
+    moved_list_.resize(count);
+    const size_t n = stored_gen_.size();
+    std::vector<size_t> first(size_t(threads) + 1, 0);
+    parallel_region(threads, [&](RegionGuard &) {
+        // Ranges of storage in thread order: counted, then written.
+        const size_t me = size_t(omp_get_thread_num()), team = size_t(omp_get_num_threads());
+        const size_t b = n * me / team, e = n * (me + 1) / team;
+        size_t mine = 0;
+        for (size_t i = b; i < e; ++i) mine += stored_gen_[i] && moved_at_[i];
+        first[me + 1] = mine;
+#pragma omp barrier
+#pragma omp single
+        for (size_t t = 0; t < team; ++t) first[t + 1] += first[t];
+        uint32_t *to = moved_list_.data() + first[me];
+        for (size_t i = b; i < e; ++i)
+            if (stored_gen_[i] && moved_at_[i]) *to++ = uint32_t(i);
+    });
+}
+
+// The movers: each body moved since the last detect becomes one (if it is
+// not yet), and every mover's state is brought to the world's, then the
+// second grid to their boxes. Returns the bodies that changed cell there.
+uint64_t World::update_movers(int threads) {
+    const size_t n = stored_gen_.size();
+    if (mover_.size() < n) mover_.resize(n, 0);
+    side_storage_.reserve(side_storage_.size() + moved_list_.size());
+    for (const uint32_t i : moved_list_)
+        if (!mover_[i]) {
+            side_storage_.push_back(i);
+            mover_[i] = 1;
+        }
+    const size_t k_count = side_storage_.size();
+    side_point_.resize(3 * k_count);
+    side_off_.resize(6 * k_count);
+    side_r_level_.resize(k_count);
+    side_gen_.resize(k_count);
+    side_now_.resize(k_count);
+    parallel_region(threads, [&](RegionGuard &) {
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < int64_t(k_count); ++k) {
+            const uint32_t i = side_storage_[size_t(k)];
+            const uint32_t gen = stored_gen_[i];
+            const bool now = gen && moved_at_[i];
+            side_gen_[size_t(k)] = gen;
+            side_now_[size_t(k)] = now;
+            if (!now) continue;
+            std::memcpy(&side_point_[3 * size_t(k)], &point_[3 * size_t(i)], 3 * sizeof(double));
+            std::memcpy(&side_off_[6 * size_t(k)], &box_off_[6 * size_t(i)], 6 * sizeof(float));
+            side_r_level_[size_t(k)] = r_level_[i];
+        }
+    });
+    GridLimits limits = limits_;
+    limits.coarsen = coarse_grid_;
+    return side_grid_
+        .update(Boxes{side_point_.data(), side_off_.data()}, side_r_level_.data(), side_gen_.data(),
+                uint32_t(k_count), limits, threads)
+        .moved;
+}
+
+// The candidate pairs of the bodies moved since the last detect, into
+// candidates_ (storage indices, a << 32 | b in either order); returns their
+// count.
+size_t World::find_moved_candidates(int threads) {
+    candidates_.resize(size_t(threads));
+    for (PairBuffer &c : candidates_) c.clear();
+    side_found_.resize(size_t(threads));
+    for (PairBuffer &c : side_found_) c.clear();
+    const Boxes side{side_point_.data(), side_off_.data()};
+    side_grid_.find_pairs(side, threads, side_found_);
+    const Boxes world = boxes();
+    const std::vector<uint32_t> &oversize = grid_.oversize();
+    parallel_region(threads, [&](RegionGuard &guard) {
+        PairBuffer &mine = candidates_[size_t(omp_get_thread_num())];
+        Grid::QueryCursors cursors, side_cursors;
+        // Each moved body against the grid's residents, less the movers
+        // (their boxes there are old) and the bodies destroyed since.
+#pragma omp for schedule(dynamic, 1) nowait
+        for (int64_t c = 0; c < int64_t(moved_list_.size()); c += kQueryChunk) guard.run([&] {
+            const size_t end = std::min(moved_list_.size(), size_t(c) + size_t(kQueryChunk));
+            for (size_t k = size_t(c); k < end; ++k) {
+                const uint32_t m = moved_list_[k];
+                float lo[3], hi[3];
+                broad::float_box(world, m, lo, hi);
+                const size_t from = mine.size();
+                grid_.query(lo, hi, m, cursors, mine);
+                uint64_t *pairs = mine.data();
+                size_t to = from;
+                for (size_t p = from; p < mine.size(); ++p) {
+                    const uint32_t j = uint32_t(pairs[p]);
+                    pairs[to] = pairs[p];
+                    to += !mover_[j] & (stored_gen_[j] != 0);
+                }
+                mine.shrink(to);
+            }
+        });
+        // The grid's oversize bodies that are not movers against the movers
+        // moved since the last detect.
+#pragma omp for schedule(dynamic, 1) nowait
+        for (int64_t v = 0; v < int64_t(oversize.size()); ++v) guard.run([&] {
+            const uint32_t o = oversize[size_t(v)];
+            if (mover_[o] || !stored_gen_[o]) return;
+            float lo[3], hi[3];
+            broad::float_box(world, o, lo, hi);
+            const size_t from = mine.size();
+            side_grid_.query(lo, hi, o, side_cursors, mine);
+            uint64_t *pairs = mine.data();
+            size_t to = from;
+            for (size_t p = from; p < mine.size(); ++p) {
+                const uint32_t k = uint32_t(pairs[p]);
+                pairs[to] = uint64_t(o) << 32 | side_storage_[k];
+                to += side_now_[k];
+            }
+            mine.shrink(to);
+            for (const uint32_t k : side_grid_.oversize()) {
+                if (!side_now_[k]) continue;
+                float l2[3], h2[3];
+                broad::float_box(side, k, l2, h2);
+                if (l2[0] <= hi[0] && lo[0] <= h2[0] && l2[1] <= hi[1] && lo[1] <= h2[1] && l2[2] <= hi[2] &&
+                    lo[2] <= h2[2])
+                    mine.push_back(uint64_t(o) << 32 | side_storage_[k]);
+            }
+        });
+        // The movers' own pairs with one moved since the last detect.
+#pragma omp for schedule(dynamic, 1)
+        for (int t = 0; t < threads; ++t) guard.run([&] {
+            for (const uint64_t key : side_found_[size_t(t)]) {
+                const uint32_t p = uint32_t(key >> 32), q = uint32_t(key);
+                if (side_now_[p] | side_now_[q]) mine.push_back(uint64_t(side_storage_[p]) << 32 | side_storage_[q]);
+            }
+        });
+    });
+    size_t total = 0;
+    for (const PairBuffer &c : candidates_) total += c.size();
+    return total;
+}
+
+// The last pairs of two bodies neither of which moved (destroyed bodies
+// count as moved), as sorted shares of hits_ past the threads' own (one a
+// part of prev_pairs_, each sorted as prev_pairs_ is); returns their count.
+size_t World::keep_unmoved_colliding(int threads) {
+    const size_t parts = size_t(threads), total = prev_pairs_.size();
+    hits_.resize(size_t(threads) + parts);
+    for (auto &h : hits_) h.clear();
+    parallel_region(threads, [&](RegionGuard &guard) {
+#pragma omp for schedule(static)
+        for (int64_t p = 0; p < int64_t(parts); ++p) guard.run([&] {
+            std::vector<uint64_t> &kept = hits_[size_t(threads) + size_t(p)];
+            const size_t b = total * size_t(p) / parts, e = total * size_t(p + 1) / parts;
+            for (size_t k = b; k < e; ++k) {
+                const uint32_t a = prev_pairs_[k].a.index, c = prev_pairs_[k].b.index;
+                if (!(moved_[a] | moved_[c])) kept.push_back(pair_key(a, c));
+            }
+        });
+    });
+    size_t kept = 0;
+    for (size_t p = 0; p < parts; ++p) kept += hits_[size_t(threads) + p].size();
+    return kept;
+}
+
+void World::detect_incremental(int threads, const MovedCount &moved, double t0) {
+    list_moved(threads, moved.moved);
+    const uint64_t changed_cell = update_movers(threads);
+    const double t1 = omp_get_wtime();
+    const size_t searched = find_moved_candidates(threads);
+    const size_t kept = keep_unmoved_colliding(threads);
+    const double t2 = omp_get_wtime();
+    test_candidates(threads);
+    const double t3 = omp_get_wtime();
+
+    stats_.level_count = grid_.level_count();
+    stats_.oversize_count = grid_.oversize_count();
+    stats_.thread_count = uint32_t(threads);
+    stats_.moved_bodies = changed_cell;
+    stats_.searched_bodies = moved.moved;
+    stats_.candidate_pairs = uint64_t(searched + kept);
+    stats_.unmoved_pairs = uint64_t(kept);
+    stats_.colliding_pairs = pairs_.size();
+    stats_.update_seconds = t1 - t0;
+    stats_.broad_seconds = t2 - t1;
+    stats_.narrow_seconds = t3 - t2;
+    stats_.total_seconds = t3 - t0;
+}
+
+}  // namespace hgcd

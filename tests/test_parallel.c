@@ -420,6 +420,7 @@ static size_t same_results(hgcd_world *a, hgcd_world *b) {
     assert_int_equal(sa.moved_bodies, sb.moved_bodies);
     assert_int_equal(sa.unmoved_pairs, sb.unmoved_pairs);
     assert_int_equal(sa.level_count, sb.level_count);
+    assert_int_equal(sa.searched_bodies, sb.searched_bodies);
     return na;
 }
 
@@ -467,7 +468,9 @@ static void run_against_openmp(hgcd_enqueue_task_fn *enq, hgcd_finish_task_fn *f
                 }
                 assert_int_equal(hgcd_world_step(w), HGCD_OK);
             } else {
-                if (k == 0) { /* the caller's motion, once for both; first from the world's poses */
+                if (k == 0 && t == 8) { /* one body in ten moves: the search around the movers alone */
+                    for (uint64_t i = 0; i < n; i += 10) pos[3 * i + (i / 10) % 3] += 0.05;
+                } else if (k == 0) { /* the caller's motion, once for both; first from the world's poses */
                     if (t == 5) assert_int_equal(hgcd_world_get_poses(w, NULL, (size_t)n, pos, 0, quat, 0), HGCD_OK);
                     hgcd_scene_tetra_move(n, sd.side, pos, vel);
                     for (uint64_t i = 0; i < n; i += 3) { /* every third body turns */
@@ -480,6 +483,13 @@ static void run_against_openmp(hgcd_enqueue_task_fn *enq, hgcd_finish_task_fn *f
             }
         }
         total += same_results(omp, tw);
+        if (t == 8) { /* (the incremental search ran) */
+            hgcd_stats st;
+            memset(&st, 0, sizeof st);
+            st.struct_size = sizeof st;
+            assert_int_equal(hgcd_world_stats(tw, &st), HGCD_OK);
+            assert_true(st.searched_bodies > 0 && st.searched_bodies < n / 2);
+        }
     }
     assert_true(total > n / 10);
     free(pos);

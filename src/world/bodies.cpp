@@ -117,6 +117,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         stored_gen_.push_back(0);
     }
     if (reuse) body_free_.pop_back();
+    query_.stale = true;
     const size_t i = at_[slot];
     moved_[slot] = moved_at_[i] = 1;
     for (int k = 0; k < 3; ++k) {
@@ -147,6 +148,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
+    query_.stale = true;
     moved_[slot] = moved_at_[at_[slot]] = 1;  // (its last pairs end)
     --mesh_users_[body_mesh_[at_[slot]]];
     --live_bodies_;
@@ -176,6 +178,7 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     apply_pose(at_[slot], position, orientation);
+    query_.stale = true;
     return HGCD_OK;
 }
 

@@ -94,6 +94,7 @@ hgcd_status World::step() {
             return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_step: body " + std::to_string(bad) +
                                                          " would leave the coordinate range (|x| <= 1e15)");
     }
+    query_.stale = true;
     drop_movers();             // (the grid is brought to every body's box)
     renumber_if_disordered();  // (before the motion: it then moves storage in order)
     // The moves run inside the grid update's census, a range of slots at a

@@ -46,7 +46,10 @@
  * Threads: one world is used by one thread at a time, except that calls
  *   taking a const hgcd_world* ("read-only" below) may overlap with each
  *   other. Different worlds are independent. Functions without a world
- *   argument may be called from any thread at any time.
+ *   argument may be called from any thread at any time. Inside a call the
+ *   world runs its parallel loops on OpenMP threads (thread_count,
+ *   thread_policy) or, if its descriptor names one, on the caller's task
+ *   system (enqueue_task); the results are the same bits either way.
  * Floating point: callers may run in any floating-point mode; every call
  *   computes in IEEE's default mode and restores the caller's.
  * Memory: the library owns everything it returns a pointer to; the caller

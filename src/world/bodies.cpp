@@ -87,6 +87,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             place_.reserve(cap);
             velocity_.reserve(3 * cap);
             body_mesh_.reserve(cap);
+            body_record_.reserve(cap);
             user_data_.reserve(cap);
             body_gen_.reserve(cap);
             box_off_.reserve(6 * cap);
@@ -104,6 +105,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         place_.resize(n);
         velocity_.resize(3 * n);
         body_mesh_.resize(n);
+        body_record_.resize(n);
         user_data_.resize(n);
         body_gen_.resize(n, tag_ << kCounterBits);
         live_gen_.resize(n, 0);
@@ -127,6 +129,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
+    body_record_[i] = pool_.offset(uint32_t(mesh));
     user_data_[i] = d.user_data;
     // (Every vertex is within |centre| + radius of the mesh origin.)
     const Mesh &m = meshes_[mesh];

@@ -13,6 +13,7 @@
 #include "common/parallel.hpp"
 #include "hgcd/hgcd.h"
 #include "world/mesh.hpp"
+#include "world/mesh_pool.hpp"
 #include "world/threads.hpp"
 #include "world/memory.hpp"
 #include "narrow/narrow.hpp"
@@ -176,6 +177,8 @@ class World {
     // Moves every body's storage to the grid's sweep order (see at_); false,
     // changing nothing, when there is no memory for it.
     bool renumber();
+    // body_record_ again from the pool, after it moved its records.
+    void refresh_records();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     // The threads of the next detect or batch call: the world's count, or
     // fewer under the adaptive policy while the cores are busy (threads.hpp).
@@ -203,6 +206,7 @@ class World {
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
+    MeshPool pool_;  // the narrow phase's records of small meshes, by slot
     uint32_t live_meshes_ = 0;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
@@ -223,6 +227,9 @@ class World {
     LargeVector<Placement> place_;  // (narrow.hpp)
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
+    // The first block of the mesh's record in pool_ (MeshPool::kNone: none),
+    // read by the narrow phase beside the placements (refresh_records()).
+    LargeVector<uint32_t> body_record_;
     std::vector<uint64_t> user_data_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).

@@ -600,6 +600,83 @@ static void test_degenerate_boxes_points(void **state) {
     scene_free(&sc);
 }
 
+/* Body filters and disabled bodies: four cubes in a row along x (at 0, 3,
+ * 6, 9), answers worked out by hand. */
+static void expect_bodies(const hgcd_query_results *res, size_t q, const uint32_t *want, size_t n) {
+    size_t k;
+    assert_int_equal(res->offsets[q + 1] - res->offsets[q], n);
+    for (k = 0; k < n; ++k) assert_int_equal(res->bodies[res->offsets[q] + k].index, want[k]);
+}
+
+static void test_body_filters(void **state) {
+    scene sc;
+    const double id[4] = {0, 0, 0, 1}, all_box[6] = {-2, -2, -2, 11, 2, 2}, pt[3] = {9, 0, 0};
+    const hgcd_query_filter mask4 = {1, 4 | 1}, cat8 = {8, UINT64_MAX}, mask2 = {1, 2};
+    const hgcd_mesh_pose rod = {{4.5, 0, 0}, {0, 0, 0, 1}, 6}; /* a cube spanning x in [-1.5, 10.5] */
+    hgcd_filter f = hgcd_filter_default();
+    hgcd_query_results res;
+    hgcd_ray ray = {{-5, 0, 0}, {1, 0, 0}, 20};
+    hgcd_ray_hit hit;
+    hgcd_body b1 = {1, 0}, b0 = {0, 0}, b2 = {2, 0}, b3 = {3, 0};
+    size_t k;
+    (void)state;
+    scene_init(&sc, 2);
+    for (k = 0; k < 4; ++k) {
+        const double p[3] = {3.0 * (double)k, 0, 0};
+        scene_add(&sc, SHAPE_CUBE, p, id, 1);
+    }
+    assert_int_equal(hgcd_world_query_box(sc.w, all_box, 1, 0, NULL, &res), HGCD_OK);
+    b0.generation = res.bodies[0].generation;
+    b1.generation = res.bodies[1].generation;
+    b2.generation = res.bodies[2].generation;
+    b3.generation = res.bodies[3].generation;
+    f.category_bits = 2;
+    assert_int_equal(hgcd_body_set_filter(sc.w, b0, &f), HGCD_OK);
+    f.category_bits = 4;
+    assert_int_equal(hgcd_body_set_filter(sc.w, b2, &f), HGCD_OK);
+    f.category_bits = 1;
+    f.mask_bits = ~(uint64_t)8;
+    assert_int_equal(hgcd_body_set_filter(sc.w, b3, &f), HGCD_OK);
+    assert_int_equal(hgcd_body_set_enabled(sc.w, b1, 0), HGCD_OK);
+    {
+        const uint32_t every[] = {0, 2, 3}, not3[] = {0, 2};
+        assert_int_equal(hgcd_world_query_box(sc.w, all_box, 1, 0, NULL, &res), HGCD_OK);
+        expect_bodies(&res, 0, every, 3);
+        assert_int_equal(hgcd_world_query_box(sc.w, all_box, 1, 0, &mask4, &res), HGCD_OK);
+        expect_bodies(&res, 0, (const uint32_t[]){2, 3}, 2);
+        assert_int_equal(hgcd_world_query_box(sc.w, all_box, 1, 0, &cat8, &res), HGCD_OK);
+        expect_bodies(&res, 0, not3, 2);
+        assert_int_equal(hgcd_world_query_mesh(sc.w, sc.mesh[SHAPE_CUBE], &rod, 1, 0, &mask4, &res), HGCD_OK);
+        expect_bodies(&res, 0, (const uint32_t[]){2, 3}, 2);
+        assert_int_equal(hgcd_world_query_point(sc.w, pt, 1, 0, &mask2, &res), HGCD_OK);
+        expect_bodies(&res, 0, NULL, 0);
+        assert_int_equal(hgcd_world_query_point(sc.w, pt, 1, 0, &mask4, &res), HGCD_OK);
+        expect_bodies(&res, 0, (const uint32_t[]){3}, 1);
+    }
+    /* The ray passes the filtered-out cube 0 and the disabled cube 1. */
+    assert_int_equal(hgcd_world_cast_rays(sc.w, &ray, 1, 0, HGCD_RAY_CLOSEST, NULL, &hit), HGCD_OK);
+    assert_int_equal(hit.body.index, 0);
+    assert_true(hit.distance == 4);
+    assert_int_equal(hgcd_world_cast_rays(sc.w, &ray, 1, 0, HGCD_RAY_CLOSEST, &mask4, &hit), HGCD_OK);
+    assert_int_equal(hit.body.index, 2);
+    assert_true(hit.distance == 10);
+    assert_int_equal(hgcd_world_cast_rays(sc.w, &ray, 1, 0, HGCD_RAY_CLOSEST, &mask2, &hit), HGCD_OK);
+    assert_int_equal(hit.body.index, 0);
+    f.category_bits = 8;
+    f.mask_bits = UINT64_MAX;
+    assert_int_equal(hgcd_body_set_filter(sc.w, b0, &f), HGCD_OK);
+    assert_int_equal(hgcd_world_cast_rays(sc.w, &ray, 1, 0, HGCD_RAY_CLOSEST, &mask2, &hit), HGCD_OK);
+    assert_int_equal(hit.body.generation, 0); /* nothing of category 2 left */
+    /* Enabled again, cube 1 is back in the answers. */
+    assert_int_equal(hgcd_body_set_enabled(sc.w, b1, 1), HGCD_OK);
+    assert_int_equal(hgcd_world_query_box(sc.w, all_box, 1, 0, NULL, &res), HGCD_OK);
+    expect_bodies(&res, 0, (const uint32_t[]){0, 1, 2, 3}, 4);
+    assert_int_equal(hgcd_world_cast_rays(sc.w, &ray, 1, 0, HGCD_RAY_CLOSEST, &mask4, &hit), HGCD_OK);
+    assert_int_equal(hit.body.index, 1);
+    assert_true(hit.distance == 7);
+    scene_free(&sc);
+}
+
 /* Refusals change nothing: the last results stay, nothing is written. */
 static void test_refusals(void **state) {
     scene sc;
@@ -780,7 +857,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_degenerate_rays),     cmocka_unit_test(test_degenerate_boxes_points),
         cmocka_unit_test(test_refusals),            cmocka_unit_test(test_tree_follows_world),
-        cmocka_unit_test(test_engine_loop),
+        cmocka_unit_test(test_engine_loop),           cmocka_unit_test(test_body_filters),
         cmocka_unit_test(test_random_scenes),       cmocka_unit_test(test_snapped_scenes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

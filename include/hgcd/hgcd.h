@@ -1026,11 +1026,10 @@ HGCD_API hgcd_status hgcd_mesh_validate(const hgcd_world *world,
  * Refusals: every input is checked before any work; a refused call changes
  * nothing (the previous query's results stay valid). */
 
-/** Which bodies a query considers: bodies whose category bits meet the
- *  query's mask_bits and whose mask bits meet its category_bits. Bodies have
- *  no filter of their own yet: every body counts as category 1 with mask
- *  UINT64_MAX, so a query considers every body when (mask_bits & 1) != 0 and
- *  category_bits != 0, and none otherwise. NULL stands for "every body". */
+/** Which bodies a query considers: enabled bodies (hgcd_body_set_enabled)
+ *  whose filter's category_bits meet the query's mask_bits and whose
+ *  mask_bits meet the query's category_bits (hgcd_filter; group indices and
+ *  body types play no part). NULL stands for "every enabled body". */
 typedef struct hgcd_query_filter {
     uint64_t category_bits;
     uint64_t mask_bits;

@@ -7,6 +7,7 @@
 
 #include "hgcd/hgcd.h"
 #include "query/tree.hpp"
+#include "world/filter.hpp"
 
 namespace hgcd {
 
@@ -17,10 +18,11 @@ struct QueryCache {
     std::vector<hgcd_body> bodies;
 };
 
-// Whether a query with this filter considers a body of category `category`
-// and mask `mask` (hgcd.h, hgcd_query_filter). NULL: every body.
-inline bool filter_accepts(const hgcd_query_filter *f, uint64_t category, uint64_t mask) {
-    return !f || ((f->mask_bits & category) != 0 && (f->category_bits & mask) != 0);
+// Whether a query with this filter considers a body with this filter
+// (hgcd.h, hgcd_query_filter): never a disabled body; NULL: every enabled one.
+inline bool filter_accepts(const hgcd_query_filter *f, const BodyFilter &body) {
+    if (body.flags & BodyFilter::kDisabled) return false;
+    return !f || ((f->mask_bits & body.category) != 0 && (f->category_bits & body.mask) != 0);
 }
 
 }  // namespace hgcd

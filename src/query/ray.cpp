@@ -72,7 +72,9 @@ hgcd_status World::cast_rays(const hgcd_ray *rays, size_t count, size_t stride, 
     }
     if (count == 0) return HGCD_OK;
     ensure_query_tree();
-    const bool considered = filter_accepts(filter, 1, UINT64_MAX);  // (bodies have no filter of their own yet)
+    // Only a query filter or a disabled body makes the per-body test needed.
+    const bool every = !filter && disabled_bodies_ == 0;
+    const auto considers = [&](uint32_t slot) { return every || filter_accepts(filter, filter_[at_[slot]]); };
     const QueryTree &tree = query_.tree;
     const bool any = mode == HGCD_RAY_ANY;
     parallel_region(threads(), [&](RegionGuard &guard) {
@@ -90,7 +92,7 @@ hgcd_status World::cast_rays(const hgcd_ray *rays, size_t count, size_t stride, 
                 Hit best;
                 int top = 0;
                 double enter;
-                if (considered && !tree.nodes.empty() &&
+                if (!tree.nodes.empty() &&
                     segment_meets_box(probe, tree.nodes[0].lo, tree.nodes[0].hi, 1.0, &enter))
                     stack[top++] = {0, enter};
                 while (top > 0) {
@@ -124,6 +126,7 @@ hgcd_status World::cast_rays(const hgcd_ray *rays, size_t count, size_t stride, 
                     for (uint32_t i = node.first; i < node.first + node.count; ++i) {
                         const QueryItem &it = tree.items[i];
                         if (!segment_meets_box(probe, it.lo, it.hi, best.upper, &enter)) continue;
+                        if (!considers(it.slot)) continue;
                         double box[6];
                         const SolidView view = query_view(i, world, box);
                         const Mesh &m = *view.mesh;

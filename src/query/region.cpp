@@ -93,7 +93,9 @@ SolidView World::query_view(size_t i, std::vector<double> &w, double *box) const
 template <class Box, class Accept>
 void World::run_region_queries(size_t count, const hgcd_query_filter *filter, Box &&box, Accept &&accept) {
     ensure_query_tree();
-    const bool considered = filter_accepts(filter, 1, UINT64_MAX);  // (bodies have no filter of their own yet)
+    // Only a query filter or a disabled body makes the per-body test needed.
+    const bool every = !filter && disabled_bodies_ == 0;
+    const auto considers = [&](uint32_t slot) { return every || filter_accepts(filter, filter_[at_[slot]]); };
     const QueryTree &tree = query_.tree;
     const size_t chunks = (count + kChunk - 1) / kChunk;
     std::vector<std::vector<uint32_t>> found(chunks);  // per chunk, its queries' slots in order
@@ -118,7 +120,7 @@ void World::run_region_queries(size_t count, const hgcd_query_filter *filter, Bo
                         return !apart;
                     };
                     int top = 0;
-                    if (considered && !tree.nodes.empty() && meets(tree.nodes[0].lo, tree.nodes[0].hi))
+                    if (!tree.nodes.empty() && meets(tree.nodes[0].lo, tree.nodes[0].hi))
                         stack[top++] = 0;
                     while (top > 0) {  // (the stack holds nodes whose box meets the query's)
                         const QueryNode &n = tree.nodes[stack[--top]];
@@ -139,7 +141,7 @@ void World::run_region_queries(size_t count, const hgcd_query_filter *filter, Bo
                             bool away = false;
                             for (int k = 0; k < 3; ++k)
                                 away |= double(it.lo[k]) > hi[k] || double(it.hi[k]) < lo[k];
-                            if (!away && accept(q, size_t(i), scratch, narrow)) mine.push_back(it.slot);
+                            if (!away && considers(it.slot) && accept(q, size_t(i), scratch, narrow)) mine.push_back(it.slot);
                         }
                     }
                     std::sort(mine.begin(), mine.end());

@@ -2664,11 +2664,10 @@ extern "C" {
     #[doc = "  message (the world is const). Read-only, O(1)."]
     pub fn hgcd_mesh_validate(world: *const hgcd_world, mesh: hgcd_mesh) -> hgcd_status;
 }
-#[doc = " Which bodies a query considers: bodies whose category bits meet the"]
-#[doc = "  query's mask_bits and whose mask bits meet its category_bits. Bodies have"]
-#[doc = "  no filter of their own yet: every body counts as category 1 with mask"]
-#[doc = "  UINT64_MAX, so a query considers every body when (mask_bits & 1) != 0 and"]
-#[doc = "  category_bits != 0, and none otherwise. NULL stands for \"every body\"."]
+#[doc = " Which bodies a query considers: enabled bodies (hgcd_body_set_enabled)"]
+#[doc = "  whose filter's category_bits meet the query's mask_bits and whose"]
+#[doc = "  mask_bits meet the query's category_bits (hgcd_filter; group indices and"]
+#[doc = "  body types play no part). NULL stands for \"every enabled body\"."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
 pub struct hgcd_query_filter {

@@ -22,7 +22,7 @@ World::MovedCount World::count_moved(int threads) const {
         for (int64_t i = 0; i < int64_t(n); ++i) {
             if (!stored_gen_[size_t(i)] || !moved_at_[size_t(i)]) continue;
             ++mine.moved;
-            mine.new_movers += size_t(i) >= known || !mover_[size_t(i)];
+            mine.new_movers += size_t(i) >= known || !(mover_[size_t(i)] & kMover);
         }
         of[size_t(omp_get_thread_num())] = mine;
     });

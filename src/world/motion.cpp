@@ -152,7 +152,7 @@ bool World::renumber() {
         // The grid may need to grow its per-slot arrays (slots made since
         // the last detect); after this nothing below allocates.
         grid_.reserve_slots(n);
-        if (!side_storage_.empty() && mover_.size() < n) mover_.resize(n, 0);
+        if (!mover_.empty() && mover_.size() < n) mover_.resize(n, 0);
     } catch (const std::bad_alloc &) {
         return false;  // renumbering only saves time; nothing has changed
     }
@@ -190,7 +190,7 @@ bool World::renumber() {
         permute_records<1>(body_mesh_.data(), perm, n, tmp);
         permute_records<1>(stored_gen_.data(), perm, n, tmp);
         permute_records<1>(moved_at_.data(), perm, n, tmp);
-        if (!side_storage_.empty()) permute_records<1>(mover_.data(), perm, n, tmp);
+        if (!mover_.empty()) permute_records<1>(mover_.data(), perm, n, tmp);
         permute_records<1>(slot_of_.data(), perm, n, tmp);
 #pragma omp for schedule(static)
         for (int64_t k = 0; k < int64_t(n); ++k) at_[slot_of_[k]] = uint32_t(k);

@@ -4,11 +4,15 @@
  *              [--lib NAME] [--min-cell-size W] [--side L] [--check]
  *              [--mode step|engine-batch|engine-single] [--mesh-per-body]
  *              [--turn A] [--moving-fraction F] [--per-tick]
- *              [--thread-policy adaptive|fixed]
+ *              [--thread-policy adaptive|fixed] [--tasks]
  *
  * --thread-policy sets the world's hgcd_world_desc.thread_policy (default
  * adaptive, the library's default: fewer threads while the cores are busy
  * with other work; fixed: always --threads).
+ * --tasks runs hgcd's parallel loops on a small job system of the caller's
+ * (bench/jobs.h: --threads workers, the calling thread one of them) through
+ * hgcd_world_desc.enqueue_task instead of OpenMP; --threads must then be
+ * at least 1. The JSON's "tasks" field says which.
  * --lib sets the JSON's "lib" field (default hgcd; make bench's 100-tick
  * runs are hgcd-long).
  * --min-cell-size sets the world descriptor's min_cell_size (default 0: the
@@ -92,6 +96,8 @@
 #include <hgcd/hgcd.h>
 #include <hgcd/hgcd_scene.h>
 
+#include "jobs.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -166,7 +172,7 @@ static void usage(const char *argv0) {
     fprintf(stderr,
             "usage: %s [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH] [--lib NAME] [--min-cell-size W] [--side L] [--check] [--per-tick]\n"
             "          [--mode step|engine-batch|engine-single] [--mesh-per-body] [--turn A] [--moving-fraction F]\n"
-            "          [--thread-policy adaptive|fixed]\n"
+            "          [--thread-policy adaptive|fixed] [--tasks]\n"
             "  --threads 0 = all cores; --check compares the initial detect with docs/scenes.md\n",
             argv0);
 }
@@ -183,7 +189,7 @@ static const char *const mode_names[] = {"step", "engine-batch", "engine-single"
 typedef struct options {
     uint64_t n, seed;
     unsigned threads;
-    int ticks, check, per_tick, mesh_per_body, fixed_threads;
+    int ticks, check, per_tick, mesh_per_body, fixed_threads, tasks;
     enum mode mode;
     const char *commit, *lib;
     double min_cell, side, turn, moving_fraction;
@@ -205,6 +211,10 @@ static int parse_options(int argc, char **argv, options *o) {
         }
         if (!strcmp(a, "--mesh-per-body")) {
             o->mesh_per_body = 1;
+            continue;
+        }
+        if (!strcmp(a, "--tasks")) {
+            o->tasks = 1;
             continue;
         }
         if (i + 1 >= argc) {
@@ -239,6 +249,10 @@ static int parse_options(int argc, char **argv, options *o) {
             usage(argv[0]);
             return 2;
         }
+    }
+    if (o->tasks && (o->threads < 1 || o->threads > JOBS_MAX_WORKERS)) {
+        fprintf(stderr, "bench_hgcd: --tasks needs 1 <= --threads <= %d\n", JOBS_MAX_WORKERS);
+        return 2;
     }
     if (o->n == 0 || o->ticks < 1 || !(o->turn >= 0 && o->turn <= 1) ||
         !(o->moving_fraction >= 0 && o->moving_fraction <= 1)) {
@@ -491,7 +505,7 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
     const double update_mean = mean(s[S_UPDATE], ticks), broad_mean = mean(s[S_BROAD], ticks);
     const double narrow_mean = mean(s[S_NARROW], ticks), threads_used = mean(s[S_THREADS], ticks);
     printf("{\"lib\":\"%s\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
-           "\"commit\":\"%s\",\"version\":\"%s\",\"mode\":\"%s\",\"thread_policy\":\"%s\",\"threads_used_mean\":%.2f,\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
+           "\"commit\":\"%s\",\"version\":\"%s\",\"mode\":\"%s\",\"thread_policy\":\"%s\",\"tasks\":%s,\"threads_used_mean\":%.2f,\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
            "\"containment_pairs\":%llu,\"triangle_tests\":%llu,\"moved_bodies\":%llu,\"pairs_fnv\":\"%016llx\","
@@ -501,7 +515,7 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
            "\"tick_mean_ms\":%.3f,\"tick_max_ms\":%.3f,\"update_mean_ms\":%.3f,\"broad_mean_ms\":%.3f,"
            "\"narrow_mean_ms\":%.3f,",
            o->lib, (unsigned long long)o->n, (unsigned long long)o->seed, r->initial.thread_count, ticks, o->commit,
-           hgcd_version_string(), mode_names[o->mode], o->fixed_threads ? "fixed" : "adaptive", threads_used,
+           hgcd_version_string(), mode_names[o->mode], o->fixed_threads ? "fixed" : "adaptive", o->tasks ? "true" : "false", threads_used,
            o->min_cell, median(s[S_BROAD], ticks),
            median(s[S_NARROW], ticks), median(s[S_UPDATE], ticks), median(s[S_MOTION], ticks),
            median(s[S_TOTAL], ticks), median(s[S_WALL], ticks), (unsigned long long)st->candidate_pairs,
@@ -533,6 +547,16 @@ static int make_world(const options *o, const hgcd_scene_tetra_desc *sd, const c
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = o->threads;
     wd.thread_policy = o->fixed_threads ? HGCD_THREADS_FIXED : HGCD_THREADS_ADAPTIVE;
+    if (o->tasks) {
+        static jobs job_system;
+        if (jobs_start(&job_system, o->threads)) {
+            fprintf(stderr, "bench_hgcd: cannot start the job system's threads\n");
+            return 1;
+        }
+        wd.enqueue_task = jobs_enqueue;
+        wd.finish_task = jobs_finish;
+        wd.task_context = &job_system;
+    }
     wd.reflect_at_bounds = 1;
     wd.min_cell_size = o->min_cell;
     for (int k = 0; k < 3; ++k) {

@@ -1032,7 +1032,8 @@ void op_read(Input &in, Model &m) {
     } else if (k == 5) {
         const uint32_t t = in.u8() % 2 ? in.u8() % 4 : 4090 + in.u8() % 12;
         const hgcd_status s = hgcd_world_set_thread_count(m.w, t);
-        EXPECT(s == (t > 4096 ? HGCD_ERROR_INVALID_ARGUMENT : HGCD_OK), "set_thread_count %u", t);
+        const bool refused = t > 4096 || (t == 0 && m.desc.enqueue_task);  // (0 workers with a task system)
+        EXPECT(s == (refused ? HGCD_ERROR_INVALID_ARGUMENT : HGCD_OK), "set_thread_count %u", t);
         if (s == HGCD_OK && (t == 0 || t > 2)) hgcd_world_set_thread_count(m.w, 1 + t % 2);  // keep runs cheap
         // The thread policy: either valid one (the pairs never depend on it), or a bad value refused.
         const int32_t policy = int32_t(in.u8() % 4) - 1;
@@ -1046,6 +1047,17 @@ void op_read(Input &in, Model &m) {
         EXPECT(hgcd_world_pairs(m.w, nullptr, &n) == HGCD_ERROR_NULL_ARGUMENT, "pairs NULL out");
     }
 }
+
+// A task system that runs each loop inline, its second half first, as the
+// last worker, then its first half as worker 0 (hgcd_world_desc.enqueue_task).
+uint32_t task_workers = 1;
+void *enqueue_inline(hgcd_task_fn *task, uint32_t count, uint32_t min_range, void *task_context, void *) {
+    const uint32_t half = std::max(min_range, count / 2) < count ? std::max(min_range, count / 2) : count;
+    if (half < count) task(half, count, task_workers - 1, task_context);
+    task(0, half, 0, task_context);
+    return nullptr;
+}
+void finish_never(void *, void *) { std::abort(); }  // (enqueue_inline returns NULL)
 
 bool make_world(Input &in, Model &m, Ctx &cx) {
     hgcd_world_desc d = hgcd_world_desc_default();
@@ -1065,6 +1077,11 @@ bool make_world(Input &in, Model &m, Ctx &cx) {
     for (int k = 0; k < 3; ++k) {
         d.bounds_min[k] = lo;
         d.bounds_max[k] = (c >> 2) % 16 == 0 ? lo : hi;  // sometimes empty: refused
+    }
+    if ((c >> 6) & 1) {  // the caller's task system instead of OpenMP (the pairs are the same)
+        d.enqueue_task = enqueue_inline;
+        d.finish_task = finish_never;
+        task_workers = d.thread_count;
     }
     bool valid = std::isfinite(d.time_step) && d.time_step >= 0;
     const double mn = d.min_cell_size, mx = d.max_cell_size;

@@ -39,6 +39,52 @@ hgcd_status owned_entries(const hgcd_mpi_world *w, const char *what, const uint6
     return HGCD_OK;
 }
 
+// The new poses into the owned records (entry k: owned body at[k], or k).
+void copy_poses(hgcd_mpi_world *w, const uint32_t *at, size_t count, const double *positions, size_t ps,
+                const double *orientations, size_t os) {
+#pragma omp parallel for num_threads(w->threads) if (count > 4096) schedule(static)
+    for (size_t k = 0; k < count; ++k) {
+        Record &r = w->owned.rec[at ? at[k] : k];
+        if (positions) std::memcpy(r.position, (const char *)positions + k * ps, sizeof r.position);
+        if (orientations) std::memcpy(r.orientation, (const char *)orientations + k * os, sizeof r.orientation);
+    }
+}
+
+// The fast path of a dense local world (hgcd_mpi_world::dense): every pose
+// of the local world laid out by local index -- the new ones of owned bodies
+// 0 .. count-1, the current ones of the others, whose unchanged bits hgcd
+// does not count as moves -- and handed over by index. Any refusal falls
+// back to the listed path, which refuses alike and names the caller's entry.
+hgcd_status by_index(hgcd_mpi_world *w, size_t count, const double *positions, size_t position_stride,
+                     size_t ps, const double *orientations, size_t orientation_stride, size_t os) {
+    if (!positions && !orientations) return HGCD_ERROR_NULL_ARGUMENT;
+    if (bad_stride(position_stride, 3 * sizeof(double)) || bad_stride(orientation_stride, 4 * sizeof(double)))
+        return HGCD_ERROR_INVALID_ARGUMENT;
+    const size_t n = w->live, pos_at = 0, rot_at = positions ? 3 * n : 0;
+    if (n != w->owned.rec.size() + w->ghosts.rec.size()) return HGCD_ERROR_INTERNAL;  // never: listed path
+    w->pose_buffer.resize((positions ? 3 * n : 0) + (orientations ? 4 * n : 0));
+    double *buf = w->pose_buffer.data();
+    auto put = [&](const hgcd_body b, const double *p, const double *q) {
+        if (positions) std::memcpy(buf + pos_at + 3 * (size_t)b.index, p, 24);
+        if (orientations) std::memcpy(buf + rot_at + 4 * (size_t)b.index, q, 32);
+    };
+    const int64_t no = (int64_t)w->owned.rec.size(), ng = (int64_t)w->ghosts.rec.size();
+#pragma omp parallel num_threads(w->threads) if (n > 4096)
+    {
+#pragma omp for schedule(static) nowait
+        for (int64_t k = 0; k < no; ++k) {
+            const Record &r = w->owned.rec[k];
+            const bool fresh = (size_t)k < count;
+            put(w->owned.local[k], fresh && positions ? (const double *)((const char *)positions + k * ps) : r.position,
+                fresh && orientations ? (const double *)((const char *)orientations + k * os) : r.orientation);
+        }
+#pragma omp for schedule(static)
+        for (int64_t k = 0; k < ng; ++k) put(w->ghosts.local[k], w->ghosts.rec[k].position, w->ghosts.rec[k].orientation);
+    }
+    return hgcd_world_set_poses(w->local, nullptr, n, positions ? buf + pos_at : nullptr, 0,
+                                orientations ? buf + rot_at : nullptr, 0);
+}
+
 }  // namespace
 
 extern "C" {
@@ -52,6 +98,13 @@ hgcd_status hgcd_mpi_set_poses(hgcd_mpi_world *w, const uint64_t *ids, size_t co
         std::string msg;
         hgcd_status s = owned_entries(w, "set_poses", ids, count, at, &msg);
         if (s != HGCD_OK) return fail(w, s, msg);
+        const size_t ps = position_stride ? position_stride : 3 * sizeof(double);
+        const size_t os = orientation_stride ? orientation_stride : 4 * sizeof(double);
+        if (!ids && w->dense && by_index(w, count, positions, position_stride, ps, orientations,
+                                         orientation_stride, os) == HGCD_OK) {
+            copy_poses(w, nullptr, count, positions, ps, orientations, os);
+            return HGCD_OK;
+        }
         // The local world checks the whole batch as hgcd_world_set_poses
         // does (values, an id twice, strides) and applies it, or nothing.
         std::vector<hgcd_body> listed;
@@ -64,14 +117,7 @@ hgcd_status hgcd_mpi_set_poses(hgcd_mpi_world *w, const uint64_t *ids, size_t co
         s = hgcd_world_set_poses(w->local, bodies, count, positions, position_stride, orientations,
                                  orientation_stride);
         if (s != HGCD_OK) return fail(w, s, std::string("set_poses: ") + hgcd_world_last_error(w->local));
-        const size_t ps = position_stride ? position_stride : 3 * sizeof(double);
-        const size_t os = orientation_stride ? orientation_stride : 4 * sizeof(double);
-#pragma omp parallel for num_threads(w->threads) if (count > 4096) schedule(static)
-        for (size_t k = 0; k < count; ++k) {
-            Record &r = w->owned.rec[ids ? at[k] : k];
-            if (positions) std::memcpy(r.position, (const char *)positions + k * ps, sizeof r.position);
-            if (orientations) std::memcpy(r.orientation, (const char *)orientations + k * os, sizeof r.orientation);
-        }
+        copy_poses(w, ids ? at.data() : nullptr, count, positions, ps, orientations, os);
         return HGCD_OK;
     } catch (...) {
         // Before the local world changed: only the lookup's memory failed.

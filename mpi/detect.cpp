@@ -117,8 +117,8 @@ bool same_pose(const Record &a, const Record &b) {
 void update_ghosts(hgcd_mpi_world *w, const std::vector<char> &in) {
     Bodies &g = w->ghosts;
     std::vector<uint8_t> seen(g.rec.size(), 0);
-    std::vector<hgcd_body> moved;
-    std::vector<Record> moved_rec, fresh;
+    std::vector<uint64_t> moved_ids;
+    std::vector<Record> fresh;
     const size_t n = in.size() / sizeof(Record);
     w->stats.ghosts_received = n;
     for (size_t k = 0; k < n; ++k) {
@@ -132,12 +132,20 @@ void update_ghosts(hgcd_mpi_world *w, const std::vector<char> &in) {
         Record &old = g.rec[it->second];
         if (!same_pose(old, r)) {
             old = r;
-            moved.push_back(g.local[it->second]);
-            moved_rec.push_back(r);
+            moved_ids.push_back(r.id);
         }
     }
+    // Removing a ghost may move another body of the local world to a new
+    // handle (local_destroy): the moved ones are looked up afterwards.
     for (size_t k = seen.size(); k-- > 0;)
         if (!seen[k]) remove_ghost_at(w, (uint32_t)k);
+    std::vector<hgcd_body> moved(moved_ids.size());
+    std::vector<Record> moved_rec(moved_ids.size());
+    for (size_t k = 0; k < moved_ids.size(); ++k) {
+        const uint32_t at = g.index.at(moved_ids[k]);
+        moved[k] = g.local[at];
+        moved_rec[k] = g.rec[at];
+    }
     if (!moved.empty() &&
         hgcd_world_set_poses(w->local, moved.data(), moved.size(), moved_rec[0].position, sizeof(Record),
                              moved_rec[0].orientation, sizeof(Record)) != HGCD_OK)
@@ -248,6 +256,7 @@ extern "C" hgcd_status hgcd_mpi_detect(hgcd_mpi_world *w) {
     st.owned_bodies = w->owned.rec.size();
     st.ghost_bodies = w->ghosts.rec.size();
     st.total_seconds = now() - t0;
+    st.poses_by_index = w->dense;
     st.struct_size = sizeof st;
     w->last_stats = st;
     return s;

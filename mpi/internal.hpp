@@ -88,6 +88,14 @@ struct hgcd_mpi_world {
     // Local body index -> global id and whether owned (for the owner rule).
     std::vector<uint64_t> id_of_local;
     std::vector<uint8_t> owned_of_local;
+    // The local world's live bodies hold exactly the indices 0 .. live-1
+    // (kept so by local_destroy), so poses go through hgcd_world_set_poses
+    // by index, its fast path. dense turns false for good if hgcd ever
+    // places a body elsewhere (its reuse order is not a documented
+    // promise); the listed-id path then serves, with the same results.
+    uint32_t live = 0;
+    bool dense = true;
+    std::vector<double> pose_buffer;
     std::unordered_set<uint64_t> directory;  // live ids with id % size == rank
     uint64_t global_bodies = 0;
     std::vector<hgcd_mpi_pair> pairs, gathered;

@@ -48,12 +48,37 @@ hgcd_body local_create(hgcd_mpi_world *w, const Record &r, bool owned) {
     }
     w->id_of_local[b.index] = r.id;
     w->owned_of_local[b.index] = owned;
+    if (b.index != w->live) w->dense = false;
+    ++w->live;
     return b;
 }
 
+// Destroys a local body. While the world is dense, the body of the highest
+// index takes the freed index: it is destroyed first, then b, and created
+// again, which hgcd places in the slot freed last (b's); the top index is
+// then the next free one, for the next create.
 void local_destroy(hgcd_mpi_world *w, hgcd_body b) {
+    const uint32_t top = w->live - 1;
+    if (!w->dense || b.index == top) {
+        hgcd_body_destroy(w->local, b);
+        w->owned_of_local[b.index] = 0;
+        --w->live;
+        return;
+    }
+    const uint64_t id = w->id_of_local[top];
+    Bodies &set = w->owned_of_local[top] ? w->owned : w->ghosts;
+    const uint32_t k = set.index.at(id);
+    hgcd_body_destroy(w->local, set.local[k]);
     hgcd_body_destroy(w->local, b);
+    w->owned_of_local[top] = 0;
     w->owned_of_local[b.index] = 0;
+    w->live -= 2;
+    const uint32_t expected = b.index;
+    const bool dense = w->dense;
+    w->live = expected;  // local_create checks the index against live
+    set.local[k] = local_create(w, set.rec[k], &set == &w->owned);
+    w->live = top;
+    w->dense = dense && set.local[k].index == expected;
 }
 
 void add_owned(hgcd_mpi_world *w, const Record &r) {

@@ -353,7 +353,7 @@ static void run_scene(scene *s, double allowance, double factor, int churn, uint
     size_t live = 0, pairs = 0;
     for (size_t k = 0; k < s->n; ++k) live += s->live[k];
     assert_int_equal(hgcd_mpi_world_body_count(w), live);
-    uint64_t migrated = 0, ghosts = 0, rebalances = 0;
+    uint64_t migrated = 0, ghosts = 0, rebalances = 0, by_index = 1;
     for (int tick = 0; tick < 20; ++tick) {
         if (tick > 0) {
             scene_move(s);
@@ -395,14 +395,16 @@ static void run_scene(scene *s, double allowance, double factor, int churn, uint
         st.struct_size = sizeof st;
         assert_int_equal(hgcd_mpi_stats_get(w, &st), HGCD_OK);
         migrated += st.migrated_in, ghosts += st.ghosts_received, rebalances += st.rebalanced;
+        by_index &= st.poses_by_index;
     }
     /* The scene did what it is for: pairs, and with several ranks,
      * migration and ghosts (summed over the ranks). */
-    uint64_t v[3] = {migrated, ghosts, rebalances}, t[3];
-    MPI_Allreduce(v, t, 3, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    uint64_t v[4] = {migrated, ghosts, rebalances, by_index}, t[4];
+    MPI_Allreduce(v, t, 4, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     if (g_rank == 0)
-        printf("# %d rank(s): %zu pairs over 20 ticks, %llu migrations, %llu ghost copies, %llu rebalances\n", g_size,
-               pairs, (unsigned long long)t[0], (unsigned long long)t[1], (unsigned long long)(t[2] / g_size));
+        printf("# %d rank(s): %zu pairs over 20 ticks, %llu migrations, %llu ghost copies, %llu rebalances, "
+               "poses by index on %llu rank(s)\n", g_size, pairs, (unsigned long long)t[0], (unsigned long long)t[1],
+               (unsigned long long)(t[2] / g_size), (unsigned long long)t[3]);
     assert_true(pairs > 100);
     if (g_size > 1) assert_true(t[0] > 0 && t[1] > 0);
     hgcd_mpi_world_destroy(w);
@@ -531,6 +533,15 @@ static void test_refusals(void **state) {
     if (no) {
         assert_int_equal(hgcd_mpi_set_poses(w, ids, 1, pos, 0, badq, 0), HGCD_ERROR_INVALID_ARGUMENT);
         assert_non_null(strstr(hgcd_mpi_world_last_error(w), "set_poses"));
+        /* By owned order (the by-index path): the last entry bad. */
+        double *all = malloc(3 * no * sizeof(double));
+        assert_int_equal(hgcd_mpi_get_poses(w, NULL, no, all, 0, NULL, 0), HGCD_OK);
+        all[3 * no - 1] = NAN;
+        assert_int_equal(hgcd_mpi_set_poses(w, NULL, no, all, 0, NULL, 0), HGCD_ERROR_INVALID_ARGUMENT);
+        char want[64];
+        snprintf(want, sizeof want, "entry %zu", no - 1);
+        assert_non_null(strstr(hgcd_mpi_world_last_error(w), want));
+        free(all);
     }
     /* Descriptors of the world: out of range, or differing between ranks. */
     hgcd_mpi_world_desc wd = hgcd_mpi_world_desc_default();

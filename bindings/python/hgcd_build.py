@@ -203,8 +203,7 @@ def _repo_build():
     if not (os.path.isfile(os.path.join(REPO, "Makefile"))
             and os.path.isfile(os.path.join(REPO, "include", "hgcd", "hgcd.h"))):
         return None
-    if os.environ.get("HGCD_NO_MAKE") != "1":
-        subprocess.run(["make", "-s", "-C", REPO, "lib", "scene"], check=True)
+    subprocess.run(["make", "-s", "-C", REPO, "lib", "scene"], check=True)
     build = os.path.join(REPO, "build-make")
     return build, [os.path.join(REPO, "include"), os.path.join(REPO, "scene")]
 

@@ -2,8 +2,8 @@
 # Everything `make test` runs for the Python binding: builds the C library
 # (make lib scene), installs the package with pip into a throw-away venv (system
 # site packages for Debian's numpy, cffi and pip; no network), runs the pytest suite
-# against that installed copy, then builds the module in place and runs the
-# example from the build tree. HGCD_PYTHON names the interpreter (default: the
+# against that installed copy, then builds the module in place (make python)
+# and runs the example from the build tree. HGCD_PYTHON names the interpreter (default: the
 # first python3 that imports cffi and numpy, /usr/bin/python3 included).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -36,7 +36,7 @@ echo "-- pytest on the installed package"
 (cd "$tmp" && "$tmp/venv/bin/python" -c 'import hgcd, sys; assert hgcd.__file__.startswith(sys.prefix), hgcd.__file__'
  "$tmp/venv/bin/python" -m pytest -q -p no:cacheprovider "$here/tests")
 
-echo "-- the module built in place, the example run from the build tree"
-HGCD_NO_MAKE=1 "$python" "$here/hgcd_build.py" >/dev/null
+echo "-- the module built in place (make python), the example run from the build tree"
+make -s -C "$repo" python PYTHON="$python" >/dev/null
 PYTHONPATH="$here" "$python" "$here/examples/mesh_ticks.py" --n 60 --ticks 5 --out "$tmp/tick.png"
 "$python" -c 'import sys; assert open(sys.argv[1], "rb").read(8) == b"\x89PNG\r\n\x1a\n"' "$tmp/tick.png"

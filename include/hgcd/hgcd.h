@@ -240,6 +240,29 @@ enum hgcd_thread_policy {
  *  HGCD_ERROR_NOT_SUPPORTED ("not built with libccd"). Any thread. */
 HGCD_API int32_t hgcd_feature_libccd(void);
 
+/** One range of a parallel loop, for the caller's task system
+ *  (hgcd_world_desc.enqueue_task): runs the loop's items [begin, end) as
+ *  worker `worker`. Called with the task_context that enqueue_task received. */
+typedef void hgcd_task_fn(uint32_t begin, uint32_t end, uint32_t worker, void *task_context);
+
+/** The caller's task system, in the manner of Box2D v3's b2EnqueueTaskCallback:
+ *  run task(begin, end, worker, task_context) over ranges that cover
+ *  [0, item_count) exactly once, each of at least min_range items (except
+ *  perhaps the last), on any threads, in any order, at once or not, where
+ *  `worker` < the world's thread_count and no two ranges run at once with
+ *  the same worker (hgcd keeps state per worker). Return a handle that
+ *  finish_task receives, or NULL when every range has already run (e.g.
+ *  inline, in this call). user_context is hgcd_world_desc.task_context. A
+ *  task never waits for another task; it returns normally (hgcd catches its
+ *  own errors). */
+typedef void *hgcd_enqueue_task_fn(hgcd_task_fn *task, uint32_t item_count, uint32_t min_range,
+                                   void *task_context, void *user_context);
+
+/** Waits until every range of the loop enqueue_task returned `handle` for
+ *  has run (Box2D v3's b2FinishTaskCallback). The calling thread may run
+ *  ranges meanwhile. */
+typedef void hgcd_finish_task_fn(void *handle, void *user_context);
+
 /** World descriptor: get one from hgcd_world_desc_default(), change the
  *  fields you need, pass it to hgcd_world_create (which copies it). */
 typedef struct hgcd_world_desc {
@@ -288,6 +311,22 @@ typedef struct hgcd_world_desc {
      *  the cores are busy with other work) or FIXED (always thread_count).
      *  Never changes the pairs. */
     int32_t thread_policy;
+    /** The caller's task system (both set, or both NULL: the default).
+     *  When set, step, detect and the batch calls run their parallel loops
+     *  as tasks: enqueue_task, then finish_task, each loop finished before
+     *  the call goes on, from the thread calling hgcd, never from another
+     *  thread; no OpenMP thread is started. thread_count (at least 1) is the
+     *  number of workers, and the thread policy is not used. The pairs are
+     *  the same bits as with OpenMP. Parts of the work that are not loops
+     *  run on the calling thread. A task system that breaks the contract of
+     *  hgcd_enqueue_task_fn (a worker index >= thread_count, a range past
+     *  item_count, an item run twice or never) makes the call fail with
+     *  HGCD_ERROR_INTERNAL where it is seen: items run twice or at once
+     *  under one worker are undefined behaviour. Default NULL. */
+    hgcd_enqueue_task_fn *enqueue_task;
+    hgcd_finish_task_fn *finish_task;
+    /** Passed to enqueue_task and finish_task as user_context. Default NULL. */
+    void *task_context;
 } hgcd_world_desc;
 
 /** A world descriptor with every default filled in (see the fields).

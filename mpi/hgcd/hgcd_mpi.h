@@ -248,7 +248,10 @@ HGCD_API hgcd_status hgcd_mpi_owned(const hgcd_mpi_world *world,
  *  Errors (nothing changes): NULL_ARGUMENT, STALE_ID (an id not owned by
  *  this rank, or count above the owned count), INVALID_ARGUMENT (as
  *  hgcd_world_set_poses: a value, an id twice, a stride).
- *  Cost: O(count) (a hash lookup per id when ids is given). */
+ *  Cost: O(count) (a hash lookup per id when ids is given); with ids NULL
+ *  the poses of the whole local world (owned and ghosts, by index: see
+ *  hgcd_mpi_stats.poses_by_index) are handed to hgcd, which skips those
+ *  whose bits did not change. */
 HGCD_API hgcd_status hgcd_mpi_set_poses(hgcd_mpi_world *world,
                                         const uint64_t *ids, size_t count,
                                         const double *positions,
@@ -344,7 +347,8 @@ typedef struct hgcd_mpi_stats {
     double imbalance;
     /** Wall-clock seconds of the phases on this rank: migration (choosing
      *  and exchanging the bodies that leave, updating the local world),
-     *  rebalance (decomposition and its migration), ghost exchange (choosing,
+     *  rebalance (the exchange of every rank's count and region, and when
+     *  due the decomposition and its migration), ghost exchange (choosing,
      *  packing, messages), ghost update (the local world's ghosts), local
      *  detect (hgcd_world_detect), pairs (applying the owner rule), and the
      *  whole call. Waiting for other ranks shows in the phase that waits. */
@@ -355,6 +359,13 @@ typedef struct hgcd_mpi_stats {
     double local_detect_seconds;
     double pairs_seconds;
     double total_seconds;
+    /** 1 while this rank's local world keeps its bodies at indices 0 ..
+     *  count-1, so hgcd_mpi_set_poses with ids NULL hands the poses over by
+     *  index (hgcd_world_set_poses's fast path); 0 once hgcd placed a body
+     *  elsewhere (then by listed ids: slower, same results). */
+    uint32_t poses_by_index;
+    /** Always 0. */
+    uint32_t reserved;
 } hgcd_mpi_stats;
 
 /** Local. Copies this rank's figures of the last detect into *out_stats

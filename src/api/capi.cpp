@@ -39,6 +39,7 @@ hgcd_status refuse(hgcd_world *w, hgcd_status status, const char *what, const ch
 template <class F>
 hgcd_status guarded(hgcd_world *w, const char *what, F &&f) noexcept {
     const hgcd::IeeeMode ieee;  // (ieee.hpp)
+    const hgcd::TaskSystem::Attach tasks(w ? w->impl.task_system() : nullptr);  // (parallel.hpp)
     try {
         return f();
     } catch (const std::bad_alloc &) {
@@ -112,6 +113,8 @@ hgcd_status hgcd_world_create(const hgcd_world_desc *desc, hgcd_world **out_worl
     if (desc->thread_count > 4096) return HGCD_ERROR_INVALID_ARGUMENT;
     if (desc->thread_policy != HGCD_THREADS_ADAPTIVE && desc->thread_policy != HGCD_THREADS_FIXED)
         return HGCD_ERROR_INVALID_ARGUMENT;
+    if (!desc->enqueue_task != !desc->finish_task) return HGCD_ERROR_INVALID_ARGUMENT;
+    if (desc->enqueue_task && desc->thread_count == 0) return HGCD_ERROR_INVALID_ARGUMENT;
     for (int k = 0; k < 3 && desc->reflect_at_bounds; ++k)  // (the bounds serve the reflection only)
         if (!hgcd::coordinate_ok(desc->bounds_min[k]) || !hgcd::coordinate_ok(desc->bounds_max[k]) ||
             !(desc->bounds_min[k] < desc->bounds_max[k]))
@@ -143,6 +146,9 @@ hgcd_status hgcd_world_set_thread_count(hgcd_world *world, uint32_t thread_count
     if (thread_count > 4096)
         return refuse(world, HGCD_ERROR_INVALID_ARGUMENT, "world_set_thread_count",
                       "thread_count is more than 4096");
+    if (thread_count == 0 && world->impl.task_system())
+        return refuse(world, HGCD_ERROR_INVALID_ARGUMENT, "world_set_thread_count",
+                      "thread_count 0 with a task system (it is the number of workers)");
     world->impl.set_thread_count(thread_count);
     return HGCD_OK;
 }
@@ -292,6 +298,7 @@ hgcd_status hgcd_world_set_velocities(hgcd_world *world, const hgcd_body *bodies
 hgcd_status hgcd_world_get_poses(const hgcd_world *world, const hgcd_body *bodies, size_t count, double *positions,
                                  size_t position_stride, double *orientations, size_t orientation_stride) {
     if (!world || (!positions && !orientations)) return HGCD_ERROR_NULL_ARGUMENT;
+    const hgcd::TaskSystem::Attach tasks(world->impl.task_system());
     try {
         return world->impl.get_poses(bodies, count, positions, position_stride, orientations, orientation_stride);
     } catch (...) {

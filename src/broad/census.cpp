@@ -2,11 +2,10 @@
 // exponent and, against the last update, whether its level or row changed),
 // the levels it calls for, then either the lists rebuilt (other levels) or
 // the changed bodies moved, and the boxes gathered.
-#include <omp.h>
-
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "broad/cells.hpp"
@@ -48,12 +47,12 @@ struct Grid::Census {
     CensusInput in;
     uint32_t slot_count;
     std::vector<uint8_t> flag;
-    // Per thread: a histogram of the exponents (kExponents counts: no branch
+    // Per worker: a histogram of the exponents (kExponents counts: no branch
     // on which exponent a body has, which is random), the oversize slots
-    // (ascending: static schedule, thread t has the t-th range of slots),
-    // the changed bodies and their count, and the changed bodies per level
-    // (before or after; touched_stride apart, a cache line from the next
-    // thread's).
+    // (ascending within a range of slots; OpenMP's static schedule gives
+    // worker t the t-th range, a task system any), the changed bodies and
+    // their count, and the changed bodies per level (before or after;
+    // touched_stride apart, a cache line from the next worker's).
     std::vector<uint64_t> histogram;
     std::vector<std::vector<uint32_t>> oversize;
     std::vector<std::vector<Moved>> changed;
@@ -62,8 +61,8 @@ struct Grid::Census {
     std::vector<uint64_t> touched;
 };
 
-// What one thread appends, in its own frame (the per-thread vectors share
-// cache lines), handed over after the loop.
+// What one worker appends, in its own heap record (the per-worker vectors
+// share cache lines), handed over after the loop.
 struct Grid::CensusThread {
     uint64_t *histogram;
     uint64_t *touched;
@@ -155,14 +154,19 @@ void Grid::take_census(Census &census, int threads, const SlotPass *before) {
     std::vector<double> inv(levels_.size());
     for (size_t l = 0; l < levels_.size(); ++l) inv[l] = cell_scale(levels_[l].exponent + kRowShift);
 #endif
-    parallel_region(threads, [&](RegionGuard &guard) {
-        const int me = omp_get_thread_num();
+    // Each worker's appends, made by the worker on its first range.
+    std::vector<std::unique_ptr<CensusThread>> worker(static_cast<size_t>(threads));
+    RegionGuard guard;  // (census_slot's appends)
+    parallel_for(threads, blocks, 1, Schedule::Static, [&](int64_t block0, int64_t block1, int me) {
         const CensusInput in = census.in;
-        CensusThread mine;
-        mine.histogram = census.histogram.data() + size_t(me) * kExponents;
-        mine.touched = census.touched.data() + size_t(me) * census.touched_stride;
-#pragma omp for schedule(static) nowait
-        for (int64_t block = 0; block < blocks; ++block) {
+        std::unique_ptr<CensusThread> &w = worker[size_t(me)];
+        if (!w) {
+            w.reset(new CensusThread);
+            w->histogram = census.histogram.data() + size_t(me) * kExponents;
+            w->touched = census.touched.data() + size_t(me) * census.touched_stride;
+        }
+        CensusThread &mine = *w;
+        for (int64_t block = block0; block < block1; ++block) {
             const uint32_t block_end = uint32_t(std::min<int64_t>(slot_count, (block + 1) * kCensusBlock));
             if (before) before->run(before->context, uint32_t(block * kCensusBlock), block_end);
             for (int64_t s = block * kCensusBlock; s < int64_t(block_end); ++s) {
@@ -184,19 +188,22 @@ void Grid::take_census(Census &census, int threads, const SlotPass *before) {
                 census_slot(in, mine, s, guard);
             }
         }
-        census.oversize[size_t(me)].swap(mine.oversize);
-        census.changed[size_t(me)].swap(mine.changed);
-        census.changed_count[size_t(me)] = mine.changed_count;
     });
+    guard.rethrow();
+    for (size_t me = 0; me < worker.size(); ++me) {
+        if (!worker[me]) continue;
+        census.oversize[me].swap(worker[me]->oversize);
+        census.changed[me].swap(worker[me]->changed);
+        census.changed_count[me] = worker[me]->changed_count;
+    }
 }
 
 // Every body entered afresh on the levels of level_of_ (other levels than
 // the last update's).
 void Grid::enter_all(const Boxes &boxes, const uint32_t *live_gen, uint32_t slot_count, int max_exponent,
                      int threads) {
-    parallel_region(threads, [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t s = 0; s < int64_t(slot_count); ++s) {
+    parallel_for(threads, int64_t(slot_count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        for (int64_t s = b; s < e; ++s) {
             level_[s] = level_index(live_gen[s] ? exponent_of(boxes, size_t(s), max_exponent) : kNoExponent);
             gen_[s] = live_gen[s];
             if (level_[s] >= 0) row_cell(boxes.point(size_t(s)), levels_[size_t(level_[s])].exponent, &cell_[2 * s]);
@@ -214,6 +221,10 @@ uint64_t Grid::apply_moves(const Census &census, int threads) {
         for (size_t l = 0; l < levels; ++l) touched[l] += census.touched[size_t(t) * census.touched_stride + l];
     std::vector<Moved> changed;
     for (const auto &v : census.changed) changed.insert(changed.end(), v.begin(), v.end());
+    // In slot order, as OpenMP's static schedule leaves them (a task system
+    // hands ranges out in any order): ties in the lists then fall alike.
+    const auto by_slot = [](const Moved &a, const Moved &b) { return a.slot < b.slot; };
+    if (!std::is_sorted(changed.begin(), changed.end(), by_slot)) std::sort(changed.begin(), changed.end(), by_slot);
     uint64_t moved_finer = 0;  // changed bodies on levels below li
     std::vector<uint8_t> dirty(2 * levels, 0);
     for (size_t li = 0; li < levels; ++li) {
@@ -275,6 +286,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     disorder_ = gather(all_lists(), boxes, threads);
     oversize_.clear();
     for (const auto &local : census.oversize) oversize_.insert(oversize_.end(), local.begin(), local.end());
+    if (!std::is_sorted(oversize_.begin(), oversize_.end())) std::sort(oversize_.begin(), oversize_.end());  // (as changed)
     built_ = true;
     return stats;
 }

@@ -129,9 +129,8 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
         for (size_t k = 0; k + 1 < cut.size(); ++k) parts.push_back({list, cut[k], cut[k + 1], l % 2 == 0});
     }
     std::vector<uint64_t> jumps_of(parts.size(), 0);  // each part's residents' jumps (disorder())
-    parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(dynamic, 1)
-        for (int64_t p = 0; p < int64_t(parts.size()); ++p) guard.run([&] {
+    parallel_for(threads, int64_t(parts.size()), 1, Schedule::Dynamic, [&](int64_t p0, int64_t p1, int) {
+        for (int64_t p = p0; p < p1; ++p) {
             const Part &part = parts[size_t(p)];
             List &list = *part.list;
             const GatherArrays A{list.low_x.data(), list.high_x.data(), list.low_y.data(), list.high_y.data(),
@@ -150,7 +149,7 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
                 r0 = r1;
             }
             jumps_of[size_t(p)] = jumps;
-        });
+        }
     });
     uint64_t disorder = 0;
     for (const uint64_t j : jumps_of) disorder += j;

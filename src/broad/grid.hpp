@@ -183,10 +183,9 @@ class Grid {
     // Moves the state of slot old_of_new[k] to slot k (a permutation of at
     // least the slot_count slots of the last update, whose slots reserve_slots
     // made room for; new_of_old is its inverse; scratch: kPermuteScratch
-    // bytes a slot). Called by every thread of an OpenMP region, which share
-    // the work (see permute_part).
+    // bytes a slot), on `threads` workers.
     void renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
-                  void *scratch);
+                  void *scratch, int threads);
     // Residents whose slot, at the last update, was far from the slot of the
     // resident before them in sweep order: how much memory order the sweep
     // order has lost (order() and renumber() restore it).

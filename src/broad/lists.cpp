@@ -29,9 +29,8 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
             if (!levels_[li].queries_finer) keyed[2 * li + 1].push_back({key_of(s, int(li)), s, x});
     }
     const int64_t lists = int64_t(2 * levels_.size());
-    parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(dynamic, 1)
-        for (int64_t k = 0; k < lists; ++k) guard.run([&] {
+    parallel_for(threads, lists, 1, Schedule::Dynamic, [&](int64_t k0, int64_t k1, int) {
+        for (int64_t k = k0; k < k1; ++k) {
             List &list = list_at(size_t(k));
             // Rows sorted by low x (the lists' float copy: no random reads in
             // the comparisons, and gather finds the order made).
@@ -50,7 +49,7 @@ void Grid::rebuild(const Boxes &boxes, uint32_t slot_count, int threads) {
             }
             list.row_start.push_back(uint32_t(in.size()));
             std::vector<Keyed>().swap(in);
-        });
+        }
     });
 }
 
@@ -200,11 +199,9 @@ void Grid::update_lists(const std::vector<uint8_t> &dirty, const std::vector<uin
     // (A flag per part, not a reduction: clang refuses an orphaned reduction
     // on a variable the lambda captures.)
     std::vector<uint8_t> out_of_step(work.size(), 0);
-    parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(dynamic, 1)
-        for (int64_t k = 0; k < int64_t(work.size()); ++k) guard.run([&] {
+    parallel_for(threads, int64_t(work.size()), 1, Schedule::Dynamic, [&](int64_t k0, int64_t k1, int) {
+        for (int64_t k = k0; k < k1; ++k)
             out_of_step[size_t(k)] = !merge_part(work[size_t(k)], flag.data(), part_rows[size_t(k)]);
-        });
     });
     if (std::find(out_of_step.begin(), out_of_step.end(), 1) != out_of_step.end())
         throw std::logic_error("grid: a list update is out of step with its rows");

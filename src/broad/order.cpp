@@ -30,25 +30,26 @@ void Grid::reserve_slots(size_t n) {
 }
 
 void Grid::renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
-                    void *scratch) {
+                    void *scratch, int threads) {
     const size_t n = old_of_new.size();  // (slots made since the last update are not in the grid)
     for (Level &lv : levels_)
         for (List *list : {&lv.residents, &lv.guests}) {
             uint32_t *slot = list->slot.data();
-#pragma omp for schedule(static)
-            for (int64_t k = 0; k < int64_t(list->count()); ++k) slot[k] = new_of_old[slot[k]];
+            const uint32_t *map = new_of_old.data();
+            parallel_for(threads, int64_t(list->count()), 4096, Schedule::Static, [=](int64_t b, int64_t e, int) {
+                uint32_t *const to = slot;  // (locals: the stores cannot change them)
+                const uint32_t *const by = map;
+                for (int64_t k = b; k < e; ++k) to[k] = by[to[k]];
+            });
         }
-    permute_records<2>(cell_.data(), old_of_new.data(), n, scratch);
-    permute_records<1>(gen_.data(), old_of_new.data(), n, scratch);
-    permute_records<1>(slack_.data(), old_of_new.data(), n, scratch);
-    permute_records<1>(level_.data(), old_of_new.data(), n, scratch);
-    permute_records<1>(exponent_.data(), old_of_new.data(), n, scratch);
-#pragma omp single
-    {
-        for (uint32_t &s : oversize_) s = new_of_old[s];
-        std::sort(oversize_.begin(), oversize_.end());
-        disorder_ = 0;
-    }
+    permute_records<2>(cell_.data(), old_of_new.data(), n, scratch, threads);
+    permute_records<1>(gen_.data(), old_of_new.data(), n, scratch, threads);
+    permute_records<1>(slack_.data(), old_of_new.data(), n, scratch, threads);
+    permute_records<1>(level_.data(), old_of_new.data(), n, scratch, threads);
+    permute_records<1>(exponent_.data(), old_of_new.data(), n, scratch, threads);
+    for (uint32_t &s : oversize_) s = new_of_old[s];
+    std::sort(oversize_.begin(), oversize_.end());
+    disorder_ = 0;
 }
 
 }  // namespace hgcd

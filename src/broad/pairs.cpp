@@ -1,7 +1,6 @@
 // The pair search: the sweeps of every level's rows (sweep.cpp), the range
 // queries of the oversize bodies and of levels that keep no guests, and the
 // sweep of the oversize bodies among themselves, as one parallel loop.
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -121,11 +120,10 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
     for (size_t k = 0; k < oversize_.size(); ++k) items.push_back({Work::kOversizeBody, 0, k, k + 1});
     if (oversize_.size() > 1) items.push_back({Work::kOversizeSweep, 0, 0, 0});
 
-    parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(dynamic, 1)
-        for (int64_t k = 0; k < int64_t(items.size()); ++k) guard.run([&] {
+    parallel_for(threads, int64_t(items.size()), 1, Schedule::Dynamic, [&](int64_t k0, int64_t k1, int me) {
+        PairBuffer &mine = out[size_t(me)];
+        for (int64_t k = k0; k < k1; ++k) {
             const Item &it = items[size_t(k)];
-            PairBuffer &mine = out[size_t(omp_get_thread_num())];
             switch (it.work) {
             case Work::kResidentRows:
                 sweep_residents(levels_[it.level], it.begin, it.end, mine);
@@ -152,7 +150,7 @@ void Grid::find_pairs(const Boxes &boxes, int threads, std::vector<PairBuffer> &
                 sweep_oversize(boxes, mine);
                 break;
             }
-        });
+        }
     });
 }
 

@@ -1,18 +1,30 @@
-// An exception must not leave an OpenMP region: the runtime would call
-// std::terminate, turning an out-of-memory into an abort. Region bodies run
-// through RegionGuard::run, which keeps the first exception; the caller
-// rethrows it once the region has ended. Once one body has failed, the rest
-// are skipped: the region's result is discarded anyway, and a thread's
-// scratch state may be half updated by the failure.
+// How hgcd runs parallel work: OpenMP by default, or the caller's task
+// system (hgcd_world_desc.enqueue_task). parallel_for runs a loop's ranges,
+// with no barrier inside, on either; parallel_region (OpenMP worksharing
+// with barriers) is for code not yet written as parallel_for loops, and runs
+// on the calling thread alone under a task system.
+//
+// An exception must not leave an OpenMP region (the runtime would call
+// std::terminate, turning an out-of-memory into an abort) nor a task (the
+// caller's task system is C). Loop and region bodies run through
+// RegionGuard::run, which keeps the first exception; the caller rethrows it
+// once the loop or region has ended. Once one body has failed, the rest are
+// skipped: the result is discarded anyway, and a thread's scratch state may
+// be half updated by the failure.
 #pragma once
+#include <omp.h>
 #include <time.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <type_traits>
 
 #include "common/ieee.hpp"
+#include "hgcd/hgcd.h"
 
 namespace hgcd {
 
@@ -25,7 +37,7 @@ class RegionGuard {
             f();
         } catch (...) {
             failed_.store(true, std::memory_order_relaxed);
-#pragma omp critical(hgcd_region_guard)
+            const std::lock_guard<std::mutex> lock(mutex_);
             if (!first_) first_ = std::current_exception();
         }
     }
@@ -35,7 +47,31 @@ class RegionGuard {
 
   private:
     std::atomic<bool> failed_{false};
+    std::mutex mutex_;
     std::exception_ptr first_;
+};
+
+// The caller's task system, attached to the calling thread for a call's
+// duration (as LoadMeter is): the parallel loops inside run on it.
+struct TaskSystem {
+    hgcd_enqueue_task_fn *enqueue = nullptr;
+    hgcd_finish_task_fn *finish = nullptr;
+    void *context = nullptr;
+
+    class Attach {
+      public:
+        explicit Attach(const TaskSystem *t) noexcept : saved_(current()) { current() = t; }
+        ~Attach() { current() = saved_; }
+        Attach(const Attach &) = delete;
+        Attach &operator=(const Attach &) = delete;
+
+      private:
+        const TaskSystem *saved_;
+    };
+    static const TaskSystem *&current() noexcept {
+        static thread_local const TaskSystem *tasks = nullptr;
+        return tasks;
+    }
 };
 
 // Nanoseconds of a clock: CLOCK_MONOTONIC, or CLOCK_THREAD_CPUTIME_ID (the
@@ -97,6 +133,7 @@ class LoadMeter {
 template <class Body>
 void parallel_region(int threads, Body &&body) {
     RegionGuard guard;
+    if (TaskSystem::current()) threads = 1;  // (its barriers need threads that run at once)
     LoadMeter *const meter = threads > 1 ? LoadMeter::current() : nullptr;
     const int64_t start = meter ? clock_ns(CLOCK_MONOTONIC) : 0;
 #pragma omp parallel num_threads(threads)
@@ -105,6 +142,103 @@ void parallel_region(int threads, Body &&body) {
         const int64_t cpu0 = meter ? clock_ns(CLOCK_THREAD_CPUTIME_ID) : 0;
         const int64_t wall0 = meter ? clock_ns(CLOCK_MONOTONIC) : 0;
         body(guard);
+        if (meter) {
+            const int64_t wall1 = clock_ns(CLOCK_MONOTONIC);
+            const int64_t cpu = clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0;
+            meter->add(wall1 - start, (wall0 - start) + std::max<int64_t>(0, (wall1 - wall0) - cpu));
+        }
+    }
+    guard.rethrow();
+}
+
+// How a parallel_for hands its items out on OpenMP: Static, one contiguous
+// range per thread (the partition of schedule(static)); Dynamic, ranges of
+// `grain` items to whichever thread is free. On a task system both hand it
+// ranges of at least `grain` items (min_range), in any order and on any
+// worker.
+enum class Schedule { Static, Dynamic };
+
+namespace detail {
+
+template <class Body>
+struct TaskLoop {
+    Body *body;
+    RegionGuard *guard;
+    int64_t count;
+    uint32_t workers;
+    std::atomic<int64_t> done{0};
+    std::atomic<bool> misused{false};
+
+    static void run(uint32_t begin, uint32_t end, uint32_t worker, void *context) {
+        TaskLoop &loop = *static_cast<TaskLoop *>(context);
+        if (worker >= loop.workers || begin > end || end > uint64_t(loop.count)) {
+            loop.misused.store(true, std::memory_order_relaxed);
+            return;
+        }
+        const IeeeMode ieee;
+        loop.guard->run([&] { (*loop.body)(int64_t(begin), int64_t(end), int(worker)); });
+        loop.done.fetch_add(int64_t(end) - int64_t(begin), std::memory_order_relaxed);
+    }
+};
+
+}  // namespace detail
+
+// Runs body(begin, end, worker) over ranges that cover the items [0, count)
+// once each, on `threads` workers (worker < threads; one range at a time
+// per worker, so per-worker state needs no lock; which worker gets which
+// range is not fixed, nor their order): on OpenMP threads, or on the
+// task system attached to the calling thread, whose workers are the world's
+// thread count (so `threads` is that count, or 1: then the loop runs on the
+// calling thread alone, as worker 0). Each range runs in IEEE mode
+// (ieee.hpp), through one RegionGuard; the first exception is rethrown
+// here. The body must not wait for another range. OpenMP loops of 2 or more
+// threads report to the calling thread's LoadMeter.
+template <class Body>
+void parallel_for(int threads, int64_t count, int64_t grain, Schedule schedule, Body &&body) {
+    if (count <= 0) return;
+    grain = std::max<int64_t>(grain, 1);
+    RegionGuard guard;
+    if (threads <= 1) {  // (on a task system too: a loop kept on one thread is small)
+        guard.run([&] { body(int64_t(0), count, 0); });
+        guard.rethrow();
+        return;
+    }
+    if (const TaskSystem *tasks = TaskSystem::current()) {
+        if (count > int64_t(UINT32_MAX)) throw std::length_error("parallel_for: more than 2^32 - 1 items");
+        using Loop = detail::TaskLoop<std::remove_reference_t<Body>>;
+        Loop loop;
+        loop.body = &body;
+        loop.guard = &guard;
+        loop.count = count;
+        loop.workers = uint32_t(threads);
+        void *handle = tasks->enqueue(&Loop::run, uint32_t(count), uint32_t(std::min<int64_t>(grain, count)), &loop,
+                                      tasks->context);
+        if (handle) tasks->finish(handle, tasks->context);
+        if (loop.misused.load(std::memory_order_relaxed))
+            throw std::runtime_error("task system: a task ran with a worker index past thread_count or a bad range");
+        guard.rethrow();
+        if (loop.done.load(std::memory_order_relaxed) != count)
+            throw std::runtime_error("task system: the tasks did not cover every item exactly once");
+        return;
+    }
+    LoadMeter *const meter = LoadMeter::current();
+    const int64_t start = meter ? clock_ns(CLOCK_MONOTONIC) : 0;
+#pragma omp parallel num_threads(threads)
+    {
+        const IeeeMode ieee;
+        const int64_t cpu0 = meter ? clock_ns(CLOCK_THREAD_CPUTIME_ID) : 0;
+        const int64_t wall0 = meter ? clock_ns(CLOCK_MONOTONIC) : 0;
+        const int me = omp_get_thread_num();
+        if (schedule == Schedule::Static) {
+            const int64_t team = omp_get_num_threads(), q = count / team, r = count % team;
+            const int64_t b = me * q + std::min<int64_t>(me, r), e = b + q + (me < r);
+            if (b < e) guard.run([&] { body(b, e, me); });
+        } else {
+            const int64_t ranges = (count + grain - 1) / grain;
+#pragma omp for schedule(dynamic, 1) nowait
+            for (int64_t k = 0; k < ranges; ++k)
+                guard.run([&] { body(k * grain, std::min(count, (k + 1) * grain), me); });
+        }
         if (meter) {
             const int64_t wall1 = clock_ns(CLOCK_MONOTONIC);
             const int64_t cpu = clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0;

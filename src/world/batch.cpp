@@ -6,7 +6,6 @@
 #include <limits>
 #include <string>
 
-#include <omp.h>
 
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
@@ -45,12 +44,10 @@ template <class Check>
 int64_t World::first_failing(size_t count, Check &&check) const {
     const int T = count >= kParallelEntries ? threads() : 1;
     std::vector<int64_t> first(size_t(T), kNone);
-    parallel_region(T, [&](RegionGuard &) {
-        int64_t mine = kNone;
-#pragma omp for schedule(static) nowait
-        for (int64_t k = 0; k < int64_t(count); ++k)
-            if (mine == kNone && !check(size_t(k))) mine = k;
-        first[size_t(omp_get_thread_num())] = mine;
+    parallel_for(T, int64_t(count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
+        int64_t k = b;
+        while (k < e && check(size_t(k))) ++k;
+        if (k < e) first[size_t(me)] = std::min(first[size_t(me)], k);  // (the least failing of the worker's ranges)
     });
     return *std::min_element(first.begin(), first.end());
 }
@@ -58,9 +55,8 @@ int64_t World::first_failing(size_t count, Check &&check) const {
 template <class Apply>
 void World::for_entries(size_t count, Apply &&apply) {
     const int T = count >= kParallelEntries ? threads() : 1;
-    parallel_region(T, [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t k = 0; k < int64_t(count); ++k) apply(size_t(k));
+    parallel_for(T, int64_t(count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        for (int64_t k = b; k < e; ++k) apply(size_t(k));
     });
 }
 
@@ -142,28 +138,30 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     const size_t n = slot_of_.size(), blocks = (n + kBlock - 1) / kBlock;
     const int T = n >= kParallelEntries ? threads() : 1;
     std::vector<Entry> staging(size_t(T) * kBlock);
-    parallel_region(T, [&](RegionGuard &guard) {
-        Entry *in = staging.data() + size_t(omp_get_thread_num()) * kBlock;
-#pragma omp for schedule(static)
-        for (int64_t blk = 0; blk < int64_t(blocks); ++blk) guard.run([&] {
-            const size_t begin = size_t(blk) * kBlock, end = std::min(n, begin + kBlock);
+    parallel_for(T, int64_t(blocks), 1, Schedule::Static, [&](int64_t blk0, int64_t blk1, int me) {
+        Entry *in = staging.data() + size_t(me) * kBlock;
+        // (Locals, not the captures: the copies below might write those.)
+        const double *const positions_ = positions, *const orientations_ = orientations;
+        const size_t ps_ = ps, os_ = os, count_ = count, n_ = n;
+        for (int64_t blk = blk0; blk < blk1; ++blk) {
+            const size_t begin = size_t(blk) * kBlock, end = std::min(n_, begin + kBlock);
             for (size_t i = begin; i < end; ++i) {
                 const size_t k = slot_of_[i];
-                if (k >= count || !stored_gen_[i]) continue;
-                if (positions) std::memcpy(in[i - begin].position, entry(positions, ps, k), sizeof(Entry::position));
-                if (orientations) {
-                    std::memcpy(in[i - begin].orientation, entry(orientations, os, k), sizeof(Entry::orientation));
+                if (k >= count_ || !stored_gen_[i]) continue;
+                if (positions_) std::memcpy(in[i - begin].position, entry(positions_, ps_, k), sizeof(Entry::position));
+                if (orientations_) {
+                    std::memcpy(in[i - begin].orientation, entry(orientations_, os_, k), sizeof(Entry::orientation));
                     __builtin_prefetch(&meshes_[body_mesh_[i]].box_points);  // (scattered where meshes are per body)
                 }
             }
             for (size_t i = begin; i < end; ++i) {
                 const size_t k = slot_of_[i];
-                if (k >= count || !stored_gen_[i]) continue;
-                if (orientations && i + 8 < end) __builtin_prefetch(meshes_[body_mesh_[i + 8]].box_points.data());
-                apply_pose(i, positions ? in[i - begin].position : nullptr,
-                           orientations ? in[i - begin].orientation : nullptr);
+                if (k >= count_ || !stored_gen_[i]) continue;
+                if (orientations_ && i + 8 < end) __builtin_prefetch(meshes_[body_mesh_[i + 8]].box_points.data());
+                apply_pose(i, positions_ ? in[i - begin].position : nullptr,
+                           orientations_ ? in[i - begin].orientation : nullptr);
             }
-        });
+        }
     });
     return HGCD_OK;
 }
@@ -199,12 +197,13 @@ hgcd_status World::get_poses(const hgcd_body *bodies, size_t count, double *posi
     const auto slot_of = [&](size_t k) { return bodies ? live_body(bodies[k]) : (live_gen_[k] ? int64_t(k) : -1); };
     if (first_failing(count, [&](size_t k) { return slot_of(k) >= 0; }) != kNone) return HGCD_ERROR_STALE_ID;
     const int T = count >= kParallelEntries ? threads() : 1;
-    parallel_region(T, [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t k = 0; k < int64_t(count); ++k) {
+    parallel_for(T, int64_t(count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        double *const positions_ = positions, *const orientations_ = orientations;  // (locals, as in set_poses)
+        const size_t ps_ = ps, os_ = os;
+        for (int64_t k = b; k < e; ++k) {
             const Placement &pl = place_[at_[size_t(slot_of(size_t(k)))]];
-            if (positions) std::memcpy(entry(positions, ps, size_t(k)), pl.position, sizeof pl.position);
-            if (orientations) std::memcpy(entry(orientations, os, size_t(k)), pl.orientation, sizeof pl.orientation);
+            if (positions_) std::memcpy(entry(positions_, ps_, size_t(k)), pl.position, sizeof pl.position);
+            if (orientations_) std::memcpy(entry(orientations_, os_, size_t(k)), pl.orientation, sizeof pl.orientation);
         }
     });
     return HGCD_OK;

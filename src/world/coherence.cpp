@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cstring>
 
-#include <omp.h>
-
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
 #include "world/world.hpp"
@@ -16,15 +14,14 @@ namespace hgcd {
 World::MovedCount World::count_moved(int threads) const {
     const size_t n = stored_gen_.size(), known = mover_.size();
     std::vector<MovedCount> of(static_cast<size_t>(threads));
-    parallel_region(threads, [&](RegionGuard &) {
-        MovedCount mine;
-#pragma omp for schedule(static) nowait
-        for (int64_t i = 0; i < int64_t(n); ++i) {
+    parallel_for(threads, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
+        MovedCount mine = of[size_t(me)];
+        for (int64_t i = b; i < e; ++i) {
             if (!stored_gen_[size_t(i)] || !moved_at_[size_t(i)]) continue;
             ++mine.moved;
             mine.new_movers += size_t(i) >= known || !(mover_[size_t(i)] & kMover);
         }
-        of[size_t(omp_get_thread_num())] = mine;
+        of[size_t(me)] = mine;
     });
     MovedCount all;
     for (const MovedCount &c : of) {
@@ -60,11 +57,10 @@ uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) 
     for (const hgcd_pair &p : prev_pairs_) ++prev_start_[p.a.index + 1];
     for (size_t s = 0; s < slots; ++s) prev_start_[s + 1] += prev_start_[s];
     std::vector<uint64_t> kept(size_t(threads), 0);
-    parallel_region(threads, [&](RegionGuard &guard) {
-        // One candidate list a thread (find_pairs made one per thread): its
-        // untested pairs leave it, the colliding ones go to that thread's hits.
-#pragma omp for schedule(dynamic, 1)
-        for (int t = 0; t < threads; ++t) guard.run([&] {
+    // One candidate list a worker (find_pairs made one per worker): its
+    // untested pairs leave it, the colliding ones go to that list's hits.
+    parallel_for(threads, threads, 1, Schedule::Dynamic, [&](int64_t t0, int64_t t1, int) {
+        for (int64_t t = t0; t < t1; ++t) {
             PairBuffer &list = found[size_t(t)];
             uint64_t *pairs = list.data();
             size_t write = 0;
@@ -85,7 +81,7 @@ uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) 
             }
             list.shrink(write);
             kept[size_t(t)] = here;
-        });
+        }
     });
     uint64_t total = 0;
     for (uint64_t k : kept) total += k;

@@ -114,10 +114,10 @@ struct World::NarrowPlan {
     std::unique_ptr<Contact[]> batch_verdicts;
 };
 
-// One thread's narrow phase. Its hits sit in a vector of the thread's own
-// stack frame while it pushes (the storage of hits_[thread], kept across
-// detects): the vectors of hits_ share cache lines, and every push writes
-// the vector's end.
+// One worker's narrow phase, on the heap apart from the others': the
+// vectors of hits_ share cache lines, and every push writes the vector's
+// end, so a worker's hits sit in its own record while it pushes (the
+// storage of hits_[worker], kept across detects).
 struct World::NarrowThread {
     NarrowScratch scratch;
     CcdScratch ccd_scratch;
@@ -155,17 +155,18 @@ GridLimits World::grid_limits(int threads) {
 
 double World::estimated_candidates_per_body(int threads) const {
     const int64_t n = int64_t(stored_gen_.size());
-    // Per thread, merged here on the calling thread: an OpenMP reduction
-    // would merge the workers' shares after their IeeeMode has ended.
+    // Per block of bodies, merged here in block order: the same sums for
+    // any thread count or schedule.
     struct Sums {
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         double a1 = 0, a2 = 0, a3 = 0, count = 0;
     };
-    std::vector<Sums> sums(static_cast<size_t>(threads));
-    parallel_region(threads, [&](RegionGuard &) {
+    constexpr int64_t kBlock = 16384;
+    std::vector<Sums> sums(size_t((n + kBlock - 1) / kBlock));
+    parallel_for(threads, int64_t(sums.size()), 1, Schedule::Static, [&](int64_t b0, int64_t b1, int) {
+        for (int64_t b = b0; b < b1; ++b) {
         Sums mine;
-#pragma omp for schedule(static) nowait
-        for (int64_t s = 0; s < n; ++s) {
+        for (int64_t s = b * kBlock; s < std::min(n, (b + 1) * kBlock); ++s) {
             if (!stored_gen_[s]) continue;
             const double *p = &point_[3 * s];
             const float *o = &box_off_[6 * s];
@@ -180,7 +181,8 @@ double World::estimated_candidates_per_body(int threads) const {
             mine.a3 += a * a * a;
             mine.count += 1;
         }
-        sums[size_t(omp_get_thread_num())] = mine;
+        sums[size_t(b)] = mine;
+        }
     });
     Sums all;
     for (const Sums &t : sums) {
@@ -355,25 +357,38 @@ void World::narrow_phase(int threads, const NarrowPlan &plan,
         uint64_t narrow_tests, triangle_tests, containment, libccd_tests, libccd_fallback;
     };
     std::vector<Counts> counts(size_t(threads), Counts{0, 0, 0, 0, 0});
-    parallel_region(threads, [&](RegionGuard &guard) {
-        const int me = omp_get_thread_num();
-        NarrowThread t;
-        t.hits.swap(hits_[me]);
-        if (plan.batch) {
-            t.tetra = plan.batch_pairs.get() + size_t(me) * kNarrowChunk;
-            t.verdict = plan.batch_verdicts.get() + size_t(me) * kNarrowChunk;
+    // Each worker's state, made by the worker on its first chunk (so that
+    // its pages are its thread's).
+    std::vector<std::unique_ptr<NarrowThread>> worker(static_cast<size_t>(threads));
+    parallel_for(threads, int64_t(plan.chunks.size()), 1, Schedule::Dynamic, [&](int64_t c0, int64_t c1, int me) {
+        std::unique_ptr<NarrowThread> &t = worker[size_t(me)];
+        if (!t) {
+            t.reset(new NarrowThread);
+            t->hits.swap(hits_[me]);
+            if (plan.batch) {
+                t->tetra = plan.batch_pairs.get() + size_t(me) * kNarrowChunk;
+                t->verdict = plan.batch_verdicts.get() + size_t(me) * kNarrowChunk;
+            }
         }
-#pragma omp for schedule(dynamic, 1)
-        for (int64_t c = 0; c < int64_t(plan.chunks.size()); ++c)
-            guard.run([&] { narrow_chunk(plan, plan.chunks[size_t(c)], t); });
-        counts[me] = Counts{t.scratch.exact_tests, t.scratch.triangle_tests, t.containment,
-                            t.ccd_scratch.tests, t.ccd_fallback};
-        if (plan.want_contacts)
-            guard.run([&] { sort_with_contacts(t.hits, t.contacts); });
-        else
-            guard.run([&] { sort_keys(t.hits, sort_scratch_[me]); });  // each thread its own share
-        hits_[me].swap(t.hits);
-        hit_contacts[me].swap(t.contacts);
+        for (int64_t c = c0; c < c1; ++c) narrow_chunk(plan, plan.chunks[size_t(c)], *t);
+    });
+    // Each worker's hits sorted, then kept in hits_ (with its contacts).
+    parallel_for(threads, threads, 1, Schedule::Dynamic, [&](int64_t w0, int64_t w1, int) {
+        for (int64_t me = w0; me < w1; ++me) {
+            NarrowThread *t = worker[size_t(me)].get();
+            if (!t) {  // no chunk: only what temporal coherence kept (never with contacts)
+                sort_keys(hits_[size_t(me)], sort_scratch_[size_t(me)]);
+                continue;
+            }
+            counts[size_t(me)] = Counts{t->scratch.exact_tests, t->scratch.triangle_tests, t->containment,
+                                        t->ccd_scratch.tests, t->ccd_fallback};
+            if (plan.want_contacts)
+                sort_with_contacts(t->hits, t->contacts);
+            else
+                sort_keys(t->hits, sort_scratch_[size_t(me)]);
+            hits_[size_t(me)].swap(t->hits);
+            hit_contacts[size_t(me)].swap(t->contacts);
+        }
     });
     for (const Counts &c : counts) {
         stats_.narrow_tests += c.narrow_tests;
@@ -523,9 +538,8 @@ void World::merge_hits(int threads, bool want_contacts, const std::vector<std::v
             out_at[p] += first[size_t(p) * T + t];
         }
     }
-    parallel_region(parts, [&](RegionGuard &guard) {
-#pragma omp for schedule(static, 1)
-        for (int p = 0; p < parts; ++p) guard.run([&] {
+    parallel_for(parts, parts, 1, Schedule::Dynamic, [&](int64_t p0, int64_t p1, int) {
+        for (int64_t p = p0; p < p1; ++p) {
             std::vector<size_t> head(T), end(T);
             for (int t = 0; t < T; ++t) {
                 head[t] = first[size_t(p) * T + t];
@@ -547,7 +561,7 @@ void World::merge_hits(int threads, bool want_contacts, const std::vector<std::v
                     contacts_[k].pair = pairs_[k];
                 }
             }
-        });
+        }
     });
 }
 

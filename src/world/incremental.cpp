@@ -55,20 +55,23 @@ void World::drop_movers() noexcept {
 void World::list_moved(int threads, size_t count) {
     moved_list_.resize(count);
     const size_t n = stored_gen_.size();
-    std::vector<size_t> first(size_t(threads) + 1, 0);
-    parallel_region(threads, [&](RegionGuard &) {
-        // Ranges of storage in thread order: counted, then written.
-        const size_t me = size_t(omp_get_thread_num()), team = size_t(omp_get_num_threads());
-        const size_t b = n * me / team, e = n * (me + 1) / team;
-        size_t mine = 0;
-        for (size_t i = b; i < e; ++i) mine += stored_gen_[i] && moved_at_[i];
-        first[me + 1] = mine;
-#pragma omp barrier
-#pragma omp single
-        for (size_t t = 0; t < team; ++t) first[t + 1] += first[t];
-        uint32_t *to = moved_list_.data() + first[me];
-        for (size_t i = b; i < e; ++i)
-            if (stored_gen_[i] && moved_at_[i]) *to++ = uint32_t(i);
+    // Ranges of storage in order, one a worker: counted, then written.
+    const size_t parts = size_t(threads);
+    std::vector<size_t> first(parts + 1, 0);
+    parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
+        for (size_t p = size_t(p0); p < size_t(p1); ++p) {
+            size_t mine = 0;
+            for (size_t i = n * p / parts; i < n * (p + 1) / parts; ++i) mine += stored_gen_[i] && moved_at_[i];
+            first[p + 1] = mine;
+        }
+    });
+    for (size_t p = 0; p < parts; ++p) first[p + 1] += first[p];
+    parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
+        for (size_t p = size_t(p0); p < size_t(p1); ++p) {
+            uint32_t *to = moved_list_.data() + first[p];
+            for (size_t i = n * p / parts; i < n * (p + 1) / parts; ++i)
+                if (stored_gen_[i] && moved_at_[i]) *to++ = uint32_t(i);
+        }
     });
 }
 
@@ -94,9 +97,8 @@ uint64_t World::update_movers(int threads) {
     side_r_level_.resize(k_count);
     side_gen_.resize(k_count);
     side_now_.resize(k_count);
-    parallel_region(threads, [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t k = 0; k < int64_t(k_count); ++k) {
+    parallel_for(threads, int64_t(k_count), 4096, Schedule::Static, [&](int64_t k0, int64_t k1, int) {
+        for (int64_t k = k0; k < k1; ++k) {
             const uint32_t i = side_storage_[size_t(k)];
             const uint32_t gen = stored_gen_[i];
             const bool now = gen && moved_at_[i];
@@ -128,39 +130,41 @@ size_t World::find_moved_candidates(int threads) {
     side_grid_.find_pairs(side, threads, side_found_);
     const Boxes world = boxes();
     const std::vector<uint32_t> &oversize = grid_.oversize();
-    parallel_region(threads, [&](RegionGuard &guard) {
-        PairBuffer &mine = candidates_[size_t(omp_get_thread_num())];
-        Grid::QueryCursors cursors, side_cursors;
-        // Each moved body against the grid's residents, less the movers
-        // (their boxes there are old) and the bodies destroyed since.
-#pragma omp for schedule(dynamic, 1) nowait
-        for (int64_t c = 0; c < int64_t(moved_list_.size()); c += kQueryChunk) guard.run([&] {
-            const size_t end = std::min(moved_list_.size(), size_t(c) + size_t(kQueryChunk));
-            for (size_t k = size_t(c); k < end; ++k) {
-                if (k + 8 < moved_list_.size()) {  // (in storage order, but sparse: few to a line)
-                    __builtin_prefetch(world.point(moved_list_[k + 8]));
-                    __builtin_prefetch(world.off + 6 * size_t(moved_list_[k + 8]));
-                }
-                const uint32_t m = moved_list_[k];
-                float lo[3], hi[3];
-                broad::float_box(world, m, lo, hi);
-                const size_t from = mine.size();
-                grid_.query(lo, hi, m, cursors, mine);
-                uint64_t *pairs = mine.data();
-                size_t to = from;
-                for (size_t p = from; p < mine.size(); ++p) {
-                    pairs[to] = pairs[p];
-                    to += mover_[uint32_t(pairs[p])] == 0;
-                }
-                mine.shrink(to);
+    // Each worker's cursors, kept from range to range.
+    std::vector<Grid::QueryCursors> cursors_of(static_cast<size_t>(threads)), side_cursors_of(cursors_of.size());
+    // Each moved body against the grid's residents, less the movers
+    // (their boxes there are old) and the bodies destroyed since.
+    parallel_for(threads, int64_t(moved_list_.size()), kQueryChunk, Schedule::Dynamic, [&](int64_t c0, int64_t c1,
+                                                                                            int me) {
+        PairBuffer &mine = candidates_[size_t(me)];
+        Grid::QueryCursors &cursors = cursors_of[size_t(me)];
+        for (size_t k = size_t(c0); k < size_t(c1); ++k) {
+            if (k + 8 < moved_list_.size()) {  // (in storage order, but sparse: few to a line)
+                __builtin_prefetch(world.point(moved_list_[k + 8]));
+                __builtin_prefetch(world.off + 6 * size_t(moved_list_[k + 8]));
             }
-        });
-        // The grid's oversize bodies that are not movers against the movers
-        // moved since the last detect.
-#pragma omp for schedule(dynamic, 1) nowait
-        for (int64_t v = 0; v < int64_t(oversize.size()); ++v) guard.run([&] {
+            const uint32_t m = moved_list_[k];
+            float lo[3], hi[3];
+            broad::float_box(world, m, lo, hi);
+            const size_t from = mine.size();
+            grid_.query(lo, hi, m, cursors, mine);
+            uint64_t *pairs = mine.data();
+            size_t to = from;
+            for (size_t p = from; p < mine.size(); ++p) {
+                pairs[to] = pairs[p];
+                to += mover_[uint32_t(pairs[p])] == 0;
+            }
+            mine.shrink(to);
+        }
+    });
+    // The grid's oversize bodies that are not movers against the movers
+    // moved since the last detect.
+    parallel_for(threads, int64_t(oversize.size()), 1, Schedule::Dynamic, [&](int64_t v0, int64_t v1, int me) {
+        PairBuffer &mine = candidates_[size_t(me)];
+        Grid::QueryCursors &side_cursors = side_cursors_of[size_t(me)];
+        for (int64_t v = v0; v < v1; ++v) {
             const uint32_t o = oversize[size_t(v)];
-            if (mover_[o]) return;
+            if (mover_[o]) continue;
             float lo[3], hi[3];
             broad::float_box(world, o, lo, hi);
             const size_t from = mine.size();
@@ -181,15 +185,17 @@ size_t World::find_moved_candidates(int threads) {
                     lo[2] <= h2[2])
                     mine.push_back(uint64_t(o) << 32 | side_storage_[k]);
             }
-        });
-        // The movers' own pairs with one moved since the last detect.
-#pragma omp for schedule(dynamic, 1)
-        for (int t = 0; t < threads; ++t) guard.run([&] {
+        }
+    });
+    // The movers' own pairs with one moved since the last detect.
+    parallel_for(threads, threads, 1, Schedule::Dynamic, [&](int64_t t0, int64_t t1, int me) {
+        PairBuffer &mine = candidates_[size_t(me)];
+        for (int64_t t = t0; t < t1; ++t) {
             for (const uint64_t key : side_found_[size_t(t)]) {
                 const uint32_t p = uint32_t(key >> 32), q = uint32_t(key);
                 if (side_now_[p] | side_now_[q]) mine.push_back(uint64_t(side_storage_[p]) << 32 | side_storage_[q]);
             }
-        });
+        }
     });
     size_t total = 0;
     for (const PairBuffer &c : candidates_) total += c.size();
@@ -203,16 +209,15 @@ size_t World::keep_unmoved_colliding(int threads) {
     const size_t parts = size_t(threads), total = prev_pairs_.size();
     hits_.resize(size_t(threads) + parts);
     for (auto &h : hits_) h.clear();
-    parallel_region(threads, [&](RegionGuard &guard) {
-#pragma omp for schedule(static)
-        for (int64_t p = 0; p < int64_t(parts); ++p) guard.run([&] {
+    parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
+        for (int64_t p = p0; p < p1; ++p) {
             std::vector<uint64_t> &kept = hits_[size_t(threads) + size_t(p)];
             const size_t b = total * size_t(p) / parts, e = total * size_t(p + 1) / parts;
             for (size_t k = b; k < e; ++k) {
                 const uint32_t a = prev_pairs_[k].a.index, c = prev_pairs_[k].b.index;
                 if (!(moved_[a] | moved_[c])) kept.push_back(pair_key(a, c));
             }
-        });
+        }
     });
     size_t kept = 0;
     for (size_t p = 0; p < parts; ++p) kept += hits_[size_t(threads) + p].size();

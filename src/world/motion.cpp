@@ -77,17 +77,17 @@ hgcd_status World::step() {
     if (!reflect_) {
         // Per thread, the largest slot of a body that would leave (-1: none).
         std::vector<int64_t> bad_of(size_t(T), -1);
-        parallel_region(T, [&](RegionGuard &) {  // (the moves' own arithmetic, in IEEE mode)
-            int64_t mine = -1;
-#pragma omp for schedule(static) nowait
-            for (int64_t s = 0; s < n; ++s) {
+        // (the moves' own arithmetic, in IEEE mode)
+        parallel_for(T, n, 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
+            int64_t mine = bad_of[size_t(me)];
+            for (int64_t s = b; s < e; ++s) {
                 if (!stored_gen_[s]) continue;
                 for (int k = 0; k < 3; ++k) {
                     if (!coordinate_ok(point_[3 * s + k] + velocity_[3 * s + k] * dt))
                         mine = std::max(mine, int64_t(slot_of_[s]));
                 }
             }
-            bad_of[size_t(omp_get_thread_num())] = mine;
+            bad_of[size_t(me)] = mine;
         });
         const int64_t bad = *std::max_element(bad_of.begin(), bad_of.end());
         if (bad >= 0)
@@ -176,24 +176,24 @@ bool World::renumber() {
     // the scratch holds kPermuteScratch bytes a body), all threads on each.
     const uint32_t *perm = old_of_new.data();
     void *tmp = scratch.get();
-    parallel_region(threads(), [&](RegionGuard &) {
-        grid_.renumber(old_of_new, new_of_old, tmp);
-        static_assert(sizeof(Placement) == 2 * kPermuteScratch, "placements move in two halves");
-        permute_part<kPermuteScratch>(place_.data(), sizeof(Placement), perm, n, tmp);
-        permute_part<kPermuteScratch>(reinterpret_cast<unsigned char *>(place_.data()) + kPermuteScratch,
-                                      sizeof(Placement), perm, n, tmp);
-        permute_records<3>(velocity_.data(), perm, n, tmp);
-        permute_records<3>(point_.data(), perm, n, tmp);
-        permute_records<6>(box_off_.data(), perm, n, tmp);
-        permute_records<1>(user_data_.data(), perm, n, tmp);
-        permute_records<1>(r_level_.data(), perm, n, tmp);
-        permute_records<1>(body_mesh_.data(), perm, n, tmp);
-        permute_records<1>(stored_gen_.data(), perm, n, tmp);
-        permute_records<1>(moved_at_.data(), perm, n, tmp);
-        if (!mover_.empty()) permute_records<1>(mover_.data(), perm, n, tmp);
-        permute_records<1>(slot_of_.data(), perm, n, tmp);
-#pragma omp for schedule(static)
-        for (int64_t k = 0; k < int64_t(n); ++k) at_[slot_of_[k]] = uint32_t(k);
+    const int T = threads();
+    grid_.renumber(old_of_new, new_of_old, tmp, T);
+    static_assert(sizeof(Placement) == 2 * kPermuteScratch, "placements move in two halves");
+    permute_part<kPermuteScratch>(place_.data(), sizeof(Placement), perm, n, tmp, T);
+    permute_part<kPermuteScratch>(reinterpret_cast<unsigned char *>(place_.data()) + kPermuteScratch,
+                                  sizeof(Placement), perm, n, tmp, T);
+    permute_records<3>(velocity_.data(), perm, n, tmp, T);
+    permute_records<3>(point_.data(), perm, n, tmp, T);
+    permute_records<6>(box_off_.data(), perm, n, tmp, T);
+    permute_records<1>(user_data_.data(), perm, n, tmp, T);
+    permute_records<1>(r_level_.data(), perm, n, tmp, T);
+    permute_records<1>(body_mesh_.data(), perm, n, tmp, T);
+    permute_records<1>(stored_gen_.data(), perm, n, tmp, T);
+    permute_records<1>(moved_at_.data(), perm, n, tmp, T);
+    if (!mover_.empty()) permute_records<1>(mover_.data(), perm, n, tmp, T);
+    permute_records<1>(slot_of_.data(), perm, n, tmp, T);
+    parallel_for(T, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        for (int64_t k = b; k < e; ++k) at_[slot_of_[k]] = uint32_t(k);
     });
     for (uint32_t &i : side_storage_) i = new_of_old[i];  // (the second grid's slots are its own)
     return true;

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "common/parallel.hpp"
+
 namespace hgcd {
 
 // Bytes of scratch per element that permute_part needs at most (its
@@ -14,27 +16,37 @@ constexpr size_t kPermuteScratch = 32;
 // Moves bytes [0, kBytes) of element old_of_new[k] to element k, for every
 // k < n, in an array of elements `stride` bytes apart from `base`: a gather
 // into scratch (room for n * kBytes bytes), then a copy back, each a
-// worksharing loop of the enclosing OpenMP region, so every thread of the
-// region must call it, in the same order (each loop ends with a barrier).
-// The loads of the gather are independent, so many are in flight at once:
-// following the permutation's cycles in place waited for each read before
-// the next.
+// parallel loop on `threads` workers. The loads of the gather are
+// independent, so many are in flight at once: following the permutation's
+// cycles in place waited for each read before the next.
+// (The loops take their pointers as arguments: as the loop body's
+// captures they were reloaded after every copy, which might write them.)
 template <size_t kBytes>
-void permute_part(void *base, size_t stride, const uint32_t *old_of_new, size_t n, void *scratch) {
+void gather_part(unsigned char *to, const unsigned char *from, size_t stride, const uint32_t *old_of_new, int64_t b,
+                 int64_t e) {
+    for (int64_t k = b; k < e; ++k) std::memcpy(to + size_t(k) * kBytes, from + size_t(old_of_new[k]) * stride, kBytes);
+}
+template <size_t kBytes>
+void scatter_part(unsigned char *to, const unsigned char *from, size_t stride, int64_t b, int64_t e) {
+    for (int64_t k = b; k < e; ++k) std::memcpy(to + size_t(k) * stride, from + size_t(k) * kBytes, kBytes);
+}
+
+template <size_t kBytes>
+void permute_part(void *base, size_t stride, const uint32_t *old_of_new, size_t n, void *scratch, int threads) {
     static_assert(kBytes <= kPermuteScratch, "scratch too small");
     unsigned char *const a = static_cast<unsigned char *>(base);
     unsigned char *const s = static_cast<unsigned char *>(scratch);
-#pragma omp for schedule(static)
-    for (int64_t k = 0; k < int64_t(n); ++k) std::memcpy(s + size_t(k) * kBytes, a + size_t(old_of_new[k]) * stride, kBytes);
-#pragma omp for schedule(static)
-    for (int64_t k = 0; k < int64_t(n); ++k) std::memcpy(a + size_t(k) * stride, s + size_t(k) * kBytes, kBytes);
+    parallel_for(threads, int64_t(n), 4096, Schedule::Static,
+                 [=](int64_t b, int64_t e, int) { gather_part<kBytes>(s, a, stride, old_of_new, b, e); });
+    parallel_for(threads, int64_t(n), 4096, Schedule::Static,
+                 [=](int64_t b, int64_t e, int) { scatter_part<kBytes>(a, s, stride, b, e); });
 }
 
 // The same for an array of n records of kBytes bytes each (T: the element
 // type, kPer elements a record).
 template <size_t kPer, class T>
-void permute_records(T *a, const uint32_t *old_of_new, size_t n, void *scratch) {
-    permute_part<kPer * sizeof(T)>(a, kPer * sizeof(T), old_of_new, n, scratch);
+void permute_records(T *a, const uint32_t *old_of_new, size_t n, void *scratch, int threads) {
+    permute_part<kPer * sizeof(T)>(a, kPer * sizeof(T), old_of_new, n, scratch, threads);
 }
 
 }  // namespace hgcd

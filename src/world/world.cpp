@@ -48,7 +48,8 @@ const char *check_narrow_phase(int32_t mode, bool per_mesh, hgcd_status *status)
 
 World::World(const hgcd_world_desc &d)
     : thread_count_(d.thread_count),
-      adaptive_threads_(d.thread_policy == HGCD_THREADS_ADAPTIVE),
+      adaptive_threads_(d.thread_policy == HGCD_THREADS_ADAPTIVE && !d.enqueue_task),
+      tasks_{d.enqueue_task, d.finish_task, d.task_context},
       time_step_(d.time_step), reflect_(d.reflect_at_bounds != 0) {
     // From a count of worlds created, not from an address, so a program that
     // creates its worlds in the same order gets the same ids on every run.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "broad/grid.hpp"
+#include "common/parallel.hpp"
 #include "hgcd/hgcd.h"
 #include "world/mesh.hpp"
 #include "world/threads.hpp"
@@ -67,8 +68,10 @@ class World {
         thread_count_ = n;
         governor_.reset();
     }
+    // The caller's task system, or NULL (OpenMP).
+    const TaskSystem *task_system() const { return tasks_.enqueue ? &tasks_ : nullptr; }
     void set_thread_policy(int32_t policy) {
-        adaptive_threads_ = policy == HGCD_THREADS_ADAPTIVE;
+        adaptive_threads_ = policy == HGCD_THREADS_ADAPTIVE && !tasks_.enqueue;
         governor_.reset();
     }
     // Narrow phase choice (enum hgcd_narrow_phase) and contacts (hgcd.h).
@@ -174,6 +177,7 @@ class World {
     uint32_t thread_count_;
     bool adaptive_threads_;
     ThreadGovernor governor_;
+    TaskSystem tasks_;
     double time_step_;
     bool reflect_;
     double bounds_min_[3], bounds_max_[3];

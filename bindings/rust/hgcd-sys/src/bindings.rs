@@ -290,6 +290,45 @@ extern "C" {
     #[doc = "  HGCD_ERROR_NOT_SUPPORTED (\"not built with libccd\"). Any thread."]
     pub fn hgcd_feature_libccd() -> i32;
 }
+#[doc = " One range of a parallel loop, for the caller's task system"]
+#[doc = "  (hgcd_world_desc.enqueue_task): runs the loop's items [begin, end) as"]
+#[doc = "  worker `worker`. Called with the task_context that enqueue_task received."]
+pub type hgcd_task_fn = ::std::option::Option<
+    unsafe extern "C" fn(
+        begin: u32,
+        end: u32,
+        worker: u32,
+        task_context: *mut ::std::os::raw::c_void,
+    ),
+>;
+#[doc = " The caller's task system, in the manner of Box2D v3's b2EnqueueTaskCallback:"]
+#[doc = "  run task(begin, end, worker, task_context) over ranges that cover"]
+#[doc = "  [0, item_count) exactly once, each of at least min_range items (except"]
+#[doc = "  perhaps the last), on any threads, in any order, at once or not, where"]
+#[doc = "  `worker` < the world's thread_count and no two ranges run at once with"]
+#[doc = "  the same worker (hgcd keeps state per worker). Return a handle that"]
+#[doc = "  finish_task receives, or NULL when every range has already run (e.g."]
+#[doc = "  inline, in this call). user_context is hgcd_world_desc.task_context. A"]
+#[doc = "  task never waits for another task; it returns normally (hgcd catches its"]
+#[doc = "  own errors)."]
+pub type hgcd_enqueue_task_fn = ::std::option::Option<
+    unsafe extern "C" fn(
+        task: hgcd_task_fn,
+        item_count: u32,
+        min_range: u32,
+        task_context: *mut ::std::os::raw::c_void,
+        user_context: *mut ::std::os::raw::c_void,
+    ) -> *mut ::std::os::raw::c_void,
+>;
+#[doc = " Waits until every range of the loop enqueue_task returned `handle` for"]
+#[doc = "  has run (Box2D v3's b2FinishTaskCallback). The calling thread may run"]
+#[doc = "  ranges meanwhile."]
+pub type hgcd_finish_task_fn = ::std::option::Option<
+    unsafe extern "C" fn(
+        handle: *mut ::std::os::raw::c_void,
+        user_context: *mut ::std::os::raw::c_void,
+    ),
+>;
 #[doc = " World descriptor: get one from hgcd_world_desc_default(), change the"]
 #[doc = "  fields you need, pass it to hgcd_world_create (which copies it)."]
 #[repr(C)]
@@ -340,12 +379,28 @@ pub struct hgcd_world_desc {
     #[doc = "  the cores are busy with other work) or FIXED (always thread_count)."]
     #[doc = "  Never changes the pairs."]
     pub thread_policy: i32,
+    #[doc = " The caller's task system (both set, or both NULL: the default)."]
+    #[doc = "  When set, step, detect and the batch calls run their parallel loops"]
+    #[doc = "  as tasks: enqueue_task, then finish_task, each loop finished before"]
+    #[doc = "  the call goes on, from the thread calling hgcd, never from another"]
+    #[doc = "  thread; no OpenMP thread is started. thread_count (at least 1) is the"]
+    #[doc = "  number of workers, and the thread policy is not used. The pairs are"]
+    #[doc = "  the same bits as with OpenMP. Parts of the work that are not loops"]
+    #[doc = "  run on the calling thread. A task system that breaks the contract of"]
+    #[doc = "  hgcd_enqueue_task_fn (a worker index >= thread_count, a range past"]
+    #[doc = "  item_count, an item run twice or never) makes the call fail with"]
+    #[doc = "  HGCD_ERROR_INTERNAL where it is seen: items run twice or at once"]
+    #[doc = "  under one worker are undefined behaviour. Default NULL."]
+    pub enqueue_task: hgcd_enqueue_task_fn,
+    pub finish_task: hgcd_finish_task_fn,
+    #[doc = " Passed to enqueue_task and finish_task as user_context. Default NULL."]
+    pub task_context: *mut ::std::os::raw::c_void,
 }
 #[test]
 fn bindgen_test_layout_hgcd_world_desc() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_world_desc>(),
-        104usize,
+        128usize,
         concat!("Size of: ", stringify!(hgcd_world_desc))
     );
     assert_eq!(
@@ -557,6 +612,57 @@ fn bindgen_test_layout_hgcd_world_desc() {
         );
     }
     test_field_thread_policy();
+    fn test_field_enqueue_task() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).enqueue_task) as usize - ptr as usize
+            },
+            104usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(enqueue_task)
+            )
+        );
+    }
+    test_field_enqueue_task();
+    fn test_field_finish_task() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).finish_task) as usize - ptr as usize
+            },
+            112usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(finish_task)
+            )
+        );
+    }
+    test_field_finish_task();
+    fn test_field_task_context() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).task_context) as usize - ptr as usize
+            },
+            120usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(task_context)
+            )
+        );
+    }
+    test_field_task_context();
 }
 extern "C" {
     #[doc = " A world descriptor with every default filled in (see the fields)."]

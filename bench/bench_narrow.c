@@ -4,12 +4,14 @@
  * (witness triangles for the exact test, EPA / MPR penetration for libccd).
  *
  *   bench_narrow [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
- *                [--modes exact,gjk,mpr,exact+c,gjk+c,mpr+c] [--sphere L]
+ *                [--modes exact,gjk,mpr,exact+c,gjk+c,mpr+c] [--sphere L] [--box 1]
  *
  * --sphere L replaces the tetrahedron by an icosphere of 20 * 4^L triangles
  * (convex, circumradius 1, scaled to each body's circumradius r): the same
  * poses with a mesh that has many triangles (L >= 2 takes the tree path of
  * the exact narrow phase). Default 0: the tetrahedron of the scene.
+ * --box 1 replaces it by the cube [-1, 1]^3, at the tetrahedron's scale (the
+ * same circumradius): boxes with the tetra scene's placement and motion.
  *
  * One world holds the scene; every tick runs hgcd_world_detect once per mode
  * (switching with hgcd_world_set_narrow_phase / hgcd_world_set_contacts, so
@@ -26,6 +28,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include <hgcd/hgcd.h>
 #include <hgcd/hgcd_scene.h>
+
+#include "scene_shapes.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -47,71 +51,6 @@ static int cmp_double(const void *a, const void *b) {
 static double median(double *v, int count) {
     qsort(v, (size_t)count, sizeof *v, cmp_double);
     return count % 2 ? v[count / 2] : 0.5 * (v[count / 2 - 1] + v[count / 2]);
-}
-
-/* Icosphere of level L on the unit sphere: 20 * 4^L triangles (outward) and
- * 10 * 4^L + 2 shared vertices, so the mesh is closed and convex. */
-static void icosphere(int level, double **v, uint32_t *nv, uint32_t **t, uint32_t *nt) {
-    const double g = 1.6180339887498949;
-    const double base[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                                {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-    const uint32_t faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                   {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                   {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                   {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-    uint32_t tris = 20;
-    for (int k = 0; k < level; ++k) tris *= 4;
-    const uint32_t verts = tris / 2 + 2;
-    *v = malloc(3 * (size_t)verts * sizeof(double));
-    *t = malloc(3 * (size_t)tris * sizeof(uint32_t));
-    uint32_t *tmp = malloc(3 * (size_t)tris * sizeof(uint32_t));
-    uint64_t *edge_key = malloc(3 * (size_t)tris * sizeof(uint64_t));
-    uint32_t *edge_mid = malloc(3 * (size_t)tris * sizeof(uint32_t));
-    uint32_t cv = 12, ct = 20;
-    for (int i = 0; i < 12; ++i) {
-        const double l = sqrt(base[i][0] * base[i][0] + base[i][1] * base[i][1] + base[i][2] * base[i][2]);
-        for (int k = 0; k < 3; ++k) (*v)[3 * i + k] = base[i][k] / l;
-    }
-    memcpy(*t, faces, sizeof faces);
-    for (int lv = 0; lv < level; ++lv) {
-        size_t ne = 0;
-        for (uint32_t f = 0; f < ct; ++f) {
-            uint32_t mid[3];
-            for (int e = 0; e < 3; ++e) {
-                uint32_t a = (*t)[3 * f + e], b = (*t)[3 * f + (e + 1) % 3];
-                if (a > b) {
-                    const uint32_t x = a;
-                    a = b;
-                    b = x;
-                }
-                const uint64_t key = (uint64_t)a << 32 | b;
-                size_t q = 0;
-                while (q < ne && edge_key[q] != key) ++q;
-                if (q == ne) {
-                    double m[3], l = 0;
-                    for (int k = 0; k < 3; ++k) {
-                        m[k] = 0.5 * ((*v)[3 * a + k] + (*v)[3 * b + k]);
-                        l += m[k] * m[k];
-                    }
-                    for (int k = 0; k < 3; ++k) (*v)[3 * cv + k] = m[k] / sqrt(l);
-                    edge_key[ne] = key;
-                    edge_mid[ne++] = cv++;
-                }
-                mid[e] = edge_mid[q];
-            }
-            const uint32_t a = (*t)[3 * f], b = (*t)[3 * f + 1], c = (*t)[3 * f + 2];
-            const uint32_t sub[4][3] = {{a, mid[0], mid[2]}, {b, mid[1], mid[0]}, {c, mid[2], mid[1]},
-                                        {mid[0], mid[1], mid[2]}};
-            memcpy(&tmp[12 * (size_t)f], sub, sizeof sub);
-        }
-        ct *= 4;
-        memcpy(*t, tmp, 3 * (size_t)ct * sizeof(uint32_t));
-    }
-    *nv = cv;
-    *nt = ct;
-    free(tmp);
-    free(edge_key);
-    free(edge_mid);
 }
 
 typedef struct {
@@ -148,7 +87,7 @@ static size_t differ(const hgcd_pair *a, size_t na, const hgcd_pair *b, size_t n
 int main(int argc, char **argv) {
     uint64_t n = 100000, seed = 1;
     unsigned threads = 1;
-    int ticks = 5, sphere = 0;
+    int ticks = 5, sphere = 0, box = 0;
     const char *commit = "unknown", *modes_arg = "exact,gjk,mpr,exact+c,gjk+c,mpr+c";
     for (int i = 1; i < argc; ++i) {
         if (i + 1 >= argc) {
@@ -164,13 +103,14 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--commit")) commit = v;
         else if (!strcmp(a, "--modes")) modes_arg = v;
         else if (!strcmp(a, "--sphere")) sphere = atoi(v);
+        else if (!strcmp(a, "--box")) box = atoi(v);
         else {
             fprintf(stderr, "bench_narrow: unknown option %s\n", a);
             return 2;
         }
     }
-    if (n == 0 || ticks < 1 || sphere < 0 || sphere > 6) {
-        fprintf(stderr, "bench_narrow: need n >= 1, ticks >= 1 and 0 <= sphere <= 6\n");
+    if (n == 0 || ticks < 1 || sphere < 0 || sphere > 4 || (box && sphere)) {
+        fprintf(stderr, "bench_narrow: need n >= 1, ticks >= 1, 0 <= sphere <= 4, and not both a box and a sphere\n");
         return 2;
     }
     int use[MODE_COUNT] = {0};
@@ -222,12 +162,23 @@ int main(int argc, char **argv) {
     md.triangles = ut;
     md.vertex_count = 4;
     md.triangle_count = 4;
-    double *sv = NULL;
-    uint32_t *st_ = NULL;
+    double *sv = NULL, bv[24];
+    uint32_t *st_ = NULL, bt[36];
     if (sphere) {
-        icosphere(sphere, &sv, &md.vertex_count, &st_, &md.triangle_count);
+        md.vertex_count = hgcd_icosphere_vertex_count(sphere);
+        md.triangle_count = hgcd_icosphere_triangle_count(sphere);
+        sv = malloc(3 * (size_t)md.vertex_count * sizeof(double));
+        st_ = malloc(8 * (size_t)md.triangle_count * sizeof(uint32_t)); /* triangles, then scratch */
+        if (!sv || !st_) return 1;
+        hgcd_icosphere(sphere, sv, st_, st_ + 3 * (size_t)md.triangle_count);
         md.vertices = sv;
         md.triangles = st_;
+    } else if (box) {
+        hgcd_box_mesh(1, 1, 1, bv, bt);
+        md.vertices = bv;
+        md.triangles = bt;
+        md.vertex_count = 8;
+        md.triangle_count = 12;
     }
     hgcd_mesh mesh;
     if (failed(hgcd_mesh_create(w, &md, &mesh), w, "mesh_create")) return 1;
@@ -275,11 +226,11 @@ int main(int argc, char **argv) {
     }
 
     fprintf(stderr, "tetra n=%llu seed %llu, mesh %s (%u triangles), %u thread(s), %d ticks, libccd %s, commit %s\n",
-            (unsigned long long)n, (unsigned long long)seed, sphere ? "icosphere" : "tetrahedron",
+            (unsigned long long)n, (unsigned long long)seed, sphere ? "icosphere" : box ? "box" : "tetrahedron",
             md.triangle_count, last[0].thread_count ? last[0].thread_count : threads, ticks,
             hgcd_feature_libccd() == 2 ? "double" : hgcd_feature_libccd() == 1 ? "single" : "none", commit);
-    fprintf(stderr, "%-8s %10s %10s %9s %12s %12s\n", "mode", "narrow_ms", "detect_ms", "pairs", "libccd_tests",
-            "pairs_differ");
+    fprintf(stderr, "%-8s %10s %10s %9s %10s %9s %12s %12s\n", "mode", "narrow_ms", "detect_ms", "pairs", "candidates",
+            "ns/cand", "libccd_tests", "pairs_differ");
     for (int m = 0; m < MODE_COUNT; ++m) {
         if (!use[m]) continue;
         double nm[4096], dm[4096];
@@ -289,15 +240,18 @@ int main(int argc, char **argv) {
             dm[t] = detect_ms[t * MODE_COUNT + m];
         }
         const double nmed = median(nm, k), dmed = median(dm, k);
-        fprintf(stderr, "%-8s %10.2f %10.2f %9llu %12llu %12zu\n", all_modes[m].name, nmed, dmed,
-                (unsigned long long)last[m].colliding_pairs, (unsigned long long)last[m].libccd_tests,
-                last_differ[m]);
+        const double per = 1e6 * nmed / (double)(last[m].candidate_pairs ? last[m].candidate_pairs : 1);
+        fprintf(stderr, "%-8s %10.2f %10.2f %9llu %10llu %9.1f %12llu %12zu\n", all_modes[m].name, nmed, dmed,
+                (unsigned long long)last[m].colliding_pairs, (unsigned long long)last[m].candidate_pairs, per,
+                (unsigned long long)last[m].libccd_tests, last_differ[m]);
         printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
                "\"commit\":\"%s\",\"mesh_triangles\":%u,\"narrow\":\"%s\",\"contacts\":%u,\"narrow_ms\":%.3f,\"detect_ms\":%.3f,"
-               "\"pairs\":%llu,\"libccd_tests\":%llu,\"pairs_differ\":%zu,\"libccd\":%d}\n",
+               "\"pairs\":%llu,\"candidate_pairs\":%llu,\"ns_per_candidate\":%.1f,\"mesh\":\"%s\",\"libccd_tests\":%llu,"
+               "\"pairs_differ\":%zu,\"libccd\":%d}\n",
                (unsigned long long)n, (unsigned long long)seed, last[m].thread_count, ticks, commit,
                md.triangle_count, all_modes[m].narrow == HGCD_NARROW_EXACT ? "exact" : all_modes[m].narrow == HGCD_NARROW_GJK ? "gjk" : "mpr",
                all_modes[m].contacts, nmed, dmed, (unsigned long long)last[m].colliding_pairs,
+               (unsigned long long)last[m].candidate_pairs, per, sphere ? "icosphere" : box ? "box" : "tetrahedron",
                (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd());
     }
     hgcd_world_destroy(w);

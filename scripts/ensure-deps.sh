@@ -37,6 +37,7 @@ case "$target" in
            "/usr/include/ccd/ccd.h:libccd-dev"
            "/usr/include/fcl/config.h:libfcl-dev" "/usr/include/bullet/btBulletCollisionCommon.h:libbullet-dev"
            "/usr/include/ode/ode.h:libode-dev" "python3:python3"
+           "/usr/include/embree3/rtcore.h:libembree-dev"
            "/usr/include/tiny_obj_loader.h:libtinyobjloader-dev" "/usr/include/assimp/Importer.hpp:libassimp-dev"
            "mpicxx:libopenmpi-dev" "mpirun:openmpi-bin") ;;
   *) echo "usage: $0 demo|check|test|bench" >&2; exit 2 ;;

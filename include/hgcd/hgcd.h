@@ -46,7 +46,10 @@
  * Threads: one world is used by one thread at a time, except that calls
  *   taking a const hgcd_world* ("read-only" below) may overlap with each
  *   other. Different worlds are independent. Functions without a world
- *   argument may be called from any thread at any time.
+ *   argument may be called from any thread at any time. Inside a call the
+ *   world runs its parallel loops on OpenMP threads (thread_count,
+ *   thread_policy) or, if its descriptor names one, on the caller's task
+ *   system (enqueue_task); the results are the same bits either way.
  * Floating point: callers may run in any floating-point mode; every call
  *   computes in IEEE's default mode and restores the caller's.
  * Memory: the library owns everything it returns a pointer to; the caller
@@ -840,6 +843,158 @@ HGCD_API hgcd_status hgcd_body_validate(const hgcd_world *world,
  *  message (the world is const). Read-only, O(1). */
 HGCD_API hgcd_status hgcd_mesh_validate(const hgcd_world *world,
                                         hgcd_mesh mesh);
+
+/* ------------------------------------------------------------------------ */
+/* Scene queries                                                             */
+/* ------------------------------------------------------------------------ */
+
+/* Rays, boxes, points and meshes at a pose against the world's bodies, many
+ * at once, each decided exactly like the pairs (docs/semantics.md, "Scene
+ * queries"): on the bodies' world vertices, with exact predicates, touching
+ * counts. Batched and parallel on the world's threads; every answer, and its
+ * order, is the same at any thread count.
+ *
+ * Cost: the first query after bodies were created, destroyed or moved (a
+ * pose set, a step) builds a tree over the bodies' boxes, O(n log n), mostly
+ * on one thread (about half a second for 750,000 bodies); later queries
+ * reuse it. A query
+ * then costs about O(log n) plus the exact tests of the bodies its tree
+ * search reaches; a mesh of more than 48 triangles is tested triangle by
+ * triangle (no tree of its own yet).
+ *
+ * Threading: a query call changes the world's query cache and result arrays,
+ * so it needs exclusive use of the world like every hgcd_world * call.
+ * Refusals: every input is checked before any work; a refused call changes
+ * nothing (the previous query's results stay valid). */
+
+/** Which bodies a query considers: bodies whose category bits meet the
+ *  query's mask_bits and whose mask bits meet its category_bits. Bodies have
+ *  no filter of their own yet: every body counts as category 1 with mask
+ *  UINT64_MAX, so a query considers every body when (mask_bits & 1) != 0 and
+ *  category_bits != 0, and none otherwise. NULL stands for "every body". */
+typedef struct hgcd_query_filter {
+    uint64_t category_bits;
+    uint64_t mask_bits;
+} hgcd_query_filter;
+
+/** A ray: the closed segment from origin to end = origin + max_distance *
+ *  direction, end computed in double as written (per component, one product
+ *  and one sum, no FMA). origin and end must be within the coordinate range
+ *  (each component finite, |x| <= 1e15); direction non-zero and finite;
+ *  max_distance finite and >= 0. */
+typedef struct hgcd_ray {
+    double origin[3];
+    double direction[3];
+    double max_distance;
+} hgcd_ray;
+
+/** What a ray hit. body is the null id {0, 0} when it hit nothing. */
+typedef struct hgcd_ray_hit {
+    /** The body hit (the lowest index among bodies hit at the same point). */
+    hgcd_body body;
+    /** The triangle of body's mesh crossed there (the lowest index among
+     *  those crossed at that point), or UINT32_MAX when the origin lies in
+     *  the body's closed solid (inside == 1). */
+    uint32_t triangle;
+    /** 1 when the origin lies in the closed solid of body's closed mesh
+     *  (inside or on its surface): the hit is at distance 0. */
+    uint32_t inside;
+    /** max_distance * t, t in [0, 1] the exact parameter of the hit point on
+     *  the segment, computed with relative error below 2^-40 (0 and 1 exact
+     *  when the hit is exactly at an end). With a unit direction, the
+     *  distance from the origin along the ray. */
+    double distance;
+} hgcd_ray_hit;
+
+/** hgcd_world_cast_rays modes. */
+enum hgcd_ray_mode {
+    /** The closest hit: the hit with the smallest t; ties by body index,
+     *  then triangle index. */
+    HGCD_RAY_CLOSEST = 0,
+    /** Any hit: whether the segment hits anything (visibility). The hit
+     *  reported is a true hit, not necessarily the closest; which one is a
+     *  function of the bodies and poses (the same at any thread count). */
+    HGCD_RAY_ANY = 1
+};
+
+/** Casts count rays and writes one hgcd_ray_hit per ray into out_hits
+ *  (the caller's array of count entries). Ray k starts at byte
+ *  k * ray_stride of rays (0 = packed, sizeof(hgcd_ray)).
+ *  A ray hits a body where its segment first meets the body's closed solid:
+ *  at distance 0 when the origin lies in the solid of a closed mesh
+ *  (inside = 1), else at the first transversal crossing of a triangle (the
+ *  segment passes from one side of the triangle's plane to the other, or
+ *  starts or ends on it, at a point of the closed triangle, its edges and
+ *  vertices included). A segment lying in a triangle's plane does not cross
+ *  that triangle: along a face of a closed mesh it hits where it enters the
+ *  solid through a neighbouring face; it misses an open sheet it lies in.
+ *  Errors (nothing written): NULL_ARGUMENT (world; rays or out_hits with
+ *  count > 0), INVALID_ARGUMENT (mode, stride not a multiple of 8 or below
+ *  sizeof(hgcd_ray) when not 0, a ray out of range: the message names ray
+ *  k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see
+ *  above; count = 0 is a no-op. */
+HGCD_API hgcd_status hgcd_world_cast_rays(hgcd_world *world,
+                                          const hgcd_ray *rays, size_t count,
+                                          size_t ray_stride, int32_t mode,
+                                          const hgcd_query_filter *filter,
+                                          hgcd_ray_hit *out_hits);
+
+/** Results of a batch of box, point or mesh queries, in world-owned arrays:
+ *  the bodies of query k are bodies[offsets[k]] .. bodies[offsets[k+1] - 1],
+ *  ascending by index; offsets has query_count + 1 entries, offsets[0] = 0,
+ *  offsets[query_count] = body_count. Valid until the next query call on
+ *  this world (hgcd_world_query_*), or its destruction; not changed by any
+ *  other call. */
+typedef struct hgcd_query_results {
+    const size_t *offsets;
+    const hgcd_body *bodies;
+    size_t query_count;
+    size_t body_count;
+} hgcd_query_results;
+
+/** The bodies whose closed solid meets each closed axis-aligned box (a
+ *  triangle meets the box, or a closed mesh holds it; touching counts).
+ *  Box k is 6 doubles (min x y z, max x y z) at byte k * box_stride of
+ *  boxes (0 = packed); each component within the coordinate range, min <=
+ *  max per axis (a flat box or a point is allowed).
+ *  Errors (nothing changes): NULL_ARGUMENT (world, out; boxes with count >
+ *  0), INVALID_ARGUMENT (stride, a bad box: the message names it),
+ *  OUT_OF_MEMORY. */
+HGCD_API hgcd_status hgcd_world_query_box(hgcd_world *world,
+                                          const double *boxes, size_t count,
+                                          size_t box_stride,
+                                          const hgcd_query_filter *filter,
+                                          hgcd_query_results *out);
+
+/** The bodies whose closed solid contains each point: on a triangle (edges
+ *  and vertices included), or inside a closed mesh. Point k is 3 doubles at
+ *  byte k * point_stride of points (0 = packed), within the coordinate range.
+ *  Errors: as hgcd_world_query_box. */
+HGCD_API hgcd_status hgcd_world_query_point(hgcd_world *world,
+                                            const double *points, size_t count,
+                                            size_t point_stride,
+                                            const hgcd_query_filter *filter,
+                                            hgcd_query_results *out);
+
+/** A pose of a query mesh: position, orientation (x, y, z, w) and scale,
+ *  with the rules of hgcd_body_desc. */
+typedef struct hgcd_mesh_pose {
+    double position[3];
+    double orientation[4];
+    double scale;
+} hgcd_mesh_pose;
+
+/** The bodies that a body of `mesh` at each pose would collide with, with
+ *  the pairs' semantics (surfaces meet or containment either way, exact;
+ *  libccd settings do not apply: always the exact test). Pose k is at byte
+ *  k * pose_stride of poses (0 = packed, sizeof(hgcd_mesh_pose)). The mesh
+ *  is any live mesh of the world; no body is created.
+ *  Errors: as hgcd_world_query_box, and STALE_ID (mesh). */
+HGCD_API hgcd_status hgcd_world_query_mesh(hgcd_world *world, hgcd_mesh mesh,
+                                           const hgcd_mesh_pose *poses,
+                                           size_t count, size_t pose_stride,
+                                           const hgcd_query_filter *filter,
+                                           hgcd_query_results *out);
 
 #ifdef __cplusplus
 }

@@ -370,4 +370,42 @@ hgcd_status hgcd_world_contacts(const hgcd_world *world, const hgcd_contact **ou
     return HGCD_OK;
 }
 
+// --------------------------------------------------------------- queries --
+
+hgcd_status hgcd_world_cast_rays(hgcd_world *world, const hgcd_ray *rays, size_t count, size_t ray_stride,
+                                 int32_t mode, const hgcd_query_filter *filter, hgcd_ray_hit *out_hits) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (count > 0 && (!rays || !out_hits))
+        return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_cast_rays", "rays or out_hits is NULL");
+    return guarded(world, "world_cast_rays",
+                   [&] { return world->impl.cast_rays(rays, count, ray_stride, mode, filter, out_hits); });
+}
+
+hgcd_status hgcd_world_query_box(hgcd_world *world, const double *boxes, size_t count, size_t box_stride,
+                                 const hgcd_query_filter *filter, hgcd_query_results *out) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!out || (count > 0 && !boxes))
+        return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_query_box", "boxes or out is NULL");
+    return guarded(world, "world_query_box",
+                   [&] { return world->impl.query_boxes(boxes, count, box_stride, filter, out); });
+}
+
+hgcd_status hgcd_world_query_point(hgcd_world *world, const double *points, size_t count, size_t point_stride,
+                                   const hgcd_query_filter *filter, hgcd_query_results *out) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!out || (count > 0 && !points))
+        return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_query_point", "points or out is NULL");
+    return guarded(world, "world_query_point",
+                   [&] { return world->impl.query_points(points, count, point_stride, filter, out); });
+}
+
+hgcd_status hgcd_world_query_mesh(hgcd_world *world, hgcd_mesh mesh, const hgcd_mesh_pose *poses, size_t count,
+                                  size_t pose_stride, const hgcd_query_filter *filter, hgcd_query_results *out) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!out || (count > 0 && !poses))
+        return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_query_mesh", "poses or out is NULL");
+    return guarded(world, "world_query_mesh",
+                   [&] { return world->impl.query_meshes(mesh, poses, count, pose_stride, filter, out); });
+}
+
 }  // extern "C"

@@ -71,4 +71,33 @@ bool segment_triangle_intersect(const double *e0, const double *e1,
 // points). Exact.
 bool collinear3d(const double *a, const double *b, const double *c);
 
+// A transversal crossing of the closed segment [o, e] with a triangle
+// (crossing.cpp): the magnitudes of A = orient3d(t, o) and E = orient3d(t,
+// e) in double with bounds on their errors, and which of them is exactly 0.
+// Its parameter along [o, e] is |A| / (|A| + |E|).
+struct RayCrossing {
+    double a, b;    // |A~|, |E~|
+    double ea, eb;  // |a - |A|| <= ea, |b - |E|| <= eb
+    bool a_zero, b_zero;  // A = 0 (o on the plane: t = 0), E = 0 (t = 1)
+};
+
+// True, filling *c, when [o, e] crosses the plane of the triangle v
+// transversally (o and e not strictly on one side, not both in it) at a
+// point of the closed triangle. A segment in the plane of the triangle
+// (grazing along it) and zero-area triangles never cross. Exact.
+bool segment_crosses(const double *o, const double *e, const double *const *v, RayCrossing *c);
+
+// Sign of t1 - t2 for two crossings of [o, e] with triangles v1 and v2: the
+// order of the two points along the segment, exact (0: the same point).
+int compare_crossings(const double *o, const double *e, const double *const *v1, const RayCrossing &c1,
+                      const double *const *v2, const RayCrossing &c2);
+
+// Bounds on a crossing's parameter t: crossing_lower <= t <= crossing_upper.
+double crossing_lower(const RayCrossing &c);
+double crossing_upper(const RayCrossing &c);
+
+// The crossing's parameter t in [0, 1], with relative error below 2^-41
+// (exact ends 0 and 1 exactly).
+double crossing_parameter(const double *o, const double *e, const double *const *v, const RayCrossing &c);
+
 }  // namespace hgcd

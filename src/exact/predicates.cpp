@@ -198,10 +198,12 @@ int expansion_mul_small(int elen, const double *e, int flen, const double *f,
 // to the smallest exponent E of the inputs every coordinate is an integer of
 // at most 53 + 971 + 1074 = 2098 bits (66 limbs); differences 2099 bits,
 // products of three 6297 bits (197 limbs, 66 + 132 + 2 allocated before
-// trimming), sums of six 6300 bits: 212 limbs leave room.
+// trimming), sums of six 6300 bits (197 limbs). The ray order of
+// crossing.cpp multiplies two such determinants: 12600 bits, and big_mul
+// allocates a.n + b.n <= 2 * 212 limbs before trimming: 430 limbs leave room.
 // ---------------------------------------------------------------------------
 
-constexpr int kBigLimbs = 212;
+constexpr int kBigLimbs = 430;
 
 struct Big {
     int n;    // used limbs (no leading zero limbs); 0 means zero
@@ -310,8 +312,8 @@ int big_sign(const Big &a) { return a.n == 0 ? 0 : (a.neg ? -1 : 1); }
 
 // Converts count doubles to big integers relative to their smallest exponent.
 void big_from_doubles(const double *x, int count, Big *out) {
-    int64_t m[12];
-    int e[12];
+    int64_t m[24];  // (count <= 24)
+    int e[24];
     int emin = 1 << 30;
     for (int i = 0; i < count; ++i) {
         if (x[i] == 0) {
@@ -334,9 +336,9 @@ void big_from_doubles(const double *x, int count, Big *out) {
     }
 }
 
-int orient3d_big(const double *x /*12: a b c d*/) {
-    Big c[12];
-    big_from_doubles(x, 12, c);
+// The exact orient3d of the big points c[0..2] (a), c[3..5] (b), c[6..8]
+// (c), c[9..11] (d) into acc.
+void orient3d_big_value(const Big *c, Big &acc) {
     Big ad[3], bd[3], cd[3];
     for (int k = 0; k < 3; ++k) {
         big_add(c[k], c[9 + k], 1, ad[k]);
@@ -345,7 +347,7 @@ int orient3d_big(const double *x /*12: a b c d*/) {
     }
     // det = adx (bdy cdz - bdz cdy) + ady (bdz cdx - bdx cdz)
     //     + adz (bdx cdy - bdy cdx)
-    Big t1, t2, minor, term, acc, tmp;
+    Big t1, t2, minor, term, tmp;
     big_zero(acc);
     for (int k = 0; k < 3; ++k) {
         int i1 = (k + 1) % 3, i2 = (k + 2) % 3;
@@ -356,7 +358,57 @@ int orient3d_big(const double *x /*12: a b c d*/) {
         big_add(acc, term, 0, tmp);
         acc = tmp;
     }
+}
+
+int orient3d_big(const double *x /*12: a b c d*/) {
+    Big c[12], acc;
+    big_from_doubles(x, 12, c);
+    orient3d_big_value(c, acc);
     return big_sign(acc);
+}
+
+// |orient3d(t, o)| and |orient3d(t, e)| of two triangles (t1: x[0..8],
+// t2: x[9..17]; o: x[18..20], e: x[21..23]) as big integers on one scale.
+void crossing_values_big(const double *x, Big *ao, Big *ae, int triangles) {
+    Big c[24], pts[12];
+    big_from_doubles(x, 24, c);
+    for (int k = 0; k < triangles; ++k) {
+        for (int i = 0; i < 9; ++i) pts[i] = c[9 * k + i];
+        for (int end = 0; end < 2; ++end) {
+            for (int i = 0; i < 3; ++i) pts[9 + i] = c[18 + 3 * end + i];
+            Big &r = end == 0 ? ao[k] : ae[k];
+            orient3d_big_value(pts, r);
+            r.neg = 0;
+        }
+    }
+}
+
+void crossing_points(const double *o, const double *e, const double *const *t1, const double *const *t2,
+                     double *x) {
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+            x[3 * i + k] = t1[i][k];
+            x[9 + 3 * i + k] = t2[i][k];
+        }
+    for (int k = 0; k < 3; ++k) {
+        x[18 + k] = o[k];
+        x[21 + k] = e[k];
+    }
+}
+
+// An approximation of a big magnitude: value = mant * 2^(32 * shift), mant
+// the top three limbs (relative truncation error below 2^-64) rounded to
+// double (3 more roundings).
+double big_top(const Big &a, int *shift) {
+    if (a.n == 0) {
+        *shift = 0;
+        return 0;
+    }
+    const int top = a.n - 1;
+    double m = double(a.d[top]);
+    for (int i = 1; i < 3; ++i) m = m * 4294967296.0 + (top - i >= 0 ? double(a.d[top - i]) : 0.0);
+    *shift = top - 2;
+    return m;
 }
 
 int orient2d_big(const double *x /*6: a b c*/) {
@@ -491,6 +543,30 @@ HGCD_NOINLINE int orient2d_exact(double ax, double ay, double bx, double by,
                                  double cx, double cy) {
     double x[6] = {ax, ay, bx, by, cx, cy};
     return exact_sign(x, 6, orient2d_expansion, orient2d_big);
+}
+
+HGCD_NOINLINE int crossing_order_exact(const double *o, const double *e, const double *const *t1,
+                                       const double *const *t2) {
+    double x[24];
+    crossing_points(o, e, t1, t2, x);
+    Big ao[2], ae[2], p, q, r;
+    crossing_values_big(x, ao, ae, 2);
+    big_mul(ao[0], ae[1], p);
+    big_mul(ao[1], ae[0], q);
+    big_add(p, q, 1, r);
+    return big_sign(r);
+}
+
+HGCD_NOINLINE double crossing_parameter_exact(const double *o, const double *e, const double *const *t) {
+    double x[24];
+    crossing_points(o, e, t, t, x);
+    Big ao[2], ae[2], s;
+    crossing_values_big(x, ao, ae, 1);
+    big_add(ao[0], ae[0], 0, s);  // (both magnitudes)
+    int sa, ss;
+    const double ma = big_top(ao[0], &sa), ms = big_top(s, &ss);
+    if (ms == 0) return 0;
+    return std::ldexp(ma / ms, 32 * (sa - ss));
 }
 
 }  // namespace predicates

@@ -66,6 +66,12 @@ inline int sgn(double v) { return (v > 0) - (v < 0); }
 // decide: out of line, so that the filters' callers stay small.
 int orient3d_exact(const double *a, const double *b, const double *c, const double *d);
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy);
+// For crossing.cpp, on big integers: the sign of
+// |A1| |E2| - |A2| |E1| with Ai = orient3d(ti, o), Ei = orient3d(ti, e)
+// (the order of two crossings along [o, e]), and |A| / (|A| + |E|) of one
+// triangle to within a relative 2^-50 (its parameter).
+int crossing_order_exact(const double *o, const double *e, const double *const *t1, const double *const *t2);
+double crossing_parameter_exact(const double *o, const double *e, const double *const *t);
 
 // Filtered orient2d on explicit coordinates.
 inline int orient2d_filtered(double ax, double ay, double bx, double by, double cx,

@@ -10,6 +10,7 @@
 #include "exact/geometry.hpp"
 #include "narrow/boxes.hpp"
 #include "narrow/bvh.hpp"
+#include "narrow/convex.hpp"
 #include "narrow/tetra.hpp"
 
 namespace hgcd {
@@ -387,8 +388,10 @@ bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
     return false;
 }
 
-__attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose &b,
-                                               NarrowScratch &s, Witness *witness) {
+// counted: exact_tests counts the pair once its root boxes overlap (false:
+// the caller has counted it).
+__attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
+                                               Witness *witness, bool counted = true) {
     if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
         for (auto &c : s.side) {
             std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
@@ -401,7 +404,7 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
     prepare_side(b, s.side[1], s.epoch, vb);
     // Conservative prefilter: the solids lie inside the root boxes.
     if (boxes_disjoint(va.box(0), vb.box(0))) return Contact::None;
-    ++s.exact_tests;
+    s.exact_tests += counted;
     uint32_t meet[2];
     if (surfaces_meet(va, vb, s, meet)) {
         if (witness)
@@ -419,21 +422,17 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
     return Contact::None;
 }
 
-// The direct path for small meshes other than tetrahedron pairs.
-__attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
-                                                 Witness *witness) {
-    double box_a[6], box_b[6];
-    world_vertices(a, s.world_a, box_a);
-    world_vertices(b, s.world_b, box_b);
-    // Exact prefilter: the solids lie inside these boxes.
-    if (boxes_disjoint(box_a, box_b)) return Contact::None;
-    ++s.exact_tests;
+// The direct path's exact steps on the world vertices (wa, wb) and exact
+// boxes of two small meshes: the face planes (face_planes: unless the
+// convex path's axes have been tried), then triangle pairs, then
+// containment.
+Contact direct_exact(const BodyPose &a, const double *wa, const double *box_a, const BodyPose &b,
+                     const double *wb, const double *box_b, NarrowScratch &s, Witness *witness, bool face_planes) {
     const Mesh &ma = *a.mesh, &mb = *b.mesh;
-    const double *wa = s.world_a.data(), *wb = s.world_b.data();
-    if (ma.convex && uint64_t(ma.triangle_count) * mb.vertex_count <= kFaceTestBudget &&
+    if (face_planes && ma.convex && uint64_t(ma.triangle_count) * mb.vertex_count <= kFaceTestBudget &&
         separated_by_face(ma, wa, mb, wb))
         return Contact::None;
-    if (mb.convex && uint64_t(mb.triangle_count) * ma.vertex_count <= kFaceTestBudget &&
+    if (face_planes && mb.convex && uint64_t(mb.triangle_count) * ma.vertex_count <= kFaceTestBudget &&
         separated_by_face(mb, wb, ma, wa))
         return Contact::None;
     uint32_t meet[2];
@@ -453,12 +452,48 @@ __attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPo
     return Contact::None;
 }
 
+// The direct path for small meshes other than tetrahedron and convex pairs.
+__attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
+                                                 Witness *witness) {
+    double box_a[6], box_b[6];
+    world_vertices(a, s.world_a, box_a);
+    world_vertices(b, s.world_b, box_b);
+    // Exact prefilter: the solids lie inside these boxes.
+    if (boxes_disjoint(box_a, box_b)) return Contact::None;
+    ++s.exact_tests;
+    return direct_exact(a, s.world_a.data(), box_a, b, s.world_b.data(), box_b, s, witness, true);
+}
+
+// The convex path (both meshes Mesh::sat): the separating axis along the
+// line of centres, the world vertices and their exact boxes, the axes of
+// convex_axes_apart, then the exact steps of the direct or tree path.
+// exact_tests counts the pairs whose exact boxes overlap.
+__attribute__((noinline)) Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
+                                                 Witness *witness) {
+    const Rotation ra = rotation_of(a.orientation), rb = rotation_of(b.orientation);
+    bool deep;
+    if (convex_centres_apart(a, b, ra, rb, &deep)) return Contact::None;
+    double box_a[6], box_b[6];
+    world_vertices(a, s.world_a, box_a);
+    world_vertices(b, s.world_b, box_b);
+    if (boxes_disjoint(box_a, box_b)) return Contact::None;
+    ++s.exact_tests;
+    const double *wa = s.world_a.data(), *wb = s.world_b.data();
+    // (A witness asks for the exact path's first meeting triangles.)
+    if (deep && !witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
+    if (convex_axes_apart(a, wa, box_a, ra, b, wb, box_b, rb)) return Contact::None;
+    if (!deep && !witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
+    return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
+}
+
 }  // namespace
 
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
     // (A tetrahedron has no tree; a witness asks for the general path's
     // triangle order.)
     if (a.mesh->tetra && b.mesh->tetra && !witness) return tet::collide_tetra(a, b, s);
+    if (a.mesh->sat && b.mesh->sat) return collide_convex(a, b, s, witness);
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
     return collide_direct(a, b, s, witness);
 }

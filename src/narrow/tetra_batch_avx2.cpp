@@ -38,8 +38,9 @@ struct Side4 {
 
 
 // The bodies of one side of four pairs. A Placement is read as two 32-byte
-// halves: (x y z qx) and (qy qz qw scale).
-static inline void load_side(const Placement *const *p, const Mesh *const *mesh, Side4 &s) {
+// halves: (x y z qx) and (qy qz qw scale); the shapes from their records
+// (write_record).
+static inline void load_side(const Placement *const *p, const double *const *shape, Side4 &s) {
     f64x4 r[4], h[4];
     for (int k = 0; k < 4; ++k) {  // (memcpy here goes through the stack: a store forwarding stall)
         const double *half = reinterpret_cast<const double *>(p[k]);
@@ -53,27 +54,36 @@ static inline void load_side(const Placement *const *p, const Mesh *const *mesh,
     s.c[2] = r[2];
     const f64x4 scale = h[3];
     rotation_entries(r[3], h[0], h[1], h[2], s.m);
-    const Mesh *m0 = mesh[0];
-    if (mesh[1] == m0 && mesh[2] == m0 && mesh[3] == m0) {  // (shared shapes: the usual case)
+    // The reach (Mesh::tetra_reach, the same operations: the same bits) is
+    // worked out here rather than stored: a record of 96 bytes, not 128.
+    const double *m0 = shape[0];
+    if (shape[1] == m0 && shape[2] == m0 && shape[3] == m0) {  // (shared shapes: the usual case)
+        double reach = 0;
+        for (int v = 0; v < 4; ++v)
+            reach = std::max(reach, (std::fabs(m0[v]) + std::fabs(m0[4 + v])) + std::fabs(m0[8 + v]));
         for (int a = 0; a < 3; ++a)
-            for (int v = 0; v < 4; ++v) s.l[a][v] = scale * m0->tetra_local[4 * a + v];
-        s.reach = scale * m0->tetra_reach;
+            for (int v = 0; v < 4; ++v) s.l[a][v] = scale * m0[4 * a + v];
+        s.reach = scale * reach;
     } else {
+        f64x4 sum[4];
         for (int a = 0; a < 3; ++a) {
             f64x4 t[4];
-            for (int k = 0; k < 4; ++k) t[k] = (f64x4)_mm256_loadu_pd(mesh[k]->tetra_local + 4 * a);
+            for (int k = 0; k < 4; ++k) t[k] = (f64x4)_mm256_load_pd(shape[k] + 4 * a);
             transpose4(t[0], t[1], t[2], t[3]);
-            for (int v = 0; v < 4; ++v) s.l[a][v] = scale * t[v];
+            for (int v = 0; v < 4; ++v) {
+                s.l[a][v] = scale * t[v];
+                sum[v] = a ? sum[v] + abs4(t[v]) : abs4(t[v]);
+            }
         }
-        s.reach = scale * f64x4{mesh[0]->tetra_reach, mesh[1]->tetra_reach, mesh[2]->tetra_reach, mesh[3]->tetra_reach};
+        s.reach = scale * max4(max4(sum[0], sum[1]), max4(sum[2], sum[3]));
     }
 }
 
 // Both sides of the pairs p[0..3].
 static inline void load_pairs(const TetraPair *const *p, Side4 &A, Side4 &B) {
     const Placement *pa[4] = {p[0]->a, p[1]->a, p[2]->a, p[3]->a}, *pb[4] = {p[0]->b, p[1]->b, p[2]->b, p[3]->b};
-    const Mesh *ma[4] = {p[0]->mesh_a, p[1]->mesh_a, p[2]->mesh_a, p[3]->mesh_a};
-    const Mesh *mb[4] = {p[0]->mesh_b, p[1]->mesh_b, p[2]->mesh_b, p[3]->mesh_b};
+    const double *ma[4] = {p[0]->shape_a, p[1]->shape_a, p[2]->shape_a, p[3]->shape_a};
+    const double *mb[4] = {p[0]->shape_b, p[1]->shape_b, p[2]->shape_b, p[3]->shape_b};
     load_side(pa, ma, A);
     load_side(pb, mb, B);
 }
@@ -428,12 +438,12 @@ __attribute__((target("avx2"))) void collide_tetra_batch_avx2(const TetraPair *p
                     const TetraPair &ahead = pairs[k + 16 + l];
                     __builtin_prefetch(ahead.a);
                     __builtin_prefetch(ahead.b);
-                    // and the shapes: one per body where bodies have meshes
-                    // of their own, scattered over the meshes' array
-                    __builtin_prefetch(ahead.mesh_a->tetra_local);
-                    __builtin_prefetch(ahead.mesh_a->tetra_local + 8);
-                    __builtin_prefetch(ahead.mesh_b->tetra_local);
-                    __builtin_prefetch(ahead.mesh_b->tetra_local + 8);
+                    // and the shapes' records (one per body where bodies
+                    // have meshes of their own: world/mesh_pool.hpp)
+                    __builtin_prefetch(ahead.shape_a);
+                    __builtin_prefetch(ahead.shape_a + 11);
+                    __builtin_prefetch(ahead.shape_b);
+                    __builtin_prefetch(ahead.shape_b + 11);
                 }
             const TetraPair *group[4];
             for (size_t l = 0; l < 4; ++l) group[l] = &pairs[k + l < end ? k + l : k];

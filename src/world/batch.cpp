@@ -118,6 +118,7 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         return check_pose(at.c_str(), positions ? entry(positions, ps, size_t(bad)) : nullptr,
                           orientations ? entry(orientations, os, size_t(bad)) : nullptr);
     }
+    query_.stale = true;
     if (bodies) {
         for_entries(count, [&](size_t k) {
             apply_pose(batch_at_[k], positions ? entry(positions, ps, k) : nullptr,

@@ -88,6 +88,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             place_.reserve(cap);
             velocity_.reserve(3 * cap);
             body_mesh_.reserve(cap);
+            body_record_.reserve(cap);
             user_data_.reserve(cap);
             body_gen_.reserve(cap);
             box_off_.reserve(6 * cap);
@@ -105,6 +106,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         place_.resize(n);
         velocity_.resize(3 * n);
         body_mesh_.resize(n);
+        body_record_.resize(n);
         user_data_.resize(n);
         body_gen_.resize(n, tag_ << kCounterBits);
         live_gen_.resize(n, 0);
@@ -118,6 +120,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         stored_gen_.push_back(0);
     }
     if (reuse) body_free_.pop_back();
+    query_.stale = true;
     const size_t i = at_[slot];
     moved_[slot] = moved_at_[i] = 1;
     for (int k = 0; k < 3; ++k) {
@@ -127,6 +130,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
+    body_record_[i] = pool_.offset(uint32_t(mesh));
     user_data_[i] = d.user_data;
     // (Every vertex is within |centre| + radius of the mesh origin.)
     const Mesh &m = meshes_[mesh];
@@ -148,6 +152,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
+    query_.stale = true;
     moved_[slot] = moved_at_[at_[slot]] = 1;  // (its last pairs end)
     if (at_[slot] < mover_.size()) mover_[at_[slot]] |= kDead;  // (the grid may still hold it)
     --mesh_users_[body_mesh_[at_[slot]]];
@@ -178,6 +183,7 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_body(id, "body_set_pose", &slot)) return s;
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     apply_pose(at_[slot], position, orientation);
+    query_.stale = true;
     return HGCD_OK;
 }
 

@@ -406,9 +406,12 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
         const Mesh *meshes = meshes_.data();
         const Placement *place = place_.data();
         const uint32_t *body_mesh = body_mesh_.data();
+        const MeshPool::Block *records = pool_.blocks();
+        const uint32_t *record = body_record_.data();
         for (size_t k = chunk.begin; k < chunk.end; ++k, ++tetras) {
             const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
-            t.tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b};
+            t.tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b,
+                                        records[record[a]].d, records[record[b]].d};
         }
     } else {
         tetras = narrow_pairs(plan, list, chunk, t);
@@ -469,7 +472,8 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
         const Placement &la = place_[a], &lb = place_[b];
         const Mesh *mesh_a = &meshes_[body_mesh_[a]], *mesh_b = &meshes_[body_mesh_[b]];
         if (batch && mesh_a->tetra && mesh_b->tetra) {
-            t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb};
+            t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb, pool_.blocks()[body_record_[a]].d,
+                                          pool_.blocks()[body_record_[b]].d};
             continue;
         }
         const BodyPose pa = pose_of(mesh_a, la), pb = pose_of(mesh_b, lb);

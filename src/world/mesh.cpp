@@ -168,6 +168,86 @@ void set_tetra(Mesh &m) {
     }
 }
 
+// Appends direction d (3 doubles) to axes unless it is zero or parallel to
+// one there; returns whether it was added.
+bool add_axis(std::vector<double> &axes, const double *d) {
+    const double n = std::sqrt((d[0] * d[0] + d[1] * d[1]) + d[2] * d[2]);
+    if (!(n > 0) || !std::isfinite(n)) return false;
+    const double u[3] = {d[0] / n, d[1] / n, d[2] / n};
+    for (size_t k = 0; k < axes.size(); k += 3) {
+        const double *a = &axes[k];
+        const double c[3] = {u[1] * a[2] - u[2] * a[1], u[2] * a[0] - u[0] * a[2], u[0] * a[1] - u[1] * a[0]};
+        if ((c[0] * c[0] + c[1] * c[1]) + c[2] * c[2] < 1e-18) return false;
+    }
+    axes.insert(axes.end(), u, u + 3);
+    return true;
+}
+
+// Per vertex, its neighbours (each edge once per end) and its triangles.
+void set_adjacency(const Mesh &m, SatData &d) {
+    const uint32_t nv = m.vertex_count;
+    std::vector<uint64_t> edges;
+    for (uint32_t t = 0; t < m.triangle_count; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = m.triangles[3 * t + k], b = m.triangles[3 * t + (k + 1) % 3];
+            if (a != b) {
+                edges.push_back(uint64_t(a) << 32 | b);
+                edges.push_back(uint64_t(b) << 32 | a);
+            }
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    d.vertex_edge_start.assign(nv + 1, 0);
+    for (uint64_t e : edges) ++d.vertex_edge_start[(e >> 32) + 1];
+    for (uint32_t v = 0; v < nv; ++v) d.vertex_edge_start[v + 1] += d.vertex_edge_start[v];
+    d.vertex_edges.resize(edges.size());
+    for (size_t k = 0; k < edges.size(); ++k) d.vertex_edges[k] = uint32_t(edges[k]);  // (sorted by first end)
+    d.vertex_tri_start.assign(nv + 1, 0);
+    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) ++d.vertex_tri_start[m.triangles[i] + 1];
+    for (uint32_t v = 0; v < nv; ++v) d.vertex_tri_start[v + 1] += d.vertex_tri_start[v];
+    d.vertex_tris.resize(3 * size_t(m.triangle_count));
+    std::vector<uint32_t> fill(d.vertex_tri_start.begin(), d.vertex_tri_start.end() - 1);
+    for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) d.vertex_tris[fill[m.triangles[i]]++] = i / 3;
+}
+
+// The convex path's data (Mesh::sat): face normals, then edge directions,
+// parallel ones once; reach; adjacency.
+void set_sat(Mesh &m, const std::vector<char> &used) {
+    if (!m.convex || m.tetra || m.vertex_count > Mesh::kSatVertices) return;
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        if (!used[v]) return;
+    const double *x = m.vertices.data();
+    std::vector<double> axes;
+    uint32_t faces = 0;
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
+        const uint32_t *f = &m.triangles[3 * t];
+        const double *a = &x[3 * f[0]], *b = &x[3 * f[1]], *c = &x[3 * f[2]];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        faces += add_axis(axes, n);
+    }
+    if (!faces) return;
+    std::vector<double> edge_axes;
+    uint32_t edges = 0;
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
+        const uint32_t *f = &m.triangles[3 * t];
+        for (int k = 0; k < 3; ++k) {
+            const double *a = &x[3 * f[k]], *b = &x[3 * f[(k + 1) % 3]];
+            const double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            edges += add_axis(edge_axes, e);
+        }
+    }
+    axes.insert(axes.end(), edge_axes.begin(), edge_axes.end());
+    auto d = std::make_shared<SatData>();
+    set_adjacency(m, *d);
+    d->axes = std::move(axes);
+    d->faces = faces;
+    d->edges = edges;
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        d->reach = std::max(d->reach, std::fabs(x[3 * v]) + std::fabs(x[3 * v + 1]) + std::fabs(x[3 * v + 2]));
+    m.sat = std::move(d);
+}
+
 }  // namespace
 
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
@@ -189,6 +269,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     m.closed = is_closed(m);
     set_convexity(m, used);
     set_tetra(m);
+    set_sat(m, used);
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
     *out = std::move(m);

@@ -2,6 +2,7 @@
 // it once at creation (closedness, convexity, components, bounding sphere).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,23 @@
 #include "world/limits.hpp"
 
 namespace hgcd {
+
+// The convex path's data about a small convex mesh (convex, not a
+// tetrahedron, at most Mesh::kSatVertices vertices, every vertex used by a
+// triangle).
+struct SatData {
+    // Separating axes: unit directions in the mesh frame, 3 doubles each, no
+    // two parallel, the `faces` face normals first, then the `edges` edge
+    // directions. Any direction is a valid axis to try: only speed depends
+    // on these.
+    std::vector<double> axes;
+    uint32_t faces = 0, edges = 0;
+    double reach = 0;  // max over the vertices of |x| + |y| + |z| (mesh frame)
+    // For the search of an edge that crosses a triangle: the edges (other
+    // end vertices) and the triangles at each vertex, as offsets
+    // (vertex_count + 1) into lists.
+    std::vector<uint32_t> vertex_edge_start, vertex_edges, vertex_tri_start, vertex_tris;
+};
 
 struct Mesh {
     std::vector<double> vertices;     // xyz per vertex, mesh frame
@@ -38,6 +56,12 @@ struct Mesh {
     // bounding sphere's. A copy, so a pose reads one buffer.
     static constexpr uint32_t kExactBoxTriangles = 128;
     std::vector<double> box_points;
+    // What the convex path of the narrow phase (narrow/convex.cpp) needs
+    // about a small convex mesh (SatData), behind one pointer so that other
+    // meshes (tetrahedra included: they have a path of their own) carry 8
+    // bytes for it; null for them.
+    static constexpr uint32_t kSatVertices = 64;
+    std::shared_ptr<const SatData> sat;
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;

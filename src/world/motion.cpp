@@ -94,6 +94,7 @@ hgcd_status World::step() {
             return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_step: body " + std::to_string(bad) +
                                                          " would leave the coordinate range (|x| <= 1e15)");
     }
+    query_.stale = true;
     drop_movers();             // (the grid is brought to every body's box)
     renumber_if_disordered();  // (before the motion: it then moves storage in order)
     // The moves run inside the grid update's census, a range of slots at a
@@ -188,6 +189,7 @@ bool World::renumber() {
     permute_records<1>(user_data_.data(), perm, n, tmp, T);
     permute_records<1>(r_level_.data(), perm, n, tmp, T);
     permute_records<1>(body_mesh_.data(), perm, n, tmp, T);
+    permute_records<1>(body_record_.data(), perm, n, tmp, T);
     permute_records<1>(stored_gen_.data(), perm, n, tmp, T);
     permute_records<1>(moved_at_.data(), perm, n, tmp, T);
     if (!mover_.empty()) permute_records<1>(mover_.data(), perm, n, tmp, T);
@@ -196,7 +198,17 @@ bool World::renumber() {
         for (int64_t k = b; k < e; ++k) at_[slot_of_[k]] = uint32_t(k);
     });
     for (uint32_t &i : side_storage_) i = new_of_old[i];  // (the second grid's slots are its own)
+    // The meshes' records follow (where bodies have meshes of their own).
+    if (pool_.repack(body_mesh_.data(), stored_gen_.data(), n)) refresh_records();
     return true;
+}
+
+void World::refresh_records() {
+    const size_t n = body_mesh_.size();
+    const uint32_t *offset = pool_.offsets();
+    parallel_for(threads(), int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        for (int64_t k = b; k < e; ++k) body_record_[k] = stored_gen_[k] ? offset[body_mesh_[k]] : MeshPool::kNone;
+    });
 }
 
 }  // namespace hgcd

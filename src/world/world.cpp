@@ -94,13 +94,12 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     std::string error;
     if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error))
         return fail(HGCD_ERROR_INVALID_MESH, "mesh_create: " + error);
-    uint32_t slot;
+    uint32_t slot = mesh_free_.empty() ? uint32_t(meshes_.size()) : mesh_free_.back();
+    pool_.reserve(slot, m);  // (may throw: nothing has changed yet)
     if (!mesh_free_.empty()) {
-        slot = mesh_free_.back();
         meshes_[slot] = std::move(m);
         mesh_free_.pop_back();
     } else {
-        slot = uint32_t(meshes_.size());
         const size_t cap = std::max<size_t>(8, 2 * meshes_.size());
         if (meshes_.capacity() <= meshes_.size()) {
             mesh_gen_.reserve(cap);
@@ -116,6 +115,7 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
         mesh_narrow_.push_back(HGCD_NARROW_WORLD);
     }
     mesh_narrow_[slot] = HGCD_NARROW_WORLD;
+    pool_.add(slot, meshes_[slot]);
     mesh_gen_[slot] = (tag_ << kCounterBits) | ((mesh_gen_[slot] + 1) & kCounterMask);
     mesh_alive_[slot] = 1;
     mesh_users_[slot] = 0;
@@ -133,6 +133,7 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
     if (mesh_free_.capacity() == mesh_free_.size()) mesh_free_.reserve(2 * mesh_free_.size() + 8);
     mesh_alive_[slot] = 0;
     meshes_[slot] = Mesh();
+    if (pool_.remove(uint32_t(slot))) refresh_records();  // (the pool closed its holes)
     --live_meshes_;
     // A slot whose generation counter would wrap is retired, so no id is reused.
     if ((mesh_gen_[slot] & kCounterMask) != kCounterMask) mesh_free_.push_back(uint32_t(slot));

@@ -13,9 +13,12 @@
 #include "common/parallel.hpp"
 #include "hgcd/hgcd.h"
 #include "world/mesh.hpp"
+#include "world/mesh_pool.hpp"
 #include "world/threads.hpp"
 #include "world/memory.hpp"
 #include "narrow/narrow.hpp"
+#include "query/cache.hpp"
+#include "query/solid.hpp"
 
 namespace hgcd {
 
@@ -85,6 +88,17 @@ class World {
     const hgcd_stats &stats() const { return stats_; }
     uint32_t body_count() const { return live_bodies_; }
     uint32_t mesh_count() const { return live_meshes_; }
+
+    // Scene queries (src/query): the calls of hgcd.h, arguments checked by
+    // the shim for NULL only.
+    hgcd_status cast_rays(const hgcd_ray *rays, size_t count, size_t stride, int32_t mode,
+                          const hgcd_query_filter *filter, hgcd_ray_hit *out);
+    hgcd_status query_boxes(const double *boxes, size_t count, size_t stride, const hgcd_query_filter *filter,
+                            hgcd_query_results *out);
+    hgcd_status query_points(const double *points, size_t count, size_t stride, const hgcd_query_filter *filter,
+                             hgcd_query_results *out);
+    hgcd_status query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, size_t count, size_t stride,
+                             const hgcd_query_filter *filter, hgcd_query_results *out);
 
     // Records a message and returns status, for the shim's argument checks too.
     hgcd_status fail(hgcd_status status, std::string message) const;
@@ -163,6 +177,8 @@ class World {
     // Moves every body's storage to the grid's sweep order (see at_); false,
     // changing nothing, when there is no memory for it.
     bool renumber();
+    // body_record_ again from the pool, after it moved its records.
+    void refresh_records();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;
     // The threads of the next detect or batch call: the world's count, or
     // fewer under the adaptive policy while the cores are busy (threads.hpp).
@@ -190,6 +206,7 @@ class World {
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
+    MeshPool pool_;  // the narrow phase's records of small meshes, by slot
     uint32_t live_meshes_ = 0;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
@@ -210,6 +227,9 @@ class World {
     LargeVector<Placement> place_;  // (narrow.hpp)
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
+    // The first block of the mesh's record in pool_ (MeshPool::kNone: none),
+    // read by the narrow phase beside the placements (refresh_records()).
+    LargeVector<uint32_t> body_record_;
     std::vector<uint64_t> user_data_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
@@ -234,6 +254,20 @@ class World {
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
     std::vector<uint32_t> batch_at_, batch_mark_;
     uint32_t batch_epoch_ = 0;
+
+    // Scene queries (src/query): the tree over the bodies and the last
+    // results; its helpers.
+    QueryCache query_;
+    void ensure_query_tree();
+    // Fills query_'s offsets and bodies with each query's bodies: box(q,
+    // lo, hi) gives query q's box; accept(q, i, scratch, narrow) decides the
+    // tree item i whose box meets it (region.cpp).
+    template <class Box, class Accept>
+    void run_region_queries(size_t count, const hgcd_query_filter *filter, Box &&box, Accept &&accept);
+    void publish(hgcd_query_results *out);
+    // The body of tree item i as the exact tests read it: its cached world
+    // vertices, or w filled with them; box receives their exact box.
+    SolidView query_view(size_t i, std::vector<double> &w, double *box) const;
 
     // Incremental detection. The movers: bodies created or moved since the
     // grid's last update (which still holds their old boxes), marked by

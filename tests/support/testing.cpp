@@ -15,6 +15,7 @@
 #include "broad/float_box.hpp"
 #include "broad/grid.hpp"
 #include "world/mesh.hpp"
+#include "world/mesh_pool.hpp"
 #include "world/threads.hpp"
 #include "narrow/narrow.hpp"
 #include "common/ieee.hpp"
@@ -237,6 +238,9 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
         std::string error;
         if (!hgcd::build_mesh(meshes + 12 * size_t(m), 4, faces, 4, &mesh[m], &error) || !mesh[m].tetra) return -1;
     }
+    // The meshes' records, as the world's pool holds them (aligned blocks).
+    std::vector<hgcd::MeshPool::Block> record(3 * size_t(mesh_count));
+    for (uint32_t m = 0; m < mesh_count; ++m) hgcd::write_record(mesh[m], record[3 * size_t(m)].d);
     std::vector<hgcd::Placement> place(2 * size_t(pair_count));
     std::vector<hgcd::TetraPair> pairs(pair_count);
     for (uint32_t k = 0; k < pair_count; ++k) {
@@ -247,8 +251,9 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
             for (int c = 0; c < 4; ++c) pl.orientation[c] = pose[3 + c];
             pl.scale = pose[7];
         }
-        pairs[k] = hgcd::TetraPair{&mesh[pair_mesh[2 * size_t(k)]], &mesh[pair_mesh[2 * size_t(k) + 1]],
-                                   &place[2 * size_t(k)], &place[2 * size_t(k) + 1]};
+        const uint32_t ma = pair_mesh[2 * size_t(k)], mb = pair_mesh[2 * size_t(k) + 1];
+        pairs[k] = hgcd::TetraPair{&mesh[ma], &mesh[mb], &place[2 * size_t(k)], &place[2 * size_t(k) + 1],
+                                   record[3 * size_t(ma)].d, record[3 * size_t(mb)].d};
     }
     hgcd::NarrowScratch one, batch;
     std::vector<hgcd::Contact> verdict(pair_count);

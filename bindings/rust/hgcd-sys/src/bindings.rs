@@ -2224,6 +2224,493 @@ extern "C" {
     #[doc = "  message (the world is const). Read-only, O(1)."]
     pub fn hgcd_mesh_validate(world: *const hgcd_world, mesh: hgcd_mesh) -> hgcd_status;
 }
+#[doc = " Which bodies a query considers: bodies whose category bits meet the"]
+#[doc = "  query's mask_bits and whose mask bits meet its category_bits. Bodies have"]
+#[doc = "  no filter of their own yet: every body counts as category 1 with mask"]
+#[doc = "  UINT64_MAX, so a query considers every body when (mask_bits & 1) != 0 and"]
+#[doc = "  category_bits != 0, and none otherwise. NULL stands for \"every body\"."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
+pub struct hgcd_query_filter {
+    pub category_bits: u64,
+    pub mask_bits: u64,
+}
+#[test]
+fn bindgen_test_layout_hgcd_query_filter() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_query_filter>(),
+        16usize,
+        concat!("Size of: ", stringify!(hgcd_query_filter))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_query_filter>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_query_filter))
+    );
+    fn test_field_category_bits() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_query_filter>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).category_bits) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_query_filter),
+                "::",
+                stringify!(category_bits)
+            )
+        );
+    }
+    test_field_category_bits();
+    fn test_field_mask_bits() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_query_filter>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).mask_bits) as usize - ptr as usize
+            },
+            8usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_query_filter),
+                "::",
+                stringify!(mask_bits)
+            )
+        );
+    }
+    test_field_mask_bits();
+}
+#[doc = " A ray: the closed segment from origin to end = origin + max_distance *"]
+#[doc = "  direction, end computed in double as written (per component, one product"]
+#[doc = "  and one sum, no FMA). origin and end must be within the coordinate range"]
+#[doc = "  (each component finite, |x| <= 1e15); direction non-zero and finite;"]
+#[doc = "  max_distance finite and >= 0."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct hgcd_ray {
+    pub origin: [f64; 3usize],
+    pub direction: [f64; 3usize],
+    pub max_distance: f64,
+}
+#[test]
+fn bindgen_test_layout_hgcd_ray() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_ray>(),
+        56usize,
+        concat!("Size of: ", stringify!(hgcd_ray))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_ray>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_ray))
+    );
+    fn test_field_origin() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_ray>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).origin) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_ray),
+                "::",
+                stringify!(origin)
+            )
+        );
+    }
+    test_field_origin();
+    fn test_field_direction() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_ray>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).direction) as usize - ptr as usize
+            },
+            24usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_ray),
+                "::",
+                stringify!(direction)
+            )
+        );
+    }
+    test_field_direction();
+    fn test_field_max_distance() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_ray>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).max_distance) as usize - ptr as usize
+            },
+            48usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_ray),
+                "::",
+                stringify!(max_distance)
+            )
+        );
+    }
+    test_field_max_distance();
+}
+#[doc = " What a ray hit. body is the null id {0, 0} when it hit nothing."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct hgcd_ray_hit {
+    #[doc = " The body hit (the lowest index among bodies hit at the same point)."]
+    pub body: hgcd_body,
+    #[doc = " The triangle of body's mesh crossed there (the lowest index among"]
+    #[doc = "  those crossed at that point), or UINT32_MAX when the origin lies in"]
+    #[doc = "  the body's closed solid (inside == 1)."]
+    pub triangle: u32,
+    #[doc = " 1 when the origin lies in the closed solid of body's closed mesh"]
+    #[doc = "  (inside or on its surface): the hit is at distance 0."]
+    pub inside: u32,
+    #[doc = " max_distance * t, t in [0, 1] the exact parameter of the hit point on"]
+    #[doc = "  the segment, computed with relative error below 2^-40 (0 and 1 exact"]
+    #[doc = "  when the hit is exactly at an end). With a unit direction, the"]
+    #[doc = "  distance from the origin along the ray."]
+    pub distance: f64,
+}
+#[test]
+fn bindgen_test_layout_hgcd_ray_hit() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_ray_hit>(),
+        24usize,
+        concat!("Size of: ", stringify!(hgcd_ray_hit))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_ray_hit>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_ray_hit))
+    );
+    fn test_field_body() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_ray_hit>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).body) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_ray_hit),
+                "::",
+                stringify!(body)
+            )
+        );
+    }
+    test_field_body();
+    fn test_field_triangle() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_ray_hit>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).triangle) as usize - ptr as usize
+            },
+            8usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_ray_hit),
+                "::",
+                stringify!(triangle)
+            )
+        );
+    }
+    test_field_triangle();
+    fn test_field_inside() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_ray_hit>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).inside) as usize - ptr as usize
+            },
+            12usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_ray_hit),
+                "::",
+                stringify!(inside)
+            )
+        );
+    }
+    test_field_inside();
+    fn test_field_distance() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_ray_hit>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).distance) as usize - ptr as usize
+            },
+            16usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_ray_hit),
+                "::",
+                stringify!(distance)
+            )
+        );
+    }
+    test_field_distance();
+}
+#[doc = " The closest hit: the hit with the smallest t; ties by body index,"]
+#[doc = "  then triangle index."]
+pub const HGCD_RAY_CLOSEST: hgcd_ray_mode = 0;
+#[doc = " Any hit: whether the segment hits anything (visibility). The hit"]
+#[doc = "  reported is a true hit, not necessarily the closest; which one is a"]
+#[doc = "  function of the bodies and poses (the same at any thread count)."]
+pub const HGCD_RAY_ANY: hgcd_ray_mode = 1;
+#[doc = " hgcd_world_cast_rays modes."]
+pub type hgcd_ray_mode = u32;
+extern "C" {
+    #[doc = " Casts count rays and writes one hgcd_ray_hit per ray into out_hits"]
+    #[doc = "  (the caller's array of count entries). Ray k starts at byte"]
+    #[doc = "  k * ray_stride of rays (0 = packed, sizeof(hgcd_ray))."]
+    #[doc = "  A ray hits a body where its segment first meets the body's closed solid:"]
+    #[doc = "  at distance 0 when the origin lies in the solid of a closed mesh"]
+    #[doc = "  (inside = 1), else at the first transversal crossing of a triangle (the"]
+    #[doc = "  segment passes from one side of the triangle's plane to the other, or"]
+    #[doc = "  starts or ends on it, at a point of the closed triangle, its edges and"]
+    #[doc = "  vertices included). A segment lying in a triangle's plane does not cross"]
+    #[doc = "  that triangle: along a face of a closed mesh it hits where it enters the"]
+    #[doc = "  solid through a neighbouring face; it misses an open sheet it lies in."]
+    #[doc = "  Errors (nothing written): NULL_ARGUMENT (world; rays or out_hits with"]
+    #[doc = "  count > 0), INVALID_ARGUMENT (mode, stride not a multiple of 8 or below"]
+    #[doc = "  sizeof(hgcd_ray) when not 0, a ray out of range: the message names ray"]
+    #[doc = "  k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see"]
+    #[doc = "  above; count = 0 is a no-op."]
+    pub fn hgcd_world_cast_rays(
+        world: *mut hgcd_world,
+        rays: *const hgcd_ray,
+        count: usize,
+        ray_stride: usize,
+        mode: i32,
+        filter: *const hgcd_query_filter,
+        out_hits: *mut hgcd_ray_hit,
+    ) -> hgcd_status;
+}
+#[doc = " Results of a batch of box, point or mesh queries, in world-owned arrays:"]
+#[doc = "  the bodies of query k are bodies[offsets[k]] .. bodies[offsets[k+1] - 1],"]
+#[doc = "  ascending by index; offsets has query_count + 1 entries, offsets[0] = 0,"]
+#[doc = "  offsets[query_count] = body_count. Valid until the next query call on"]
+#[doc = "  this world (hgcd_world_query_*), or its destruction; not changed by any"]
+#[doc = "  other call."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
+pub struct hgcd_query_results {
+    pub offsets: *const usize,
+    pub bodies: *const hgcd_body,
+    pub query_count: usize,
+    pub body_count: usize,
+}
+#[test]
+fn bindgen_test_layout_hgcd_query_results() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_query_results>(),
+        32usize,
+        concat!("Size of: ", stringify!(hgcd_query_results))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_query_results>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_query_results))
+    );
+    fn test_field_offsets() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_query_results>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).offsets) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_query_results),
+                "::",
+                stringify!(offsets)
+            )
+        );
+    }
+    test_field_offsets();
+    fn test_field_bodies() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_query_results>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).bodies) as usize - ptr as usize
+            },
+            8usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_query_results),
+                "::",
+                stringify!(bodies)
+            )
+        );
+    }
+    test_field_bodies();
+    fn test_field_query_count() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_query_results>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).query_count) as usize - ptr as usize
+            },
+            16usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_query_results),
+                "::",
+                stringify!(query_count)
+            )
+        );
+    }
+    test_field_query_count();
+    fn test_field_body_count() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_query_results>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).body_count) as usize - ptr as usize
+            },
+            24usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_query_results),
+                "::",
+                stringify!(body_count)
+            )
+        );
+    }
+    test_field_body_count();
+}
+extern "C" {
+    #[doc = " The bodies whose closed solid meets each closed axis-aligned box (a"]
+    #[doc = "  triangle meets the box, or a closed mesh holds it; touching counts)."]
+    #[doc = "  Box k is 6 doubles (min x y z, max x y z) at byte k * box_stride of"]
+    #[doc = "  boxes (0 = packed); each component within the coordinate range, min <="]
+    #[doc = "  max per axis (a flat box or a point is allowed)."]
+    #[doc = "  Errors (nothing changes): NULL_ARGUMENT (world, out; boxes with count >"]
+    #[doc = "  0), INVALID_ARGUMENT (stride, a bad box: the message names it),"]
+    #[doc = "  OUT_OF_MEMORY."]
+    pub fn hgcd_world_query_box(
+        world: *mut hgcd_world,
+        boxes: *const f64,
+        count: usize,
+        box_stride: usize,
+        filter: *const hgcd_query_filter,
+        out: *mut hgcd_query_results,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " The bodies whose closed solid contains each point: on a triangle (edges"]
+    #[doc = "  and vertices included), or inside a closed mesh. Point k is 3 doubles at"]
+    #[doc = "  byte k * point_stride of points (0 = packed), within the coordinate range."]
+    #[doc = "  Errors: as hgcd_world_query_box."]
+    pub fn hgcd_world_query_point(
+        world: *mut hgcd_world,
+        points: *const f64,
+        count: usize,
+        point_stride: usize,
+        filter: *const hgcd_query_filter,
+        out: *mut hgcd_query_results,
+    ) -> hgcd_status;
+}
+#[doc = " A pose of a query mesh: position, orientation (x, y, z, w) and scale,"]
+#[doc = "  with the rules of hgcd_body_desc."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct hgcd_mesh_pose {
+    pub position: [f64; 3usize],
+    pub orientation: [f64; 4usize],
+    pub scale: f64,
+}
+#[test]
+fn bindgen_test_layout_hgcd_mesh_pose() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_mesh_pose>(),
+        64usize,
+        concat!("Size of: ", stringify!(hgcd_mesh_pose))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_mesh_pose>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_mesh_pose))
+    );
+    fn test_field_position() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_pose>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).position) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_mesh_pose),
+                "::",
+                stringify!(position)
+            )
+        );
+    }
+    test_field_position();
+    fn test_field_orientation() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_pose>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).orientation) as usize - ptr as usize
+            },
+            24usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_mesh_pose),
+                "::",
+                stringify!(orientation)
+            )
+        );
+    }
+    test_field_orientation();
+    fn test_field_scale() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_mesh_pose>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).scale) as usize - ptr as usize
+            },
+            56usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_mesh_pose),
+                "::",
+                stringify!(scale)
+            )
+        );
+    }
+    test_field_scale();
+}
+extern "C" {
+    #[doc = " The bodies that a body of `mesh` at each pose would collide with, with"]
+    #[doc = "  the pairs' semantics (surfaces meet or containment either way, exact;"]
+    #[doc = "  libccd settings do not apply: always the exact test). Pose k is at byte"]
+    #[doc = "  k * pose_stride of poses (0 = packed, sizeof(hgcd_mesh_pose)). The mesh"]
+    #[doc = "  is any live mesh of the world; no body is created."]
+    #[doc = "  Errors: as hgcd_world_query_box, and STALE_ID (mesh)."]
+    pub fn hgcd_world_query_mesh(
+        world: *mut hgcd_world,
+        mesh: hgcd_mesh,
+        poses: *const hgcd_mesh_pose,
+        count: usize,
+        pose_stride: usize,
+        filter: *const hgcd_query_filter,
+        out: *mut hgcd_query_results,
+    ) -> hgcd_status;
+}
 #[doc = " Parameters of scene `tetra`. Obtain with hgcd_scene_tetra_desc_default()."]
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]

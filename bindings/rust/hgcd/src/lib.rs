@@ -38,7 +38,7 @@ pub use types::{
     BodyDesc, BodyId, Contact, ContactKind, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose,
     Stats, ThreadPolicy, WorldDesc,
 };
-pub use world::World;
+pub use world::{MeshPose, QueryFilter, QueryResults, Ray, RayHit, RayMode, World};
 
 /// The run-time library version (major, minor, patch) (`hgcd_version`).
 pub fn version() -> (u32, u32, u32) {

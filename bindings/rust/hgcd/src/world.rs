@@ -1,6 +1,9 @@
 //! `World`: the owned `hgcd_world*` (its batch calls in world/batch.rs).
 
 mod batch;
+mod query;
+
+pub use query::{MeshPose, QueryFilter, QueryResults, Ray, RayHit, RayMode};
 
 use std::ffi::CStr;
 use std::fmt;

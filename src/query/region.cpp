@@ -1,0 +1,277 @@
+// Box, point and mesh queries: each query's box against the query tree,
+// the bodies reached decided exactly, the answers gathered per query in
+// index order into the world's result arrays. Also the tree's upkeep.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "broad/grid.hpp"
+#include "common/parallel.hpp"
+#include "common/transform.hpp"
+#include "narrow/narrow.hpp"
+#include "query/solid.hpp"
+#include "world/limits.hpp"
+#include "world/world.hpp"
+
+namespace hgcd {
+
+namespace {
+
+constexpr size_t kChunk = 64;  // queries per unit of the dynamic schedule
+
+const char *entry(const void *base, size_t stride, size_t k) {
+    return reinterpret_cast<const char *>(base) + k * stride;
+}
+
+bool stride_ok(size_t stride, size_t size) { return stride == 0 || (stride % sizeof(double) == 0 && stride >= size); }
+
+}  // namespace
+
+void World::ensure_query_tree() {
+    if (!query_.stale) return;
+    std::vector<QueryItem> items;
+    items.reserve(live_bodies_);
+    const Boxes b = boxes();
+    for (uint32_t slot = 0; slot < uint32_t(live_gen_.size()); ++slot) {
+        if (!live_gen_[slot]) continue;
+        QueryItem it;
+        double lo[3], hi[3];
+        b.at(at_[slot], lo, hi);
+        for (int k = 0; k < 3; ++k) {
+            it.lo[k] = float_at_most(lo[k]);
+            it.hi[k] = float_at_least(hi[k]);
+        }
+        it.slot = slot;
+        it.mesh = body_mesh_[at_[slot]];
+        items.push_back(it);
+    }
+    QueryTree &tree = query_.tree;
+    tree.build(std::move(items), threads());
+    constexpr size_t kCache = 3 * QueryTree::kCachedVertices;
+    tree.world.resize(kCache * tree.items.size());
+    parallel_region(threads(), [&](RegionGuard &) {
+#pragma omp for schedule(static)
+        for (int64_t i = 0; i < int64_t(tree.items.size()); ++i) {
+            const QueryItem &it = tree.items[size_t(i)];
+            const Mesh &m = meshes_[it.mesh];
+            if (m.vertex_count > QueryTree::kCachedVertices) continue;
+            const Placement &p = place_[at_[it.slot]];
+            const Rotation r = rotation_of(p.orientation);
+            for (uint32_t v = 0; v < m.vertex_count; ++v)
+                transform_point(r, p.position, p.scale, &m.vertices[3 * v], &tree.world[kCache * size_t(i) + 3 * v]);
+        }
+    });
+    query_.stale = false;
+}
+
+SolidView World::query_view(size_t i, std::vector<double> &w, double *box) const {
+    const QueryTree &tree = query_.tree;
+    const QueryItem &it = tree.items[i];
+    const Mesh &m = meshes_[it.mesh];
+    const double *wv;
+    if (m.vertex_count <= QueryTree::kCachedVertices) {
+        wv = &tree.world[3 * QueryTree::kCachedVertices * i];
+        for (int k = 0; k < 3; ++k) {
+            box[k] = INFINITY;
+            box[3 + k] = -INFINITY;
+        }
+        for (uint32_t v = 0; v < m.vertex_count; ++v)
+            for (int k = 0; k < 3; ++k) {
+                box[k] = std::min(box[k], wv[3 * v + k]);
+                box[3 + k] = std::max(box[3 + k], wv[3 * v + k]);
+            }
+    } else {
+        // (By slot: storage may have been renumbered since the build.)
+        world_vertices(pose_of(&m, place_[at_[it.slot]]), w, box);
+        wv = w.data();
+    }
+    return SolidView{&m, wv, box};
+}
+
+template <class Box, class Accept>
+void World::run_region_queries(size_t count, const hgcd_query_filter *filter, Box &&box, Accept &&accept) {
+    ensure_query_tree();
+    const bool considered = filter_accepts(filter, 1, UINT64_MAX);  // (bodies have no filter of their own yet)
+    const QueryTree &tree = query_.tree;
+    const size_t chunks = (count + kChunk - 1) / kChunk;
+    std::vector<std::vector<uint32_t>> found(chunks);  // per chunk, its queries' slots in order
+    std::vector<size_t> sizes(count + 1, 0);
+    parallel_region(threads(), [&](RegionGuard &guard) {
+        std::vector<double> scratch;
+        NarrowScratch narrow;
+        std::vector<uint32_t> mine;
+        uint32_t stack[kQueryStack];
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t c = 0; c < int64_t(chunks); ++c) {
+            guard.run([&] {
+                std::vector<uint32_t> &out = found[size_t(c)];
+                const size_t end = std::min(count, size_t(c + 1) * kChunk);
+                for (size_t q = size_t(c) * kChunk; q < end; ++q) {
+                    mine.clear();
+                    double lo[3], hi[3];
+                    box(q, lo, hi);
+                    const auto meets = [&](const float *nlo, const float *nhi) {
+                        bool apart = false;
+                        for (int k = 0; k < 3; ++k) apart |= double(nlo[k]) > hi[k] || double(nhi[k]) < lo[k];
+                        return !apart;
+                    };
+                    int top = 0;
+                    if (considered && !tree.nodes.empty() && meets(tree.nodes[0].lo, tree.nodes[0].hi))
+                        stack[top++] = 0;
+                    while (top > 0) {  // (the stack holds nodes whose box meets the query's)
+                        const QueryNode &n = tree.nodes[stack[--top]];
+                        if (n.count == 0) {
+                            // Both children (one cache line) tested here; what
+                            // the visit of one reads next is asked for now.
+                            for (uint32_t c = n.first + 2; c-- > n.first;) {
+                                const QueryNode &child = tree.nodes[c];
+                                if (!meets(child.lo, child.hi)) continue;
+                                if (child.count == 0) __builtin_prefetch(&tree.nodes[child.first]);
+                                else __builtin_prefetch(&tree.items[child.first]);
+                                stack[top++] = c;
+                            }
+                            continue;
+                        }
+                        for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+                            const QueryItem &it = tree.items[i];
+                            bool away = false;
+                            for (int k = 0; k < 3; ++k)
+                                away |= double(it.lo[k]) > hi[k] || double(it.hi[k]) < lo[k];
+                            if (!away && accept(q, size_t(i), scratch, narrow)) mine.push_back(it.slot);
+                        }
+                    }
+                    std::sort(mine.begin(), mine.end());
+                    sizes[q + 1] = mine.size();
+                    out.insert(out.end(), mine.begin(), mine.end());
+                }
+            });
+        }
+    });
+    for (size_t q = 0; q < count; ++q) sizes[q + 1] += sizes[q];
+    std::vector<hgcd_body> bodies(sizes[count]);
+    parallel_region(threads(), [&](RegionGuard &) {
+#pragma omp for schedule(static)
+        for (int64_t c = 0; c < int64_t(chunks); ++c) {
+            const size_t at = sizes[size_t(c) * kChunk];
+            const std::vector<uint32_t> &f = found[size_t(c)];
+            for (size_t i = 0; i < f.size(); ++i) bodies[at + i] = hgcd_body{f[i], live_gen_[f[i]]};
+        }
+    });
+    query_.offsets.swap(sizes);
+    query_.bodies.swap(bodies);
+}
+
+void World::publish(hgcd_query_results *out) {
+    out->offsets = query_.offsets.data();
+    out->bodies = query_.bodies.data();
+    out->query_count = query_.offsets.size() - 1;
+    out->body_count = query_.bodies.size();
+}
+
+hgcd_status World::query_boxes(const double *boxes, size_t count, size_t stride, const hgcd_query_filter *filter,
+                               hgcd_query_results *out) {
+    if (!stride_ok(stride, 6 * sizeof(double)))
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_query_box: box_stride must be 0 or a multiple of 8 of at least 48");
+    if (stride == 0) stride = 6 * sizeof(double);
+    for (size_t k = 0; k < count; ++k) {
+        const double *b = reinterpret_cast<const double *>(entry(boxes, stride, k));
+        for (int a = 0; a < 3; ++a)
+            if (!coordinate_ok(b[a]) || !coordinate_ok(b[3 + a]) || !(b[a] <= b[3 + a]))
+                return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                            "world_query_box: box " + std::to_string(k) +
+                                ": bounds must be finite, within 1e15, and min <= max on each axis");
+    }
+    run_region_queries(
+        count, filter,
+        [&](size_t q, double *lo, double *hi) {
+            const double *b = reinterpret_cast<const double *>(entry(boxes, stride, q));
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = b[a];
+                hi[a] = b[3 + a];
+            }
+        },
+        [&](size_t q, size_t i, std::vector<double> &w, NarrowScratch &) {
+            const double *b = reinterpret_cast<const double *>(entry(boxes, stride, q));
+            double box[6];
+            return box_meets_solid(query_view(i, w, box), b, b + 3);
+        });
+    publish(out);
+    return HGCD_OK;
+}
+
+hgcd_status World::query_points(const double *points, size_t count, size_t stride, const hgcd_query_filter *filter,
+                                hgcd_query_results *out) {
+    if (!stride_ok(stride, 3 * sizeof(double)))
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    "world_query_point: point_stride must be 0 or a multiple of 8 of at least 24");
+    if (stride == 0) stride = 3 * sizeof(double);
+    for (size_t k = 0; k < count; ++k)
+        if (!position_ok(reinterpret_cast<const double *>(entry(points, stride, k))))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                        "world_query_point: point " + std::to_string(k) + " must be finite and within 1e15");
+    run_region_queries(
+        count, filter,
+        [&](size_t q, double *lo, double *hi) {
+            const double *p = reinterpret_cast<const double *>(entry(points, stride, q));
+            for (int a = 0; a < 3; ++a) lo[a] = hi[a] = p[a];
+        },
+        [&](size_t q, size_t i, std::vector<double> &w, NarrowScratch &) {
+            const double *p = reinterpret_cast<const double *>(entry(points, stride, q));
+            double box[6];
+            return point_in_solid(query_view(i, w, box), p);
+        });
+    publish(out);
+    return HGCD_OK;
+}
+
+hgcd_status World::query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, size_t count, size_t stride,
+                                const hgcd_query_filter *filter, hgcd_query_results *out) {
+    const int64_t ms = live_mesh(mesh);
+    if (ms < 0) return fail(HGCD_ERROR_STALE_ID, "world_query_mesh: mesh is not a live mesh of this world");
+    if (!stride_ok(stride, sizeof(hgcd_mesh_pose)))
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    "world_query_mesh: pose_stride must be 0 or a multiple of 8 of at least sizeof(hgcd_mesh_pose)");
+    if (stride == 0) stride = sizeof(hgcd_mesh_pose);
+    const Mesh &qm = meshes_[size_t(ms)];
+    const auto pose = [&](size_t k) { return reinterpret_cast<const hgcd_mesh_pose *>(entry(poses, stride, k)); };
+    for (size_t k = 0; k < count; ++k) {
+        const hgcd_mesh_pose &p = *pose(k);
+        if (!position_ok(p.position) || !orientation_ok(p.orientation) || !scale_ok(p.scale, qm.reach))
+            return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                        "world_query_mesh: pose " + std::to_string(k) +
+                            ": position within 1e15, unit orientation (within 1e-6) and scale > 0 with "
+                            "scale * mesh reach <= 1e15 required");
+    }
+    // Each pose's exact world box, computed once (the tree search reads it).
+    std::vector<double> qbox(6 * count);
+    parallel_region(threads(), [&](RegionGuard &guard) {
+        std::vector<double> w;
+#pragma omp for schedule(dynamic, 64)
+        for (int64_t k = 0; k < int64_t(count); ++k) {
+            guard.run([&] {
+                const hgcd_mesh_pose &p = *pose(size_t(k));
+                world_vertices(BodyPose{&qm, p.position, p.orientation, p.scale}, w, &qbox[6 * size_t(k)]);
+            });
+        }
+    });
+    run_region_queries(
+        count, filter,
+        [&](size_t q, double *lo, double *hi) {
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = qbox[6 * q + a];
+                hi[a] = qbox[6 * q + 3 + a];
+            }
+        },
+        [&](size_t q, size_t i, std::vector<double> &, NarrowScratch &narrow) {
+            const hgcd_mesh_pose &p = *pose(q);
+            const size_t s = at_[query_.tree.items[i].slot];
+            const BodyPose a{&qm, p.position, p.orientation, p.scale};
+            return collide(a, pose_of(&meshes_[body_mesh_[s]], place_[s]), narrow) != Contact::None;
+        });
+    publish(out);
+    return HGCD_OK;
+}
+
+}  // namespace hgcd

@@ -1,0 +1,162 @@
+// The exact per-body tests of the scene queries (solid.hpp).
+#include "query/solid.hpp"
+
+#include <algorithm>
+
+namespace hgcd {
+
+namespace {
+
+bool outside(const double *p, const double *lo, const double *hi) {
+    return p[0] < lo[0] || p[1] < lo[1] || p[2] < lo[2] || p[0] > hi[0] || p[1] > hi[1] || p[2] > hi[2];
+}
+
+void triangle_box(const SolidView &b, uint32_t t, double *lo, double *hi) {
+    const double *v0 = b.vertex(t, 0), *v1 = b.vertex(t, 1), *v2 = b.vertex(t, 2);
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(v0[k], std::min(v1[k], v2[k]));
+        hi[k] = std::max(v0[k], std::max(v1[k], v2[k]));
+    }
+}
+
+bool boxes_apart(const double *alo, const double *ahi, const double *blo, const double *bhi) {
+    return alo[0] > bhi[0] || alo[1] > bhi[1] || alo[2] > bhi[2] || blo[0] > ahi[0] || blo[1] > ahi[1] ||
+           blo[2] > ahi[2];
+}
+
+bool on_surface(const SolidView &b, const double *p) {
+    for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
+        double lo[3], hi[3];
+        triangle_box(b, t, lo, hi);
+        if (outside(p, lo, hi)) continue;
+        if (segment_triangle_intersect(p, p, b.vertex(t, 0), b.vertex(t, 1), b.vertex(t, 2))) return true;
+    }
+    return false;
+}
+
+// A tetrahedron's closed solid is the hull of its 4 world vertices: p is in
+// it when, for every face, p is on the face's plane or on the side of the
+// fourth vertex. Returns -1 when the 4 points are coplanar (flat: the
+// caller takes the general test).
+int point_in_tetra(const SolidView &b, const double *p) {
+    const uint32_t *tri = b.mesh->triangles.data();
+    bool inside = true;
+    for (uint32_t f = 0; f < 4; ++f) {
+        // The fourth vertex: the one of the next face that is not in this one.
+        const uint32_t *face = tri + 3 * f, *next = tri + 3 * ((f + 1) % 4);
+        uint32_t opp = next[0];
+        for (int i = 0; i < 3; ++i)
+            if (next[i] != face[0] && next[i] != face[1] && next[i] != face[2]) opp = next[i];
+        const double *v0 = b.w + 3 * size_t(face[0]), *v1 = b.w + 3 * size_t(face[1]), *v2 = b.w + 3 * size_t(face[2]);
+        const int so = orient3d(v0, v1, v2, b.w + 3 * size_t(opp));
+        if (so == 0) return -1;
+        const int sp = orient3d(v0, v1, v2, p);
+        if (sp == -so) inside = false;  // (keep checking flatness)
+    }
+    return inside ? 1 : 0;
+}
+
+// Every corner c[i] strictly on one side of the plane of (v0, v1, v2) (a
+// zero-area triangle has no side: false).
+bool corners_on_one_side(const double *v0, const double *v1, const double *v2, const double (*c)[3]) {
+    const int s = orient3d(v0, v1, v2, c[0]);
+    if (s == 0) return false;
+    for (int i = 1; i < 8; ++i)
+        if (orient3d(v0, v1, v2, c[i]) != s) return false;
+    return true;
+}
+
+bool tetra_separates(const SolidView &b, const double (*c)[3]) {
+    const uint32_t *tri = b.mesh->triangles.data();
+    for (uint32_t f = 0; f < 4; ++f) {
+        const uint32_t *face = tri + 3 * f, *next = tri + 3 * ((f + 1) % 4);
+        uint32_t opp = next[0];
+        for (int i = 0; i < 3; ++i)
+            if (next[i] != face[0] && next[i] != face[1] && next[i] != face[2]) opp = next[i];
+        const double *v0 = b.w + 3 * size_t(face[0]), *v1 = b.w + 3 * size_t(face[1]), *v2 = b.w + 3 * size_t(face[2]);
+        const int so = orient3d(v0, v1, v2, b.w + 3 * size_t(opp));
+        if (so == 0) return false;  // flat: no inside to be away from
+        bool away = true;
+        for (int i = 0; i < 8 && away; ++i) away = orient3d(v0, v1, v2, c[i]) == -so;
+        if (away) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+bool point_in_solid(const SolidView &b, const double *p) {
+    if (outside(p, b.box, b.box + 3)) return false;
+    if (b.mesh->tetra) {
+        const int r = point_in_tetra(b, p);
+        if (r >= 0) return r == 1;
+    }
+    if (on_surface(b, p)) return true;
+    if (!b.mesh->closed) return false;
+    // Not on the surface: parity decides (its precondition).
+    return point_in_closed_mesh(p, b.w, b.mesh->triangles.data(), b.mesh->triangle_count, b.box, b.box + 3);
+}
+
+bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
+    if (boxes_apart(b.box, b.box + 3, lo, hi)) return false;
+    // The body's vertices inside the box: its solid meets it (a mesh has a
+    // triangle, whose vertices are then in the box).
+    if (!outside(b.box, lo, hi) && !outside(b.box + 3, lo, hi)) return true;
+    // The box's surface as 12 triangles (two per face; degenerate when the
+    // box is flat, which tri_tri_intersect takes as segments and points).
+    double c[8][3];
+    for (int i = 0; i < 8; ++i)
+        for (int k = 0; k < 3; ++k) c[i][k] = (i >> k) & 1 ? hi[k] : lo[k];
+    // A tetrahedron's solid is the hull of its vertices: a face plane with
+    // every corner strictly on the side away from the fourth vertex
+    // separates it from the box (exact signs).
+    if (b.mesh->tetra && tetra_separates(b, c)) return false;
+    static const int kFace[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+    for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
+        double tlo[3], thi[3];
+        triangle_box(b, t, tlo, thi);
+        if (boxes_apart(tlo, thi, lo, hi)) continue;
+        const double *v0 = b.vertex(t, 0), *v1 = b.vertex(t, 1), *v2 = b.vertex(t, 2);
+        // A vertex in the box; else the triangle meets the box only through
+        // the box's surface.
+        if (!outside(v0, lo, hi) || !outside(v1, lo, hi) || !outside(v2, lo, hi)) return true;
+        // Every corner strictly on one side of the triangle's plane: apart.
+        if (corners_on_one_side(v0, v1, v2, c)) continue;
+        for (const auto &f : kFace) {
+            if (tri_tri_intersect(v0, v1, v2, c[f[0]], c[f[1]], c[f[2]]) ||
+                tri_tri_intersect(v0, v1, v2, c[f[0]], c[f[2]], c[f[3]]))
+                return true;
+        }
+    }
+    // The surfaces are apart: the box lies wholly inside or outside a closed
+    // solid, and its corner (not on the surface) tells which.
+    if (!b.mesh->closed) return false;
+    if (b.mesh->tetra) {
+        const int r = point_in_tetra(b, lo);
+        if (r >= 0) return r == 1;
+    }
+    if (outside(lo, b.box, b.box + 3)) return false;
+    return point_in_closed_mesh(lo, b.w, b.mesh->triangles.data(), b.mesh->triangle_count, b.box, b.box + 3);
+}
+
+uint32_t first_crossing(const SolidView &b, const double *o, const double *e, const double *smin,
+                        const double *smax, bool any, RayCrossing *out) {
+    uint32_t best = UINT32_MAX;
+    const double *bv[3] = {nullptr, nullptr, nullptr};
+    for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
+        double tlo[3], thi[3];
+        triangle_box(b, t, tlo, thi);
+        if (boxes_apart(tlo, thi, smin, smax)) continue;
+        const double *v[3] = {b.vertex(t, 0), b.vertex(t, 1), b.vertex(t, 2)};
+        RayCrossing c;
+        if (!segment_crosses(o, e, v, &c)) continue;
+        if (best != UINT32_MAX && compare_crossings(o, e, v, c, bv, *out) >= 0) continue;
+        best = t;
+        *out = c;
+        for (int i = 0; i < 3; ++i) bv[i] = v[i];
+        if (any) break;
+    }
+    return best;
+}
+
+}  // namespace hgcd

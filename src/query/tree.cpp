@@ -1,0 +1,212 @@
+// The query tree's build (binned surface area heuristic, median splits
+// where it finds none) and the conservative segment-box test of the ray traversal.
+#include "query/tree.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hgcd {
+
+namespace {
+
+struct Builder {
+    std::vector<QueryItem> &items;
+    std::vector<QueryNode, CacheLineAllocator<QueryNode>> &nodes;
+
+    static float centre(const QueryItem &it, int k) { return it.lo[k] + it.hi[k]; }  // (twice; order only)
+
+    void bounds(uint32_t begin, uint32_t end, QueryNode &n) const {
+        for (int k = 0; k < 3; ++k) {
+            n.lo[k] = INFINITY;
+            n.hi[k] = -INFINITY;
+        }
+        for (uint32_t i = begin; i < end; ++i)
+            for (int k = 0; k < 3; ++k) {
+                n.lo[k] = std::min(n.lo[k], items[i].lo[k]);
+                n.hi[k] = std::max(n.hi[k], items[i].hi[k]);
+            }
+    }
+
+    static float area(const float *lo, const float *hi) {
+        const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+        return dx * dy + dy * dz + dz * dx;
+    }
+
+    // The split of items [begin, end) by the surface area heuristic over
+    // kBins bins of the centres per axis: returns the axis and the first bin
+    // of the right side, or axis -1 when
+    // no binned split separates them (then the median of the longest axis).
+    static constexpr int kBins = 16;
+    int sah_split(uint32_t begin, uint32_t end, const float *clo, const float *chi, int *cut) const {
+        float best = INFINITY;
+        int best_axis = -1;
+        for (int k = 0; k < 3; ++k) {
+            const float extent = chi[k] - clo[k];
+            if (!(extent > 0)) continue;
+            const float scale = kBins / extent;
+            uint32_t count[kBins] = {};
+            float blo[kBins][3], bhi[kBins][3];
+            for (int b = 0; b < kBins; ++b)
+                for (int a = 0; a < 3; ++a) {
+                    blo[b][a] = INFINITY;
+                    bhi[b][a] = -INFINITY;
+                }
+            for (uint32_t i = begin; i < end; ++i) {
+                const int b = std::min(kBins - 1, int((centre(items[i], k) - clo[k]) * scale));
+                ++count[b];
+                for (int a = 0; a < 3; ++a) {
+                    blo[b][a] = std::min(blo[b][a], items[i].lo[a]);
+                    bhi[b][a] = std::max(bhi[b][a], items[i].hi[a]);
+                }
+            }
+            // Right-to-left sweep of areas and counts, then left to right.
+            float rarea[kBins];
+            uint32_t rcount[kBins];
+            float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            uint32_t c = 0;
+            for (int b = kBins - 1; b > 0; --b) {
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], blo[b][a]);
+                    hi[a] = std::max(hi[a], bhi[b][a]);
+                }
+                c += count[b];
+                rarea[b] = c ? area(lo, hi) : 0;
+                rcount[b] = c;
+            }
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = INFINITY;
+                hi[a] = -INFINITY;
+            }
+            c = 0;
+            for (int b = 0; b + 1 < kBins; ++b) {
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], blo[b][a]);
+                    hi[a] = std::max(hi[a], bhi[b][a]);
+                }
+                c += count[b];
+                if (c == 0 || rcount[b + 1] == 0) continue;
+                const float cost = float(c) * area(lo, hi) + float(rcount[b + 1]) * rarea[b + 1];
+                if (cost < best) {
+                    best = cost;
+                    best_axis = k;
+                    *cut = b + 1;
+                }
+            }
+        }
+        return best_axis;
+    }
+
+    // Node `at` over items [begin, end): children are allocated as a pair.
+    // Past depth kSahDepth the splits are medians, so the depth stays below
+    // kSahDepth + log2(n) + 2 < kQueryStack (the traversals' stacks).
+    static constexpr int kSahDepth = 40;
+    void build(uint32_t at, uint32_t begin, uint32_t end, int depth) {
+        QueryNode &n = nodes[at];
+        bounds(begin, end, n);
+        if (end - begin <= kQueryLeafSize) {
+            n.first = begin;
+            n.count = end - begin;
+            return;
+        }
+        float clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (uint32_t i = begin; i < end; ++i)
+            for (int k = 0; k < 3; ++k) {
+                clo[k] = std::min(clo[k], centre(items[i], k));
+                chi[k] = std::max(chi[k], centre(items[i], k));
+            }
+        int cut_bin = 0;
+        const int sah_axis = depth < kSahDepth ? sah_split(begin, end, clo, chi, &cut_bin) : -1;
+        uint32_t mid;
+        if (sah_axis >= 0) {
+            // The binning above recomputes each item's bin the same way, so
+            // both sides are non-empty. (A stable partition: the order of
+            // each side stays that of the items, sorted by slot at the root.)
+            const float scale = kBins / (chi[sah_axis] - clo[sah_axis]);
+            auto it = std::stable_partition(items.begin() + begin, items.begin() + end, [&](const QueryItem &x) {
+                return std::min(kBins - 1, int((centre(x, sah_axis) - clo[sah_axis]) * scale)) < cut_bin;
+            });
+            mid = uint32_t(it - items.begin());
+        } else {
+            mid = begin;
+        }
+        if (mid == begin || mid == end) {
+            int axis = 0;
+            for (int k = 1; k < 3; ++k)
+                if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+            mid = begin + (end - begin) / 2;
+            // Ties by slot: the split depends on the items alone.
+            std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                             [axis](const QueryItem &x, const QueryItem &y) {
+                                 const float cx = centre(x, axis), cy = centre(y, axis);
+                                 return cx < cy || (cx == cy && x.slot < y.slot);
+                             });
+        }
+        const uint32_t child = uint32_t(nodes.size());
+        nodes.emplace_back();
+        nodes.emplace_back();
+        nodes[at].first = child;
+        nodes[at].count = 0;
+        build(child, begin, mid, depth + 1);
+        build(child + 1, mid, end, depth + 1);
+    }
+};
+
+}  // namespace
+
+void QueryTree::build(std::vector<QueryItem> &&in, int) {
+    items = std::move(in);
+    nodes.clear();
+    if (items.empty()) return;
+    std::sort(items.begin(), items.end(), [](const QueryItem &x, const QueryItem &y) { return x.slot < y.slot; });
+    nodes.reserve(2 * items.size() + 2);
+    nodes.emplace_back();
+    nodes.emplace_back();  // (unused: pairs start at even indices)
+    Builder b{items, nodes};
+    b.build(0, 0, uint32_t(items.size()), 0);
+}
+
+void SegmentProbe::set(const double *origin, const double *end) {
+    for (int k = 0; k < 3; ++k) {
+        o[k] = origin[k];
+        e[k] = end[k];
+        smin[k] = std::min(o[k], e[k]);
+        smax[k] = std::max(o[k], e[k]);
+        const double d = e[k] - o[k];  // (0 only when e = o on the axis)
+        flat[k] = !(std::fabs(d) >= 0x1p-1020);
+        inv[k] = flat[k] ? 0.0 : 1.0 / d;
+    }
+}
+
+// Why nothing the segment meets is dropped. Per axis not flat, the segment's
+// exact parameters at the planes lo and hi are (lo - o) / (e - o) and (hi -
+// o) / (e - o); the computed ones round e - o, 1 / d, lo - o and the product
+// (relative 5u at most; an underflow adds under 2^-1074, an overflow gives
+// an infinity of the right sign: rounding is monotone). The exact segment
+// meets the box at parameter t in [0, limit] only if, per axis, t lies
+// between its two exact parameters. Then each entry (the smaller of the
+// two) that exceeds 0 is at most limit <= 1, so its computed value is at
+// most t + 5u; each exit that is below 1 is at least t >= 0, so its computed
+// value is at least t - 5u; entries at most 0 and exits at least 1 compute
+// to at most 5u above 0 and 5u below 1 (within 5u relative of a value of
+// that sign... below and above, respectively). So the computed max entry
+// (with 0) and min exit (with limit) are within 2^-50 of values that
+// satisfy enter <= exit: the margin 2^-40 suffices. Flat axes: the segment's
+// span on the axis is compared with the box exactly.
+bool segment_meets_box(const SegmentProbe &s, const float *lo, const float *hi, double limit, double *enter) {
+    double t0 = 0, t1 = limit;
+    for (int k = 0; k < 3; ++k) {
+        const double l = double(lo[k]), h = double(hi[k]);
+        if (s.flat[k]) {
+            if (s.smax[k] < l || s.smin[k] > h) return false;
+            continue;
+        }
+        double a = (l - s.o[k]) * s.inv[k], b = (h - s.o[k]) * s.inv[k];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+    }
+    *enter = t0;
+    return t0 <= t1 + 0x1p-40;
+}
+
+}  // namespace hgcd

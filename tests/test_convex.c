@@ -1,0 +1,384 @@
+/* The narrow phase's convex path (src/narrow/convex.cpp: separating axes
+ * along the line of centres, face normals and edge pairs, certified, before
+ * the exact test) against the independent oracle: random scenes of boxes,
+ * icosahedra, 80-triangle icospheres and convex hulls mixed with
+ * tetrahedra and a non-convex mesh, and hand-built touching faces, edges
+ * and vertices, gaps of one ulp, containment, and faces a hair apart at
+ * random orientations. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include <hgcd/hgcd.h>
+
+#include "oracle.h"
+#include "scene_shapes.h"
+#include "test_rng.h"
+
+enum { BOX, SLAB, ICOSAHEDRON, ICOSPHERE, HULL, PARALLELEPIPED, TETRA, DENTED, SHAPE_COUNT };
+/* The shapes that must be convex (and so take the convex path together). */
+static const int must_be_convex[SHAPE_COUNT] = {1, 1, 1, 1, 1, 1, 1, 0};
+
+static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+/* A cube whose top is dented down to a vertex at the centre: closed, not convex. */
+static const double dented_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1,
+                                  1,  -1, 1,  1, 1, 1,  -1, 1, 1,  0, 0, -0.25};
+static const uint32_t dented_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
+                                    2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8};
+
+static double box_v[24], slab_v[24], par_v[24], ico_v[36], hull_v[36], sphere_v[3 * 42];
+static uint32_t box_t[36], ico_t[60], sphere_t[3 * 80];
+static oracle_mesh shapes[SHAPE_COUNT];
+
+/* A dyadic linear map: applied to the cube's +-1 coordinates it is exact, so
+ * the parallelepiped's faces stay planar (and the mesh convex). */
+static const double shear[9] = {1.25, 0.25, 0, 0, 0.75, 0.375, 0.5, 0, 1};
+
+static void make_shapes(void) {
+    uint32_t scratch[5 * 80];
+    hgcd_box_mesh(1, 1, 1, box_v, box_t);
+    uint32_t slab_t[36];
+    hgcd_box_mesh(2, 0.5, 1, slab_v, slab_t);
+    for (int i = 0; i < 8; ++i)
+        for (int r = 0; r < 3; ++r)
+            par_v[3 * i + r] = shear[3 * r] * box_v[3 * i] + shear[3 * r + 1] * box_v[3 * i + 1] +
+                               shear[3 * r + 2] * box_v[3 * i + 2];
+    hgcd_icosphere(0, ico_v, ico_t, scratch);
+    hgcd_icosphere(1, sphere_v, sphere_t, scratch);
+    /* An irregular hull: the icosahedron under a non-dyadic linear map
+     * (strictly convex, so rounding keeps it convex). */
+    for (int i = 0; i < 12; ++i) {
+        const double *p = &ico_v[3 * i];
+        hull_v[3 * i] = 1.7 * p[0] + 0.3 * p[1];
+        hull_v[3 * i + 1] = 0.2 * p[0] + 0.6 * p[1] - 0.1 * p[2];
+        hull_v[3 * i + 2] = 0.4 * p[1] + 1.1 * p[2];
+    }
+    const oracle_mesh m[SHAPE_COUNT] = {
+        {box_v, box_t, 8, 12, 1},       {slab_v, box_t, 8, 12, 1},       {ico_v, ico_t, 12, 20, 1},
+        {sphere_v, sphere_t, 42, 80, 1}, {hull_v, ico_t, 12, 20, 1},     {par_v, box_t, 8, 12, 1},
+        {tetra_v, tetra_t, 4, 4, 1},    {dented_v, dented_t, 9, 14, 1},
+    };
+    memcpy(shapes, m, sizeof m);
+}
+
+typedef struct {
+    hgcd_world *w;
+    hgcd_mesh mesh[SHAPE_COUNT];
+    size_t n, cap;
+    int *shape;
+    double *pos, *quat, *scale;
+} scene;
+
+static void scene_init(scene *sc, size_t cap, uint32_t threads) {
+    memset(sc, 0, sizeof *sc);
+    hgcd_world_desc wd = hgcd_world_desc_default();
+    wd.thread_count = threads;
+    assert_int_equal(hgcd_world_create(&wd, &sc->w), HGCD_OK);
+    for (int k = 0; k < SHAPE_COUNT; ++k) {
+        hgcd_mesh_desc md = hgcd_mesh_desc_default();
+        md.vertices = shapes[k].verts;
+        md.triangles = shapes[k].tris;
+        md.vertex_count = shapes[k].vertex_count;
+        md.triangle_count = shapes[k].triangle_count;
+        assert_int_equal(hgcd_mesh_create(sc->w, &md, &sc->mesh[k]), HGCD_OK);
+        hgcd_mesh_info info;
+        info.struct_size = sizeof info;
+        assert_int_equal(hgcd_mesh_get_info(sc->w, sc->mesh[k], &info), HGCD_OK);
+        assert_int_equal(info.convex, must_be_convex[k]);
+    }
+    sc->cap = cap;
+    sc->shape = malloc(cap * sizeof(int));
+    sc->pos = malloc(3 * cap * sizeof(double));
+    sc->quat = malloc(4 * cap * sizeof(double));
+    sc->scale = malloc(cap * sizeof(double));
+}
+
+static void scene_free(scene *sc) {
+    hgcd_world_destroy(sc->w);
+    free(sc->shape);
+    free(sc->pos);
+    free(sc->quat);
+    free(sc->scale);
+}
+
+static void add(scene *sc, int shape, const double *p, const double *q, double scale) {
+    assert_true(sc->n < sc->cap);
+    hgcd_body_desc bd = hgcd_body_desc_default();
+    bd.mesh = sc->mesh[shape];
+    memcpy(bd.position, p, sizeof bd.position);
+    memcpy(bd.orientation, q, sizeof bd.orientation);
+    bd.scale = scale;
+    hgcd_body b;
+    assert_int_equal(hgcd_body_create(sc->w, &bd, &b), HGCD_OK);
+    assert_int_equal(b.index, sc->n); /* a fresh world: bodies in creation order */
+    sc->shape[sc->n] = shape;
+    memcpy(&sc->pos[3 * sc->n], p, 3 * sizeof(double));
+    memcpy(&sc->quat[4 * sc->n], q, 4 * sizeof(double));
+    sc->scale[sc->n] = scale;
+    ++sc->n;
+}
+
+/* Detects and compares every pair with the oracle; returns the pair count. */
+static size_t check_against_oracle(scene *sc) {
+    assert_int_equal(hgcd_world_detect(sc->w), HGCD_OK);
+    const oracle_mesh **meshes = malloc(sc->n * sizeof(*meshes));
+    for (size_t i = 0; i < sc->n; ++i) meshes[i] = &shapes[sc->shape[i]];
+    const size_t n = oracle_colliding_pairs(sc->n, meshes, sc->pos, sc->quat, sc->scale, NULL, 0);
+    uint32_t *expect = malloc((2 * n + 2) * sizeof(uint32_t));
+    assert_int_equal(oracle_colliding_pairs(sc->n, meshes, sc->pos, sc->quat, sc->scale, expect, n), n);
+    const hgcd_pair *got;
+    size_t count;
+    assert_int_equal(hgcd_world_pairs(sc->w, &got, &count), HGCD_OK);
+    size_t mismatches = 0;
+    for (size_t k = 0; k < n || k < count; ++k) {
+        const int has_e = k < n, has_g = k < count;
+        if (has_e && has_g && got[k].a.index == expect[2 * k] && got[k].b.index == expect[2 * k + 1]) continue;
+        if (mismatches++ < 5)
+            fprintf(stderr, "pair %zu: hgcd (%u, %u)%s, oracle (%u, %u)%s\n", k, has_g ? got[k].a.index : 0,
+                    has_g ? got[k].b.index : 0, has_g ? "" : " none", has_e ? expect[2 * k] : 0,
+                    has_e ? expect[2 * k + 1] : 0, has_e ? "" : " none");
+    }
+    assert_int_equal(mismatches, 0);
+    assert_int_equal(count, n);
+    free(expect);
+    free(meshes);
+    return n;
+}
+
+/* Whether bodies a < b are reported as colliding. */
+static int reported(const scene *sc, uint32_t a, uint32_t b) {
+    const hgcd_pair *p;
+    size_t count;
+    assert_int_equal(hgcd_world_pairs(sc->w, &p, &count), HGCD_OK);
+    for (size_t k = 0; k < count; ++k)
+        if (p[k].a.index == a && p[k].b.index == b) return 1;
+    return 0;
+}
+
+static const double exact_quats[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0},
+                                        {0, 0, 1, 0}, {0.5, 0.5, 0.5, 0.5}, {-0.5, 0.5, -0.5, 0.5}};
+
+/* n bodies of random shapes in a cube of side `side`; snap: positions on a
+ * 0.5 grid, rotations that permute axes and scales in {0.5, 1, 1.5}, so that
+ * faces, edges and vertices touch exactly. */
+static void fill(scene *sc, rng *r, size_t n, double side, int snap) {
+    for (size_t i = 0; i < n; ++i) {
+        double p[3], q[4];
+        for (int k = 0; k < 3; ++k) {
+            p[k] = side * unif(r);
+            if (snap) p[k] = floor(p[k] * 2) / 2;
+        }
+        if (snap) memcpy(q, exact_quats[next(r) % 6], sizeof q);
+        else random_unit_quaternion(r, q);
+        const int shape = (int)(next(r) % SHAPE_COUNT);
+        const double scale = snap ? 0.5 + 0.5 * (double)(next(r) % 3) : 0.3 + 1.7 * unif(r);
+        add(sc, shape, p, q, scale);
+    }
+}
+
+static void test_random_scenes(void **state) {
+    (void)state;
+    size_t total = 0;
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+        rng r = {seed * 7919};
+        scene sc;
+        scene_init(&sc, 300, (uint32_t)(seed % 2) + 1);
+        fill(&sc, &r, 300, 16, 0);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 300); /* dense enough to mean something */
+}
+
+static void test_exact_contacts(void **state) {
+    (void)state;
+    size_t total = 0;
+    for (uint64_t seed = 20; seed < 26; ++seed) {
+        rng r = {seed};
+        scene sc;
+        scene_init(&sc, 250, 1);
+        fill(&sc, &r, 250, 10, 1);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 400);
+}
+
+static void test_hand_built(void **state) {
+    (void)state;
+    scene sc;
+    scene_init(&sc, 64, 1);
+    const double id[4] = {0, 0, 0, 1};
+    /* Coordinates marked UP are moved one ulp up after the base is added. */
+    const double UP = 1e300;
+    struct {
+        int a, b;
+        double pb[3];
+        double sb;
+        int expect; /* -1: the oracle alone decides */
+    } cases[] = {
+        {BOX, BOX, {2, 0, 0}, 1, 1},             /* faces touch */
+        {BOX, BOX, {UP, 0, 0}, 1, 0},            /* faces one ulp apart */
+        {BOX, BOX, {2, 2, 0}, 1, 1},             /* edges touch */
+        {BOX, BOX, {2, UP, 0}, 1, 0},            /* edges one ulp apart */
+        {BOX, BOX, {2, 2, 2}, 1, 1},             /* vertices touch */
+        {BOX, BOX, {UP, UP, UP}, 1, 0},          /* vertices one ulp apart */
+        {BOX, BOX, {0.25, 0.5, 0}, 0.25, 1},     /* containment */
+        {BOX, BOX, {0.5, 0.5, 0.5}, 0.5, 1},     /* inside, touching three faces */
+        {BOX, TETRA, {2, 0, 0}, 1, 1},           /* tetrahedron vertex on a face */
+        {BOX, TETRA, {UP, 0, 0}, 1, 0},
+        {BOX, ICOSPHERE, {0, 0, 0}, 0.5, 1},     /* sphere inside the box */
+        {ICOSPHERE, BOX, {0, 0, 0}, 0.5, 1},     /* box inside the sphere */
+        {ICOSPHERE, ICOSPHERE, {2, 0, 0}, 1, -1},
+        {ICOSPHERE, ICOSAHEDRON, {0, 0, 1.5}, 0.5, -1},
+        {SLAB, BOX, {3, 0, 0}, 1, 1},            /* slab end touches the box */
+        {SLAB, PARALLELEPIPED, {0, 0, 2.5}, 1, -1},
+        {HULL, HULL, {1.5, 0.5, 0}, 1, -1},
+        {PARALLELEPIPED, PARALLELEPIPED, {2.5, 0, 0}, 1, -1},
+        {DENTED, BOX, {0, 0, 1.5}, 0.25, -1},    /* box in the dent: not convex, exact path */
+    };
+    const size_t count = sizeof cases / sizeof cases[0];
+    for (size_t k = 0; k < count; ++k) {
+        /* Each case far from the others. */
+        const double base[3] = {40.0 * (double)k, 0, 0};
+        double pb[3];
+        for (int i = 0; i < 3; ++i)
+            pb[i] = cases[k].pb[i] == UP ? nextafter(base[i] + 2, INFINITY) : base[i] + cases[k].pb[i];
+        add(&sc, cases[k].a, base, id, 1);
+        add(&sc, cases[k].b, pb, id, cases[k].sb);
+    }
+    check_against_oracle(&sc);
+    for (size_t k = 0; k < count; ++k)
+        if (cases[k].expect >= 0) {
+            assert_int_equal(reported(&sc, (uint32_t)(2 * k), (uint32_t)(2 * k + 1)), cases[k].expect);
+        }
+    scene_free(&sc);
+}
+
+/* Two bodies at random orientations, the second moved along a random
+ * direction to where the oracle's answer flips (bisection on the exact
+ * answer), then set a few ulps either side: every pair within rounding of
+ * touching, where a filter's margin must hold. */
+static int oracle_pair(int sa, const double *pa, const double *qa, double s_a, int sb, const double *pb,
+                       const double *qb, double s_b) {
+    const oracle_mesh *m[2] = {&shapes[sa], &shapes[sb]};
+    double p[6], q[8], s[2] = {s_a, s_b};
+    memcpy(p, pa, 3 * sizeof(double));
+    memcpy(p + 3, pb, 3 * sizeof(double));
+    memcpy(q, qa, 4 * sizeof(double));
+    memcpy(q + 4, qb, 4 * sizeof(double));
+    return oracle_colliding_pairs(2, m, p, q, s, NULL, 0) != 0;
+}
+
+static void test_near_touching(void **state) {
+    (void)state;
+    rng r = {99};
+    scene sc;
+    const int convex_shapes[] = {BOX, SLAB, ICOSAHEDRON, HULL, PARALLELEPIPED, TETRA, ICOSPHERE};
+    scene_init(&sc, 200, 1);
+    int flips = 0;
+    for (int k = 0; k < 24; ++k) {
+        /* (the icosphere only every third time: the oracle is slow on it) */
+        const int sa = convex_shapes[next(&r) % (k % 3 ? 6 : 7)], sb = convex_shapes[next(&r) % (k % 3 ? 6 : 7)];
+        double qa[4], qb[4], dir[3] = {2 * unif(&r) - 1, 2 * unif(&r) - 1, 2 * unif(&r) - 1};
+        random_unit_quaternion(&r, qa);
+        random_unit_quaternion(&r, qb);
+        const double pa[3] = {100.0 * k, 7, 0};
+        /* Bisection on t: the pair at pa + t dir collides at t = 0, not at t = 8. */
+        double lo = 0, hi = 8;
+        for (int it = 0; it < 64; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            if (mid == lo || mid == hi) break;
+            const double pb[3] = {pa[0] + mid * dir[0], pa[1] + mid * dir[1], pa[2] + mid * dir[2]};
+            if (oracle_pair(sa, pa, qa, 1, sb, pb, qb, 0.7)) lo = mid;
+            else hi = mid;
+        }
+        add(&sc, sa, pa, qa, 1);
+        const double ts[3] = {lo, hi, 0.5 * (lo + hi)};
+        for (int j = 0; j < 3; ++j) {
+            const double pb[3] = {pa[0] + ts[j] * dir[0], pa[1] + ts[j] * dir[1], pa[2] + ts[j] * dir[2]};
+            add(&sc, sb, pb, qb, 0.7);
+        }
+        ++flips;
+    }
+    /* Each case 100 apart from the others along x; every pair against the oracle. */
+    const size_t n = check_against_oracle(&sc);
+    assert_true(n >= (size_t)flips); /* each bisection's collided end collides */
+    scene_free(&sc);
+}
+
+/* Quaternion product a b (x, y, z, w). */
+static void qmul(const double *a, const double *b, double *out) {
+    out[0] = a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1];
+    out[1] = a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0];
+    out[2] = a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3];
+    out[3] = a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2];
+}
+
+/* Vertex against vertex along the line of centres, at random orientations:
+ * B is A turned half a turn about an axis normal to A's vertex v, so B's
+ * copy of v points back at A's, and B is moved along A's vertex direction to
+ * within an ulp of touching (bisection on the oracle's answer). The axis
+ * along the line of centres is then the tight one, and its margin must
+ * hold. */
+static void test_tip_to_tip(void **state) {
+    (void)state;
+    rng r = {4242};
+    const int tips[] = {BOX, TETRA, ICOSAHEDRON, HULL, PARALLELEPIPED};
+    scene sc;
+    scene_init(&sc, 200, 1);
+    for (int k = 0; k < 30; ++k) {
+        const int shape = tips[next(&r) % 5];
+        const oracle_mesh *m = &shapes[shape];
+        const double *v = &m->verts[3 * (next(&r) % m->vertex_count)];
+        double qa[4], qb[4], w[3] = {2 * unif(&r) - 1, 2 * unif(&r) - 1, 2 * unif(&r) - 1};
+        random_unit_quaternion(&r, qa);
+        /* w normal to v, normalised: the half turn's axis. */
+        const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], wv = w[0] * v[0] + w[1] * v[1] + w[2] * v[2];
+        for (int i = 0; i < 3; ++i) w[i] -= wv / vv * v[i];
+        const double wn = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        const double half[4] = {w[0] / wn, w[1] / wn, w[2] / wn, 0};
+        qmul(qa, half, qb);
+        /* dir = R(qa) v, by the quaternion sandwich (only a direction). */
+        const double vq[4] = {v[0], v[1], v[2], 0}, conj[4] = {-qa[0], -qa[1], -qa[2], qa[3]};
+        double t1[4], dir[4];
+        qmul(qa, vq, t1);
+        qmul(t1, conj, dir);
+        const double pa[3] = {100.0 * k, -50, 0};
+        double lo = 0, hi = 4;  /* touching near t = 2 */
+        for (int it = 0; it < 64; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            if (mid == lo || mid == hi) break;
+            const double pb[3] = {pa[0] + mid * dir[0], pa[1] + mid * dir[1], pa[2] + mid * dir[2]};
+            if (oracle_pair(shape, pa, qa, 1, shape, pb, qb, 1)) lo = mid;
+            else hi = mid;
+        }
+        add(&sc, shape, pa, qa, 1);
+        const double pl[3] = {pa[0] + lo * dir[0], pa[1] + lo * dir[1], pa[2] + lo * dir[2]};
+        const double ph[3] = {pa[0] + hi * dir[0], pa[1] + hi * dir[1], pa[2] + hi * dir[2]};
+        add(&sc, shape, pl, qb, 1);
+        add(&sc, shape, ph, qb, 1);
+    }
+    assert_true(check_against_oracle(&sc) >= 30);
+    scene_free(&sc);
+}
+
+int main(void) {
+    make_shapes();
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_random_scenes),
+        cmocka_unit_test(test_exact_contacts),
+        cmocka_unit_test(test_hand_built),
+        cmocka_unit_test(test_near_touching),
+        cmocka_unit_test(test_tip_to_tip),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

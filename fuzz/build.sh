@@ -34,6 +34,7 @@ if grep -q HGCD_HAVE_CCD "$out/compile_commands.json" 2>/dev/null; then
 fi
 flags="-g -O1 -ffp-contract=off -fno-omit-frame-pointer $san"
 clang -std=c99 $flags -fsanitize=fuzzer-no-link -c tests/oracle.c -o "$out/oracle.o"
+clang -std=c99 $flags -fsanitize=fuzzer-no-link -c tests/oracle_query.c -o "$out/oracle_query.o"
 clang++ -std=c++17 $flags -fsanitize=fuzzer -fopenmp -Iinclude -Itests \
-    fuzz/fuzz_api.cpp "$out/oracle.o" "$out/libhgcd.a" -lgmp -lm "${extra[@]}" -o "$out/fuzz_api"
+    fuzz/fuzz_api.cpp "$out/oracle.o" "$out/oracle_query.o" "$out/libhgcd.a" -lgmp -lm "${extra[@]}" -o "$out/fuzz_api"
 echo "built $out/fuzz_api"

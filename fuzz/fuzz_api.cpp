@@ -36,6 +36,7 @@
 
 extern "C" {
 #include "oracle.h"
+#include "oracle_query.h"
 }
 
 namespace {
@@ -975,6 +976,99 @@ void op_step(Model &m) {
     after_tick(m, hgcd_world_step(m.w), "step");
 }
 
+// A point, box or ray query against the oracle over every live body (its
+// inputs from the same grid as the bodies, so they touch them exactly, or
+// from the table of odd values, which must be refused).
+long g_queries = 0, g_query_answers = 0;
+void op_query(Input &in, Model &m, const Ctx &cx) {
+    std::vector<std::pair<uint32_t, size_t>> order;  // live bodies in slot order
+    for (size_t i = 0; i < m.bodies.size(); ++i)
+        if (m.bodies[i].live) order.push_back({m.bodies[i].id.index, i});
+    std::sort(order.begin(), order.end());
+    std::vector<std::vector<double>> world(order.size());
+    std::vector<oracle_solid> solids(order.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+        const MBody &b = m.bodies[order[k].second];
+        const MMesh &mm = m.meshes[b.mesh];
+        const uint32_t nv = uint32_t(mm.v.size() / 3);
+        world[k].resize(3 * size_t(nv));
+        for (uint32_t v = 0; v < nv; ++v) oracle_world_vertex(b.p, b.q, b.s, &mm.v[3 * v], &world[k][3 * v]);
+        solids[k] = oracle_solid{world[k].data(), nv, mm.t.data(), uint32_t(mm.t.size() / 3)};
+    }
+    const uint8_t kind = in.u8() % 3;
+    const bool clean = (in.u8() & 3) != 0;
+    ++g_queries;
+    if (kind < 2) {
+        double box[6];
+        for (int k = 0; k < 3; ++k) box[k] = coord(in, cx, clean);
+        for (int k = 0; k < 3; ++k) box[3 + k] = kind == 0 ? box[k] : coord(in, cx, clean);
+        bool valid = true;
+        for (int k = 0; k < 3; ++k) {
+            if (kind == 1 && box[k] > box[3 + k]) std::swap(box[k], box[3 + k]);
+            valid = valid && finite_in_range(box[k]) && finite_in_range(box[3 + k]) && box[k] <= box[3 + k];
+        }
+        hgcd_query_results res;
+        const hgcd_status s = kind == 0 ? hgcd_world_query_point(m.w, box, 1, 0, nullptr, &res)
+                                        : hgcd_world_query_box(m.w, box, 1, 0, nullptr, &res);
+        if (!valid) {
+            EXPECT(s == HGCD_ERROR_INVALID_ARGUMENT, "query of a bad %s: %s", kind ? "box" : "point", hgcd_status_string(s));
+            return;
+        }
+        EXPECT(s == HGCD_OK, "query: %s", hgcd_status_string(s));
+        EXPECT(res.query_count == 1 && res.offsets[0] == 0 && res.offsets[1] == res.body_count, "query offsets");
+        size_t at = 0;
+        for (size_t k = 0; k < order.size(); ++k) {
+            const oracle_solid &o = solids[k];
+            const int want = kind == 0 ? oracle_point_in_solid(box, o.wv, o.vertex_count, o.tris, o.tri_count)
+                                       : oracle_box_meets_solid(box, box + 3, o.wv, o.vertex_count, o.tris, o.tri_count);
+            const int have = at < res.body_count && res.bodies[at].index == order[k].first;
+            EXPECT(want == have, "%s query: body %u oracle %d hgcd %d", kind ? "box" : "point", order[k].first, want, have);
+            if (have) {
+                EXPECT(res.bodies[at].generation == m.bodies[order[k].second].id.generation, "query generation");
+                ++at;
+            }
+            g_query_answers += want;
+        }
+        EXPECT(at == res.body_count, "query: bodies not live");
+        return;
+    }
+    hgcd_ray ray;
+    for (int k = 0; k < 3; ++k) {
+        ray.origin[k] = coord(in, cx, clean);
+        ray.direction[k] = double(int(in.u8() % 5) - 2);
+    }
+    ray.max_distance = double(in.u8() % 8) * (cx.unit == 0 ? 1 : cx.unit);
+    if (!clean && (in.u8() & 1)) ray.max_distance = kCoords[in.u8() % (sizeof kCoords / sizeof kCoords[0])];
+    double e[3];
+    bool valid = std::isfinite(ray.max_distance) && ray.max_distance >= 0 &&
+                 (ray.direction[0] != 0 || ray.direction[1] != 0 || ray.direction[2] != 0);
+    for (int k = 0; k < 3; ++k) {
+        e[k] = ray.origin[k] + ray.max_distance * ray.direction[k];
+        valid = valid && finite_in_range(ray.origin[k]) && finite_in_range(e[k]);
+    }
+    hgcd_ray_hit hit;
+    const hgcd_status s = hgcd_world_cast_rays(m.w, &ray, 1, 0, HGCD_RAY_CLOSEST, nullptr, &hit);
+    if (!valid) {
+        EXPECT(s == HGCD_ERROR_INVALID_ARGUMENT, "bad ray: %s", hgcd_status_string(s));
+        return;
+    }
+    EXPECT(s == HGCD_OK, "ray: %s", hgcd_status_string(s));
+    uint32_t body = 0, tri = 0;
+    int inside = 0;
+    double t = 0;
+    const int want = oracle_ray_closest(ray.origin, e, solids.data(), uint32_t(solids.size()), &body, &tri, &inside, &t);
+    EXPECT(want == (hit.body.generation != 0), "ray hit: oracle %d", want);
+    if (want) {
+        EXPECT(hit.body.index == order[body].first && hit.triangle == tri && hit.inside == uint32_t(inside),
+               "ray: oracle body %u tri %u inside %d, hgcd %u %u %u", order[body].first, tri, inside, hit.body.index,
+               hit.triangle, hit.inside);
+        const double d = ray.max_distance * t;
+        EXPECT(std::fabs(hit.distance - d) <= 0x1p-39 * std::fabs(d) + 1e-300, "ray distance %.17g vs %.17g",
+               hit.distance, d);
+        ++g_query_answers;
+    }
+}
+
 void op_read(Input &in, Model &m) {
     const uint8_t k = in.u8() % 8;
     size_t total = 12345;
@@ -1118,7 +1212,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     while (!in.empty() && ops++ < 64) {
         const uint8_t op = in.u8();
         ++g_ops;
-        switch (op % 18) {  // (seeds written for % 16 keep their meaning: their ops are below 16)
+        switch (op % 20) {  // (seeds written for % 16 keep their meaning: their ops are below 16)
             case 0: case 1: op_mesh_create(in, m); break;
             case 2: op_mesh_destroy(in, m); break;
             case 3: case 4: case 5: op_body_create(in, m, cx); break;
@@ -1128,6 +1222,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             case 10: op_step(m); break;
             case 11: case 12: after_tick(m, hgcd_world_detect(m.w), "detect"); break;
             case 16: case 17: op_batch(in, m, cx); break;
+            case 18: case 19: op_query(in, m, cx); break;
             default: op_read(in, m); break;
         }
         check_state(m);
@@ -1145,6 +1240,9 @@ struct Report {
             std::fprintf(stderr, "fuzz_api: %ld detects checked against the oracle (%ld colliding pairs), all equal\n",
                          g_detects, g_pairs_checked);
         if (g_ops) std::fprintf(stderr, "fuzz_api: %ld scripted API calls, each followed by a check of the whole state\n", g_ops);
+        if (g_queries)
+            std::fprintf(stderr, "fuzz_api: %ld point, box and ray queries checked against the oracle (%ld answers), all equal\n",
+                         g_queries, g_query_answers);
         static const char *const call[] = {"set_poses", "set_velocities", "get_poses"};
         for (int c = 0; c < 3; ++c) {
             const long *v = g_batch[c];

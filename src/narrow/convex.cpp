@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "narrow/boxes.hpp"
 #include "narrow/tetra.hpp"
 
 namespace hgcd {
@@ -246,20 +247,40 @@ bool edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double
         for (uint32_t k = st.vertex_tri_start[u]; k < st.vertex_tri_start[u + 1] && count < kMaxTried; ++k)
             tris[count++] = st.vertex_tris[k];
     }
-    Plane plane[kMaxTried];
-    int side_p[kMaxTried];
-    const double *corner[kMaxTried][3];
-    for (uint32_t k = 0; k < count; ++k) {
-        const uint32_t *f = &mt.triangles[3 * size_t(tris[k])];
-        for (int i = 0; i < 3; ++i) corner[k][i] = &wt[3 * size_t(f[i])];
-        plane_of(corner[k][0], corner[k][1], corner[k][2], plane[k]);
-        side_p[k] = plane_side(plane[k], p);
-    }
+    // The box of the edges at p: an edge crosses only triangles its box
+    // meets, and the planes are prepared only for the triangles that meet
+    // this one and have p certainly on one side.
     const SatData &se = *me.sat;
+    double reach[6] = {p[0], p[1], p[2], p[0], p[1], p[2]};
     for (uint32_t e = se.vertex_edge_start[v]; e < se.vertex_edge_start[v + 1]; ++e) {
         const double *q = &we[3 * size_t(se.vertex_edges[e])];
-        for (uint32_t k = 0; k < count; ++k)
-            if (side_p[k] && plane_side(plane[k], q) == -side_p[k] && crosses_inside(p, q, corner[k])) return true;
+        for (int i = 0; i < 3; ++i) {
+            reach[i] = std::min(reach[i], q[i]);
+            reach[3 + i] = std::max(reach[3 + i], q[i]);
+        }
+    }
+    Plane plane[kMaxTried];
+    int side_p[kMaxTried];
+    double box[kMaxTried][6];
+    const double *corner[kMaxTried][3];
+    uint32_t kept = 0;
+    for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t *f = &mt.triangles[3 * size_t(tris[k])];
+        triangle_box(wt, f, box[kept]);
+        if (boxes_disjoint(box[kept], reach)) continue;
+        for (int i = 0; i < 3; ++i) corner[kept][i] = &wt[3 * size_t(f[i])];
+        plane_of(corner[kept][0], corner[kept][1], corner[kept][2], plane[kept]);
+        side_p[kept] = plane_side(plane[kept], p);
+        kept += side_p[kept] != 0;
+    }
+    for (uint32_t e = se.vertex_edge_start[v]; e < se.vertex_edge_start[v + 1]; ++e) {
+        const double *q = &we[3 * size_t(se.vertex_edges[e])];
+        const double edge_box[6] = {std::min(p[0], q[0]), std::min(p[1], q[1]), std::min(p[2], q[2]),
+                                    std::max(p[0], q[0]), std::max(p[1], q[1]), std::max(p[2], q[2])};
+        for (uint32_t k = 0; k < kept; ++k)
+            if (!boxes_disjoint(edge_box, box[k]) && plane_side(plane[k], q) == -side_p[k] &&
+                crosses_inside(p, q, corner[k]))
+                return true;
     }
     return false;
 }

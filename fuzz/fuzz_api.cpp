@@ -9,7 +9,9 @@
 // stats, mesh info, the getters and validation, with live, stale, forged
 // and random ids; the batch calls (world_set_poses, world_set_velocities,
 // world_get_poses) with listed ids (repeated ones too) or indices, good and
-// bad strides, arrays interleaved as a caller's struct.
+// bad strides, arrays interleaved as a caller's struct; body types, enabling,
+// filters and excluded pairs (set, read back, refused); the events of each
+// tick against the difference of its pairs and the last.
 //
 // A shadow model predicts every status (refusals included, and for a batch
 // the entry its message names) and the full observable state; after every
@@ -220,6 +222,9 @@ struct MBody {
     size_t mesh = 0;  // index into Model::meshes
     double p[3], q[4], v[3], s;
     uint64_t user;
+    int32_t type = HGCD_BODY_DYNAMIC;
+    bool enabled = true;
+    hgcd_filter filter = hgcd_filter_default();
 };
 
 struct Model {
@@ -231,7 +236,20 @@ struct Model {
     uint32_t live_bodies = 0, live_meshes = 0;
     bool detected = false;
     std::vector<hgcd_pair> last_pairs;  // as returned by the last detect/step
+    std::set<std::pair<uint32_t, uint32_t>> excluded;  // slot pairs (lower first)
 };
+
+// Whether the pair of model bodies a, b is considered, by hgcd.h's rules
+// (body types, enabling, Box2D's filter, exclusions), written out again.
+bool considered(const Model &m, const MBody &a, const MBody &b) {
+    if (!a.enabled || !b.enabled) return false;
+    if (m.excluded.count({std::min(a.id.index, b.id.index), std::max(a.id.index, b.id.index)})) return false;
+    if (a.type == HGCD_BODY_STATIC && b.type == HGCD_BODY_STATIC) return false;
+    if (a.type != HGCD_BODY_DYNAMIC && b.type != HGCD_BODY_DYNAMIC && !m.desc.kinematic_pairs) return false;
+    const hgcd_filter &fa = a.filter, &fb = b.filter;
+    if (fa.group_index != 0 && fa.group_index == fb.group_index) return fa.group_index > 0;
+    return (fa.mask_bits & fb.category_bits) && (fa.category_bits & fb.mask_bits);
+}
 
 enum { kMaxLiveBodies = 12, kMaxLiveMeshes = 8 };
 
@@ -335,7 +353,9 @@ void check_pairs(Model &m) {
     std::vector<uint32_t> e(2 * ne + 2);
     oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), e.data(), ne);
     std::set<std::pair<uint32_t, uint32_t>> want, have;
-    for (size_t k = 0; k < ne; ++k) want.insert({order[e[2 * k]].first, order[e[2 * k + 1]].first});
+    for (size_t k = 0; k < ne; ++k)
+        if (considered(m, m.bodies[order[e[2 * k]].second], m.bodies[order[e[2 * k + 1]].second]))
+            want.insert({order[e[2 * k]].first, order[e[2 * k + 1]].first});
     for (size_t k = 0; k < count; ++k) {
         EXPECT(got[k].a.index < got[k].b.index, "pair %zu not ordered", k);
         if (k) EXPECT(got[k - 1].a.index < got[k].a.index ||
@@ -392,6 +412,14 @@ void check_state(Model &m) {
         EXPECT(!std::memcmp(p, b.p, sizeof p) && !std::memcmp(q, b.q, sizeof q), "pose of body %u differs", b.id.index);
         EXPECT(hgcd_body_get_velocity(m.w, b.id, v) == HGCD_OK && !std::memcmp(v, b.v, sizeof v), "velocity of %u", b.id.index);
         EXPECT(hgcd_body_get_user_data(m.w, b.id, &u) == HGCD_OK && u == b.user, "user data");
+        int32_t type;
+        uint32_t enabled;
+        hgcd_filter f;
+        EXPECT(hgcd_body_get_type(m.w, b.id, &type) == HGCD_OK && type == b.type, "type of %u", b.id.index);
+        EXPECT(hgcd_body_get_enabled(m.w, b.id, &enabled) == HGCD_OK && enabled == uint32_t(b.enabled), "enabled");
+        EXPECT(hgcd_body_get_filter(m.w, b.id, &f) == HGCD_OK && f.category_bits == b.filter.category_bits &&
+                   f.mask_bits == b.filter.mask_bits && f.group_index == b.filter.group_index && f.reserved == 0,
+               "filter of %u", b.id.index);
         EXPECT(hgcd_body_get_mesh(m.w, b.id, &mid) == HGCD_OK && mid.index == m.meshes[b.mesh].id.index &&
                    mid.generation == m.meshes[b.mesh].id.generation,
                "body mesh");
@@ -432,12 +460,41 @@ void check_state(Model &m) {
     }
 }
 
+// The events of a tick: the difference between the last pairs and these,
+// by full ids, sorted, with the user data the model gave each body (the
+// model keeps destroyed bodies).
+void check_events(const Model &m, const hgcd_pair *now, size_t count) {
+    const hgcd_pair_event *ev[2];
+    size_t n[2];
+    EXPECT(hgcd_world_events(m.w, &ev[0], &n[0], &ev[1], &n[1]) == HGCD_OK, "events");
+    const std::vector<hgcd_pair> before = m.detected ? m.last_pairs : std::vector<hgcd_pair>();
+    const std::vector<hgcd_pair> after(now, now + count);
+    const auto user = [&](hgcd_body id) {
+        for (const MBody &b : m.bodies)
+            if (b.id.index == id.index && b.id.generation == id.generation) return b.user;
+        finding("event names a body never created");
+    };
+    for (int e = 0; e < 2; ++e) {  // began: in after, not in before; ended: the reverse
+        const std::vector<hgcd_pair> &from = e ? before : after, &to = e ? after : before;
+        size_t k = 0;
+        for (const hgcd_pair &p : from) {
+            if (std::any_of(to.begin(), to.end(), [&](const hgcd_pair &q) { return !std::memcmp(&p, &q, sizeof p); }))
+                continue;
+            EXPECT(k < n[e] && !std::memcmp(&ev[e][k].pair, &p, sizeof p), "%s event %zu of %zu: want {%u,%u}-{%u,%u} (%zu before, %zu after)", e ? "ended" : "began", k, n[e], p.a.index, p.a.generation, p.b.index, p.b.generation, before.size(), after.size());
+            EXPECT(ev[e][k].user_data_a == user(p.a) && ev[e][k].user_data_b == user(p.b), "event user data");
+            ++k;
+        }
+        EXPECT(k == n[e], "%s: %zu events, expected %zu", e ? "ended" : "began", n[e], k);
+    }
+}
+
 void after_tick(Model &m, hgcd_status s, const char *what) {
     EXPECT(s == HGCD_OK, "%s: %s (%s)", what, hgcd_status_string(s), hgcd_world_last_error(m.w));
     check_pairs(m);
     const hgcd_pair *got;
     size_t count;
     hgcd_world_pairs(m.w, &got, &count);
+    check_events(m, got, count);
     m.last_pairs.assign(got, got + count);
     m.detected = true;
     hgcd_stats st;
@@ -447,7 +504,8 @@ void after_tick(Model &m, hgcd_status s, const char *what) {
     // pairs it reports are all kept from the last one.)
     const bool searched = st.candidate_pairs > 0 || st.unmoved_pairs == 0;
     EXPECT(st.colliding_pairs == count && st.containment_pairs <= count &&
-               (searched ? st.candidate_pairs >= count && st.narrow_tests + st.unmoved_pairs <= st.candidate_pairs
+               (searched ? st.candidate_pairs >= count &&
+                               st.narrow_tests + st.unmoved_pairs + st.filtered_pairs <= st.candidate_pairs
                          : st.unmoved_pairs == count && st.narrow_tests == 0),
            "stats inconsistent");
 }
@@ -647,7 +705,67 @@ void op_body_destroy(Input &in, Model &m) {
         m.bodies[k].live = false;
         --m.meshes[m.bodies[k].mesh].users;
         --m.live_bodies;
+        for (auto it = m.excluded.begin(); it != m.excluded.end();)  // (its exclusions die with it)
+            it = it->first == id.index || it->second == id.index ? m.excluded.erase(it) : std::next(it);
     }
+}
+
+// Body types, enabling, filters and excluded pairs: set (good and bad
+// values, any id), then read back by check_state.
+void op_filtering(Input &in, Model &m) {
+    const hgcd_body id = pick_body_id(in, m);
+    const int k = live_body_of(m, id);
+    const uint8_t what = in.u8();
+    hgcd_status s, expect = k < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK;
+    switch (what % 5) {
+        case 0: {
+            const int32_t type = int32_t(in.u8() % 4) - (in.u8() % 16 == 0 ? 5 : 0);  // 3 and negatives: refused
+            if (expect == HGCD_OK && (type < 0 || type > 2)) expect = HGCD_ERROR_INVALID_ARGUMENT;
+            s = hgcd_body_set_type(m.w, id, type);
+            if (s == HGCD_OK) m.bodies[k].type = type;
+            break;
+        }
+        case 1: {
+            const uint32_t on = in.u8() % 3 ? 1 : in.u8() % 2 ? 0 : 0x100;
+            s = hgcd_body_set_enabled(m.w, id, on);
+            if (s == HGCD_OK) m.bodies[k].enabled = on != 0;
+            break;
+        }
+        case 2: {
+            hgcd_filter f = hgcd_filter_default();
+            const uint8_t c = in.u8();
+            f.category_bits = uint64_t(1) << (c % 3) | (c & 0x80 ? uint64_t(1) << 63 : 0);
+            f.mask_bits = c & 0x40 ? ~uint64_t(0) : uint64_t(in.u8()) | uint64_t(in.u8()) << 56;
+            f.group_index = int32_t(in.u8() % 5) - 2;
+            f.reserved = in.u8() % 32 == 0 ? 1 : 0;
+            const bool null = in.u8() % 32 == 0;
+            if (null) expect = HGCD_ERROR_NULL_ARGUMENT;
+            else if (expect == HGCD_OK && f.reserved) expect = HGCD_ERROR_INVALID_ARGUMENT;
+            s = hgcd_body_set_filter(m.w, id, null ? nullptr : &f);
+            if (s == HGCD_OK) m.bodies[k].filter = f;
+            break;
+        }
+        default: {  // exclude (3) or include (4) a pair
+            const hgcd_body other = pick_body_id(in, m);
+            const int j = live_body_of(m, other);
+            if (expect == HGCD_OK && j < 0) expect = HGCD_ERROR_STALE_ID;
+            if (expect == HGCD_OK && j == k) expect = HGCD_ERROR_INVALID_ARGUMENT;
+            const bool exclude = what % 5 == 3;
+            s = exclude ? hgcd_world_exclude_pair(m.w, id, other) : hgcd_world_include_pair(m.w, id, other);
+            uint32_t got = 7;
+            const hgcd_status q = hgcd_world_pair_excluded(m.w, id, other, &got);
+            EXPECT(q == expect, "pair_excluded: %s, expected %s", hgcd_status_string(q), hgcd_status_string(expect));
+            if (s == HGCD_OK) {
+                const std::pair<uint32_t, uint32_t> key{std::min(id.index, other.index), std::max(id.index, other.index)};
+                if (exclude) m.excluded.insert(key);
+                else m.excluded.erase(key);
+                EXPECT(got == uint32_t(exclude), "pair_excluded says %u", got);
+            }
+            break;
+        }
+    }
+    EXPECT(s == expect, "filtering call %u: %s, expected %s (%s)", what % 5, hgcd_status_string(s),
+           hgcd_status_string(expect), hgcd_world_last_error(m.w));
 }
 
 void op_set_pose(Input &in, Model &m, const Ctx &cx) {
@@ -946,8 +1064,10 @@ void op_step(Model &m) {
     // The model's motion: hgcd.h's rule, evaluated the same way.
     const double dt = m.desc.time_step;
     bool bad = false;
+    // (Static and disabled bodies do not move, and their moves are not checked.)
+    const auto moves = [](const MBody &b) { return b.live && b.enabled && b.type != HGCD_BODY_STATIC; };
     for (const MBody &b : m.bodies)
-        if (b.live)
+        if (moves(b))
             for (int k = 0; k < 3; ++k)
                 if (!finite_in_range(b.p[k] + b.v[k] * dt)) bad = true;
     if (bad && !m.desc.reflect_at_bounds) {
@@ -956,7 +1076,7 @@ void op_step(Model &m) {
         return;
     }
     for (MBody &b : m.bodies) {
-        if (!b.live) continue;
+        if (!moves(b)) continue;
         for (int k = 0; k < 3; ++k) {
             double x = b.p[k] + b.v[k] * dt;
             if (m.desc.reflect_at_bounds) {
@@ -1163,6 +1283,7 @@ bool make_world(Input &in, Model &m, Ctx &cx) {
     static const double cells[][2] = {{0, 0}, {0, 0}, {0, 0}, {0, 1}, {2, 0}, {0.5, 4}, {1e-12, 0},
                                       {0, 1e-9}, {4, 2}, {kNaN, 0}, {0, -1}, {5e-324, 1.7976931348623157e308}};
     const int ci = b % 12;
+    d.kinematic_pairs = (a ^ b ^ c) & 1;
     d.min_cell_size = cells[ci][0];
     d.max_cell_size = cells[ci][1];
     cx.anchor = kAnchors[(b >> 4) % 6];
@@ -1212,7 +1333,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     while (!in.empty() && ops++ < 64) {
         const uint8_t op = in.u8();
         ++g_ops;
-        switch (op % 20) {  // (seeds written for % 16 keep their meaning: their ops are below 16)
+        switch (op % 22) {  // (seeds written for % 16 keep their meaning: their ops are below 16)
             case 0: case 1: op_mesh_create(in, m); break;
             case 2: op_mesh_destroy(in, m); break;
             case 3: case 4: case 5: op_body_create(in, m, cx); break;
@@ -1223,6 +1344,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             case 11: case 12: after_tick(m, hgcd_world_detect(m.w), "detect"); break;
             case 16: case 17: op_batch(in, m, cx); break;
             case 18: case 19: op_query(in, m, cx); break;
+            case 20: case 21: op_filtering(in, m); break;
             default: op_read(in, m); break;
         }
         check_state(m);

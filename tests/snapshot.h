@@ -20,6 +20,9 @@ typedef struct {
     double position[3], orientation[4], velocity[3];
     hgcd_mesh mesh;
     uint64_t user_data;
+    int32_t type;
+    uint32_t enabled;
+    hgcd_filter filter;
 } snap_body;
 
 typedef struct {
@@ -35,6 +38,8 @@ typedef struct {
     hgcd_pair *pairs;  /* the last tick's pairs */
     const hgcd_pair *pairs_ptr;
     hgcd_stats stats;  /* timings zeroed */
+    size_t nevents[2];
+    hgcd_pair_event *events[2]; /* began, ended */
 } snapshot;
 
 /* Reads everything observable about the given ids. Allocates with malloc
@@ -57,6 +62,9 @@ static void snap_take(snapshot *s, const hgcd_world *w, const hgcd_body *bodies,
         hgcd_body_get_velocity(w, bodies[k], b->velocity);
         hgcd_body_get_mesh(w, bodies[k], &b->mesh);
         hgcd_body_get_user_data(w, bodies[k], &b->user_data);
+        hgcd_body_get_type(w, bodies[k], &b->type);
+        hgcd_body_get_enabled(w, bodies[k], &b->enabled);
+        hgcd_body_get_filter(w, bodies[k], &b->filter);
     }
     for (k = 0; k < nmeshes; ++k) {
         s->meshes[k].info.struct_size = sizeof s->meshes[k].info;
@@ -68,14 +76,25 @@ static void snap_take(snapshot *s, const hgcd_world *w, const hgcd_body *bodies,
     s->stats.struct_size = sizeof s->stats;
     hgcd_world_stats(w, &s->stats);
     s->stats.motion_seconds = s->stats.update_seconds = s->stats.broad_seconds = 0;
-    s->stats.narrow_seconds = s->stats.total_seconds = 0;
+    s->stats.narrow_seconds = s->stats.total_seconds = s->stats.events_seconds = 0;
     s->stats.thread_count = 0; /* the adaptive thread policy's choice, like a timing */
+    {
+        const hgcd_pair_event *ev[2];
+        int e;
+        hgcd_world_events(w, &ev[0], &s->nevents[0], &ev[1], &s->nevents[1]);
+        for (e = 0; e < 2; ++e) {
+            s->events[e] = (hgcd_pair_event *)malloc((s->nevents[e] + 1) * sizeof *s->events[e]);
+            if (s->nevents[e]) memcpy(s->events[e], ev[e], s->nevents[e] * sizeof *s->events[e]);
+        }
+    }
 }
 
 static void snap_free(snapshot *s) {
     free(s->bodies);
     free(s->meshes);
     free(s->pairs);
+    free(s->events[0]);
+    free(s->events[1]);
     memset(s, 0, sizeof *s);
 }
 
@@ -95,6 +114,8 @@ static const char *snap_diff(const snapshot *a, const snapshot *b, int same_worl
         if (memcmp(x->orientation, y->orientation, sizeof x->orientation)) return "body orientation";
         if (memcmp(x->velocity, y->velocity, sizeof x->velocity)) return "body velocity";
         if (x->user_data != y->user_data) return "body user data";
+        if (x->type != y->type || x->enabled != y->enabled) return "body type or enabling";
+        if (memcmp(&x->filter, &y->filter, sizeof x->filter)) return "body filter";
         if (x->mesh.index != y->mesh.index) return "body mesh";
         if (same_world ? x->mesh.generation != y->mesh.generation
                        : SNAP_COUNTER(x->mesh.generation) != SNAP_COUNTER(y->mesh.generation))
@@ -116,6 +137,18 @@ static const char *snap_diff(const snapshot *a, const snapshot *b, int same_worl
             return "pair generations";
     }
     if (memcmp(&a->stats, &b->stats, sizeof a->stats)) return "statistics";
+    for (k = 0; k < 2; ++k) {
+        size_t j;
+        if (a->nevents[k] != b->nevents[k]) return "event count";
+        for (j = 0; j < a->nevents[k]; ++j) {
+            const hgcd_pair_event *x = &a->events[k][j], *y = &b->events[k][j];
+            if (x->pair.a.index != y->pair.a.index || x->pair.b.index != y->pair.b.index ||
+                SNAP_COUNTER(x->pair.a.generation) != SNAP_COUNTER(y->pair.a.generation) ||
+                SNAP_COUNTER(x->pair.b.generation) != SNAP_COUNTER(y->pair.b.generation) ||
+                x->user_data_a != y->user_data_a || x->user_data_b != y->user_data_b)
+                return "events";
+        }
+    }
     return NULL;
 }
 

@@ -95,7 +95,7 @@ typedef struct {
 typedef enum {
     OP_WORLD_CREATE, OP_MESH_CREATE, OP_MESH_DESTROY, OP_BODY_CREATE, OP_BODY_DESTROY,
     OP_SET_POSE, OP_SET_VELOCITY, OP_DETECT, OP_STEP, OP_PAIRS, OP_COPY_PAIRS, OP_STATS,
-    OP_REFUSED_POSE, OP_THREADS
+    OP_REFUSED_POSE, OP_THREADS, OP_EXCLUDE, OP_STATIC
 } op_kind;
 
 typedef struct {
@@ -125,6 +125,8 @@ static void build_script(void) {
     for (int i = 0; i < 34; i += 3) push(OP_SET_VELOCITY, i);
     for (int i = 1; i < 34; i += 4) push(OP_SET_POSE, i);
     push(OP_REFUSED_POSE, 2);
+    for (int i = 2; i < 30; i += 4) push(OP_EXCLUDE, i); /* (slots 5, 10, ... die below: exclusions die too) */
+    for (int i = 3; i < 34; i += 6) push(OP_STATIC, i);
     push(OP_STEP, 0);
     for (int i = 0; i < 34; i += 5) push(OP_BODY_DESTROY, i);
     push(OP_THREADS, 1);
@@ -223,6 +225,8 @@ static hgcd_status run_op(ctx *c, const op *o) {
             return hgcd_body_set_pose(c->w, c->body[i], p, NULL);
         }
         case OP_THREADS: return hgcd_world_set_thread_count(c->w, (uint32_t)i);
+        case OP_EXCLUDE: return hgcd_world_exclude_pair(c->w, c->body[i], c->body[i + 1]);
+        case OP_STATIC: return hgcd_body_set_type(c->w, c->body[i], HGCD_BODY_STATIC);
     }
     return HGCD_ERROR_INTERNAL;
 }
@@ -307,6 +311,15 @@ static int run(long n, int sticky, int in_parallel, snapshot *final, int *failed
                     after.pairs = malloc((before.npairs + 1) * sizeof *after.pairs);
                     if (before.npairs) memcpy(after.pairs, before.pairs, before.npairs * sizeof *after.pairs);
                     after.stats = before.stats;
+                    /* Documented too: no events; the next detect compares with the last success. */
+                    for (int e = 0; e < 2; ++e) {
+                        assert_int_equal(after.nevents[e], 0);
+                        after.nevents[e] = before.nevents[e];
+                        free(after.events[e]);
+                        after.events[e] = malloc((before.nevents[e] + 1) * sizeof *after.events[e]);
+                        if (before.nevents[e])
+                            memcpy(after.events[e], before.events[e], before.nevents[e] * sizeof *after.events[e]);
+                    }
                     if (o->op == OP_STEP)
                         for (size_t b = 0; b < after.nbodies; ++b) { /* moved: take the new poses */
                             memcpy(before.bodies[b].position, after.bodies[b].position, sizeof(double) * 3);
@@ -376,7 +389,7 @@ static void sweep(int sticky) {
         }
         const char *diff = snap_diff(&ref, &got, 0);
         if (diff) {
-            fprintf(stderr, "n = %ld: final state differs from the reference: %s\n", n, diff);
+            fprintf(stderr, "n = %ld: final state differs from the reference: %s (events %zu/%zu ref %zu/%zu)\n", n, diff, got.nevents[0], got.nevents[1], ref.nevents[0], ref.nevents[1]);
             const hgcd_stats *x = &ref.stats, *y = &got.stats;
             fprintf(stderr, "  stats (reference / this run): levels %u/%u oversize %u/%u threads %u/%u moved %llu/%llu "
                     "candidates %llu/%llu narrow %llu/%llu triangles %llu/%llu colliding %llu/%llu containment %llu/%llu\n",

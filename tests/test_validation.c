@@ -965,6 +965,8 @@ static hgcd_status refused_call(rworld *r, int k, refusal *what) {
     hgcd_mesh_info info;
     hgcd_stats st;
     size_t total;
+    hgcd_filter filter = hgcd_filter_default();
+    uint32_t flag;
 #define R(name_, expect_, message_, call_)      \
     case __COUNTER__ - base - 1:                \
         what->name = name_;                     \
@@ -1075,6 +1077,24 @@ static hgcd_status refused_call(rworld *r, int k, refusal *what) {
         R("copy_pairs NULL buffer", HGCD_ERROR_NULL_ARGUMENT, NULL, hgcd_world_copy_pairs(w, NULL, 1, &total))
         R("pairs NULL count", HGCD_ERROR_NULL_ARGUMENT, NULL, hgcd_world_pairs(w, NULL, &total))
         R("stats small struct", HGCD_ERROR_BAD_DESCRIPTOR, NULL, (st.struct_size = 7, hgcd_world_stats(w, &st)))
+        R("body_create unknown type", HGCD_ERROR_INVALID_ARGUMENT, "type 7 is not",
+          (bd.type = 7, hgcd_body_create(w, &bd, &b_out)))
+        R("body_create filter reserved", HGCD_ERROR_INVALID_ARGUMENT, "filter.reserved",
+          (bd.filter.reserved = 1, hgcd_body_create(w, &bd, &b_out)))
+        R("set_type unknown", HGCD_ERROR_INVALID_ARGUMENT, "-1 is not", hgcd_body_set_type(w, live, -1))
+        R("set_type stale", HGCD_ERROR_STALE_ID, "body_set_type", hgcd_body_set_type(w, dead, HGCD_BODY_STATIC))
+        R("set_enabled forged", HGCD_ERROR_STALE_ID, "body_set_enabled", hgcd_body_set_enabled(w, forged, 0))
+        R("set_filter NULL", HGCD_ERROR_NULL_ARGUMENT, "filter is NULL", hgcd_body_set_filter(w, live, NULL))
+        R("set_filter reserved", HGCD_ERROR_INVALID_ARGUMENT, "reserved",
+          (filter.reserved = 2, hgcd_body_set_filter(w, live, &filter)))
+        R("exclude_pair same body", HGCD_ERROR_INVALID_ARGUMENT, "same body", hgcd_world_exclude_pair(w, live, live))
+        R("exclude_pair stale", HGCD_ERROR_STALE_ID, "world_exclude_pair", hgcd_world_exclude_pair(w, live, dead))
+        R("include_pair forged", HGCD_ERROR_STALE_ID, "world_include_pair",
+          hgcd_world_include_pair(w, forged, live))
+        R("get_type NULL", HGCD_ERROR_NULL_ARGUMENT, NULL, hgcd_body_get_type(w, live, NULL))
+        R("get_filter stale", HGCD_ERROR_STALE_ID, NULL, hgcd_body_get_filter(w, dead, &filter))
+        R("pair_excluded same body", HGCD_ERROR_INVALID_ARGUMENT, NULL, hgcd_world_pair_excluded(w, live, live, &flag))
+        R("events NULL", HGCD_ERROR_NULL_ARGUMENT, NULL, hgcd_world_events(w, NULL, &total, NULL, &total))
         default: break;
     }
 #undef R

@@ -330,6 +330,11 @@ typedef struct hgcd_world_desc {
     hgcd_finish_task_fn *finish_task;
     /** Passed to enqueue_task and finish_task as user_context. Default NULL. */
     void *task_context;
+    /** Non-zero: report pairs of two kinematic bodies and of a kinematic
+     *  and a static body (enum hgcd_body_type). Default 0: such pairs are
+     *  dropped before the narrow phase. Pairs of two static bodies are never
+     *  reported. */
+    uint32_t kinematic_pairs;
 } hgcd_world_desc;
 
 /** A world descriptor with every default filled in (see the fields).
@@ -445,6 +450,39 @@ HGCD_API hgcd_status hgcd_world_pairs(const hgcd_world *world,
 HGCD_API hgcd_status hgcd_world_copy_pairs(const hgcd_world *world,
                                            hgcd_pair *buffer, size_t capacity,
                                            size_t *out_total);
+
+/** A pair that began or ended colliding (hgcd_world_events), with both
+ *  bodies' user data (hgcd_body_desc.user_data), so that no lookup is needed
+ *  per event, also for a body destroyed since. */
+typedef struct hgcd_pair_event {
+    /** The pair, as hgcd_world_pairs reports it (a.index < b.index). */
+    hgcd_pair pair;
+    /** The user data of pair.a and of pair.b. */
+    uint64_t user_data_a;
+    uint64_t user_data_b;
+} hgcd_pair_event;
+
+/** The pairs that began and ended colliding at the last step/detect:
+ *  began holds each pair of this detect that the previous successful
+ *  detect did not report, ended each pair that detect reported and this one
+ *  does not, whatever the reason (apart, a body destroyed, disabled, made
+ *  static, filtered out or its pair excluded). Pairs are compared by their
+ *  full ids, generations included: a slot reused between the two detects
+ *  ends its old body's pairs and begins its new body's. Each array is
+ *  sorted by (a.index, b.index), without duplicates. Before the first detect
+ *  every pair of the first detect has begun; after a detect refused for
+ *  lack of memory both are empty, and the next detect compares with the
+ *  last successful one.
+ *  Both arrays are owned by the world, with the lifetime of the pairs'
+ *  array (hgcd_world_pairs); a pointer may be NULL when its count is 0.
+ *  Errors: NULL_ARGUMENT (any argument). Read-only, O(1); finding them costs
+ *  each detect one merge of the previous and the new pairs
+ *  (hgcd_stats.events_seconds). */
+HGCD_API hgcd_status hgcd_world_events(const hgcd_world *world,
+                                       const hgcd_pair_event **out_began,
+                                       size_t *out_began_count,
+                                       const hgcd_pair_event **out_ended,
+                                       size_t *out_ended_count);
 
 /** What a colliding pair is made of (hgcd_contact.kind). */
 enum hgcd_contact_kind {
@@ -567,6 +605,13 @@ typedef struct hgcd_stats {
      *  few bodies moved since the previous detect (temporal coherence), the
      *  bodies created or moved since then alone; 0 when none was. */
     uint64_t searched_bodies;
+    /** Candidate pairs dropped before the narrow phase by the body types,
+     *  the filters or the excluded pairs (hgcd_filter); counted in
+     *  candidate_pairs, not in narrow_tests. */
+    uint64_t filtered_pairs;
+    /** Seconds finding the began and ended pairs (hgcd_world_events),
+     *  counted in narrow_seconds and total_seconds. */
+    double events_seconds;
 } hgcd_stats;
 
 /** Copies the statistics of the last step/detect into *out_stats, whose
@@ -690,6 +735,46 @@ HGCD_API hgcd_status hgcd_mesh_set_narrow_phase(hgcd_world *world,
 /* Bodies                                                                    */
 /* ------------------------------------------------------------------------ */
 
+/** How a body moves, and so which of its pairs are searched and reported
+ *  (hgcd_body_desc.type, hgcd_body_set_type). A pair with a dynamic body is
+ *  always considered; two static bodies never are; a kinematic body with a
+ *  kinematic or static one only when hgcd_world_desc.kinematic_pairs is set.
+ *  A pair that is not considered costs no narrow test and is never reported.
+ *  hgcd_world_step moves dynamic and kinematic bodies by their velocity,
+ *  never static ones (their velocity is kept, unused); every type moves with
+ *  hgcd_body_set_pose and hgcd_world_set_poses. */
+enum hgcd_body_type {
+    /** Moves every tick (the default). */
+    HGCD_BODY_DYNAMIC = 0,
+    /** Moved by the caller, like a platform or a door. */
+    HGCD_BODY_KINEMATIC = 1,
+    /** Level geometry: moved only when the caller sets its pose. */
+    HGCD_BODY_STATIC = 2
+};
+
+/** Which bodies a body may collide with, with the semantics of Box2D v3's
+ *  b2Filter: two bodies A and B with the same non-zero group_index collide
+ *  when it is positive and never when it is negative; otherwise they
+ *  collide when (A.mask_bits & B.category_bits) != 0 and
+ *  (A.category_bits & B.mask_bits) != 0. A pair refused by the filters is
+ *  dropped before the narrow phase (no test, never reported), as are the
+ *  pairs excluded with hgcd_world_exclude_pair. The test is symmetric. */
+typedef struct hgcd_filter {
+    /** The categories the body belongs to (usually one bit). Default 1. */
+    uint64_t category_bits;
+    /** The categories it collides with. Default UINT64_MAX (all). */
+    uint64_t mask_bits;
+    /** Group: same positive value, always collide; same negative value,
+     *  never; 0 (default) or different values, decided by the bits. */
+    int32_t group_index;
+    /** Must be 0. */
+    uint32_t reserved;
+} hgcd_filter;
+
+/** The default filter: category 1, mask UINT64_MAX, group 0 (collides with
+ *  every body whose own filter accepts category 1). Any thread. */
+HGCD_API hgcd_filter hgcd_filter_default(void);
+
 /** Body descriptor: get one from hgcd_body_desc_default(), then set at least
  *  the mesh. */
 typedef struct hgcd_body_desc {
@@ -717,6 +802,14 @@ typedef struct hgcd_body_desc {
     double scale;
     /** Any caller value, returned by hgcd_body_get_user_data. Default 0. */
     uint64_t user_data;
+    /** enum hgcd_body_type. Default HGCD_BODY_DYNAMIC. */
+    int32_t type;
+    /** Non-zero (default 1): the body takes part in detection; 0: it is
+     *  created disabled (see hgcd_body_set_enabled). */
+    uint32_t enabled;
+    /** Which bodies it may collide with. Default hgcd_filter_default();
+     *  reserved must be 0. */
+    hgcd_filter filter;
 } hgcd_body_desc;
 
 /** A body descriptor with the defaults of its fields. Any thread. */
@@ -829,6 +922,72 @@ HGCD_API hgcd_status hgcd_body_get_mesh(const hgcd_world *world,
 HGCD_API hgcd_status hgcd_body_get_user_data(const hgcd_world *world,
                                              hgcd_body body,
                                              uint64_t *out_user_data);
+
+/** Sets a body's type (enum hgcd_body_type), from the next step/detect.
+ *  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT (not a type).
+ *  O(1). */
+HGCD_API hgcd_status hgcd_body_set_type(hgcd_world *world, hgcd_body body,
+                                        int32_t type);
+
+/** Sets *out_type to the body's type (enum hgcd_body_type).
+ *  Errors: NULL_ARGUMENT (world or out_type), STALE_ID. Read-only, O(1). */
+HGCD_API hgcd_status hgcd_body_get_type(const hgcd_world *world,
+                                        hgcd_body body, int32_t *out_type);
+
+/** Enables (non-zero) or disables (0) a body, from the next step/detect. A
+ *  disabled body keeps its id, pose, velocity, type, filter, exclusions and
+ *  user data, and every call on it works as before, but it leaves the grid
+ *  and every pair: it is never searched, tested or reported, and
+ *  hgcd_world_step does not move it. Errors: NULL_ARGUMENT (world),
+ *  STALE_ID. O(1). */
+HGCD_API hgcd_status hgcd_body_set_enabled(hgcd_world *world, hgcd_body body,
+                                           uint32_t enabled);
+
+/** Sets *out_enabled to 1 if the body is enabled, else 0.
+ *  Errors: NULL_ARGUMENT (world or out_enabled), STALE_ID. Read-only,
+ *  O(1). */
+HGCD_API hgcd_status hgcd_body_get_enabled(const hgcd_world *world,
+                                           hgcd_body body,
+                                           uint32_t *out_enabled);
+
+/** Sets a body's filter (copied), from the next step/detect.
+ *  Errors: NULL_ARGUMENT (world or filter), STALE_ID, INVALID_ARGUMENT
+ *  (reserved not 0). O(1). */
+HGCD_API hgcd_status hgcd_body_set_filter(hgcd_world *world, hgcd_body body,
+                                          const hgcd_filter *filter);
+
+/** Copies a body's filter into *out_filter.
+ *  Errors: NULL_ARGUMENT (world or out_filter), STALE_ID. Read-only,
+ *  O(1). */
+HGCD_API hgcd_status hgcd_body_get_filter(const hgcd_world *world,
+                                          hgcd_body body,
+                                          hgcd_filter *out_filter);
+
+/** Excludes the pair {a, b} from detection from the next step/detect (two
+ *  bodies joined by a joint, say): it is dropped before the narrow phase,
+ *  whatever the types and filters say. Excluding an excluded pair changes
+ *  nothing. The exclusion lasts until hgcd_world_include_pair or until
+ *  either body is destroyed (disabling keeps it).
+ *  Errors: NULL_ARGUMENT (world), STALE_ID (a or b), INVALID_ARGUMENT
+ *  (a and b the same body), OUT_OF_MEMORY.
+ *  Cost: amortised O(1) (a hash set); destroying a body costs O(1) more per
+ *  exclusion it has. */
+HGCD_API hgcd_status hgcd_world_exclude_pair(hgcd_world *world, hgcd_body a,
+                                             hgcd_body b);
+
+/** Ends the exclusion of the pair {a, b} (from the next step/detect); a
+ *  pair that is not excluded is left as it is.
+ *  Errors: NULL_ARGUMENT (world), STALE_ID (a or b), INVALID_ARGUMENT (a and
+ *  b the same body). Amortised O(1). */
+HGCD_API hgcd_status hgcd_world_include_pair(hgcd_world *world, hgcd_body a,
+                                             hgcd_body b);
+
+/** Sets *out_excluded to 1 if the pair {a, b} is excluded, else 0.
+ *  Errors: NULL_ARGUMENT (world or out_excluded), STALE_ID, INVALID_ARGUMENT
+ *  (a and b the same body). Read-only, O(1). */
+HGCD_API hgcd_status hgcd_world_pair_excluded(const hgcd_world *world,
+                                              hgcd_body a, hgcd_body b,
+                                              uint32_t *out_excluded);
 
 /** HGCD_OK if body is a live body of this world; STALE_ID for the null
  *  id, a destroyed body's id, a forged id or another world's id (see

@@ -190,6 +190,17 @@ hgcd_status hgcd_world_copy_pairs(const hgcd_world *world, hgcd_pair *buffer, si
     return HGCD_OK;
 }
 
+hgcd_status hgcd_world_events(const hgcd_world *world, const hgcd_pair_event **out_began, size_t *out_began_count,
+                              const hgcd_pair_event **out_ended, size_t *out_ended_count) {
+    if (!world || !out_began || !out_began_count || !out_ended || !out_ended_count) return HGCD_ERROR_NULL_ARGUMENT;
+    const auto &b = world->impl.began(), &e = world->impl.ended();
+    *out_began = b.empty() ? nullptr : b.data();
+    *out_began_count = b.size();
+    *out_ended = e.empty() ? nullptr : e.data();
+    *out_ended_count = e.size();
+    return HGCD_OK;
+}
+
 hgcd_status hgcd_world_stats(const hgcd_world *world, hgcd_stats *out_stats) {
     if (!world || !out_stats) return HGCD_ERROR_NULL_ARGUMENT;
     size_t size = out_stats->struct_size ? out_stats->struct_size : sizeof(hgcd_stats);
@@ -247,7 +258,18 @@ hgcd_body_desc hgcd_body_desc_default(void) {
     d.init_tag = hgcd::kInitTag;
     d.orientation[3] = 1.0;
     d.scale = 1.0;
+    d.type = HGCD_BODY_DYNAMIC;
+    d.enabled = 1;
+    d.filter = hgcd_filter_default();
     return d;
+}
+
+hgcd_filter hgcd_filter_default(void) {
+    hgcd_filter f;
+    std::memset(&f, 0, sizeof(f));
+    f.category_bits = 1;
+    f.mask_bits = UINT64_MAX;
+    return f;
 }
 
 hgcd_status hgcd_body_create(hgcd_world *world, const hgcd_body_desc *desc, hgcd_body *out_body) {
@@ -335,6 +357,54 @@ hgcd_status hgcd_mesh_validate(const hgcd_world *world, hgcd_mesh mesh) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     hgcd_mesh_info info;  // (mesh_info checks the id as every mesh call does, recording nothing)
     return world->impl.mesh_info(mesh, &info);
+}
+
+// ------------------------------------------- types, filters, exclusions --
+
+hgcd_status hgcd_body_set_type(hgcd_world *world, hgcd_body body, int32_t type) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "body_set_type", [&] { return world->impl.set_type(body, type); });
+}
+
+hgcd_status hgcd_body_get_type(const hgcd_world *world, hgcd_body body, int32_t *out_type) {
+    if (!world || !out_type) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_type(body, out_type);
+}
+
+hgcd_status hgcd_body_set_enabled(hgcd_world *world, hgcd_body body, uint32_t enabled) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "body_set_enabled", [&] { return world->impl.set_enabled(body, enabled != 0); });
+}
+
+hgcd_status hgcd_body_get_enabled(const hgcd_world *world, hgcd_body body, uint32_t *out_enabled) {
+    if (!world || !out_enabled) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_enabled(body, out_enabled);
+}
+
+hgcd_status hgcd_body_set_filter(hgcd_world *world, hgcd_body body, const hgcd_filter *filter) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    if (!filter) return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "body_set_filter", "filter is NULL");
+    return guarded(world, "body_set_filter", [&] { return world->impl.set_filter(body, *filter); });
+}
+
+hgcd_status hgcd_body_get_filter(const hgcd_world *world, hgcd_body body, hgcd_filter *out_filter) {
+    if (!world || !out_filter) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_filter(body, out_filter);
+}
+
+hgcd_status hgcd_world_exclude_pair(hgcd_world *world, hgcd_body a, hgcd_body b) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "world_exclude_pair", [&] { return world->impl.exclude_pair(a, b, true); });
+}
+
+hgcd_status hgcd_world_include_pair(hgcd_world *world, hgcd_body a, hgcd_body b) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "world_include_pair", [&] { return world->impl.exclude_pair(a, b, false); });
+}
+
+hgcd_status hgcd_world_pair_excluded(const hgcd_world *world, hgcd_body a, hgcd_body b, uint32_t *out_excluded) {
+    if (!world || !out_excluded) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.pair_excluded(a, b, out_excluded);
 }
 
 // ------------------------------------------------ narrow phase, contacts --

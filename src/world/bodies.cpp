@@ -73,6 +73,10 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
                     "body_create: scale must be finite, > 0 and keep the mesh within 1e15 of its position "
                     "(scale * mesh reach <= 1e15)");
+    if (d.type != HGCD_BODY_DYNAMIC && d.type != HGCD_BODY_KINEMATIC && d.type != HGCD_BODY_STATIC)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT,
+                    "body_create: type " + std::to_string(d.type) + " is not HGCD_BODY_DYNAMIC, KINEMATIC or STATIC");
+    if (d.filter.reserved != 0) return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_create: filter.reserved is not 0");
     if (live_bodies_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "body_create: too many bodies");
 
     uint32_t slot;
@@ -89,6 +93,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             velocity_.reserve(3 * cap);
             body_mesh_.reserve(cap);
             body_record_.reserve(cap);
+            filter_.reserve(cap);
             user_data_.reserve(cap);
             body_gen_.reserve(cap);
             box_off_.reserve(6 * cap);
@@ -107,6 +112,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         velocity_.resize(3 * n);
         body_mesh_.resize(n);
         body_record_.resize(n);
+        filter_.resize(n);
         user_data_.resize(n);
         body_gen_.resize(n, tag_ << kCounterBits);
         live_gen_.resize(n, 0);
@@ -131,7 +137,15 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
     body_record_[i] = pool_.offset(uint32_t(mesh));
-    user_data_[i] = d.user_data;
+    user_data_[slot] = d.user_data;
+    filter_[i] = BodyFilter();  // (counted as plain: set_body_filter counts the body's own)
+    BodyFilter f;
+    f.category = d.filter.category_bits;
+    f.mask = d.filter.mask_bits;
+    f.group = d.filter.group_index;
+    f.type = uint8_t(d.type);
+    f.flags = d.enabled ? 0 : BodyFilter::kDisabled;
+    set_body_filter(i, f);
     // (Every vertex is within |centre| + radius of the mesh origin.)
     const Mesh &m = meshes_[mesh];
     const double centre = std::sqrt(m.center[0] * m.center[0] + m.center[1] * m.center[1] + m.center[2] * m.center[2]);
@@ -150,6 +164,10 @@ hgcd_status World::destroy_body(hgcd_body id) {
     int64_t slot;
     if (hgcd_status s = check_body(id, "body_destroy", &slot)) return s;
     if (body_free_.capacity() == body_free_.size()) body_free_.reserve(2 * body_free_.size() + 8);
+    if (graves_.capacity() == graves_.size()) graves_.reserve(2 * graves_.size() + 8);
+    bury(uint32_t(slot));  // (its user data, for the ended events)
+    forget_exclusions(uint32_t(slot));
+    set_body_filter(at_[slot], BodyFilter());  // (out of the counts of special bodies)
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
     query_.stale = true;
@@ -226,7 +244,7 @@ hgcd_status World::get_mesh(hgcd_body id, hgcd_mesh *out) const {
 hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;
-    *out = user_data_[at_[slot]];
+    *out = user_data_[slot];
     return HGCD_OK;
 }
 

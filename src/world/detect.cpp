@@ -211,8 +211,14 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     // motion moves every body with a velocity).
     const bool coherence = coherent_ && !motion && !contacts_on_;
     coherent_ = false;  // until this detect succeeds
-    prev_pairs_.swap(pairs_);
+    // (After a failed detect prev_pairs_ holds the last successful pairs:
+    // the events compare with them.)
+    if (!base_in_prev_) prev_pairs_.swap(pairs_);
+    base_in_prev_ = true;  // until this detect succeeds, whatever throws
+    base_indexed_ = false;
     pairs_.clear();
+    began_.clear();
+    ended_.clear();
     contacts_.clear();
     contacts_recorded_ = contacts_on_;
     const uint32_t struct_size = stats_.struct_size;
@@ -225,8 +231,20 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
     if (coherence && unmoved == live_bodies_) {
         // Nothing moved or was born: no search at all (the grid catches up
         // with destroyed bodies at the next detect that searches).
-        reuse_pairs();
+        try {
+            reuse_pairs();
+            find_events(T);
+        } catch (...) {
+            pairs_.clear();
+            began_.clear();
+            ended_.clear();
+            base_in_prev_ = true;
+            stats_ = hgcd_stats{};
+            stats_.struct_size = struct_size;
+            throw;
+        }
         clear_moved();  // (destroyed bodies count as moved)
+        base_in_prev_ = false;
         stats_.thread_count = uint32_t(T);
         stats_.total_seconds = stats_.narrow_seconds = omp_get_wtime() - t0;
         coherent_ = true;
@@ -242,6 +260,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
             if (!renumbered) renumber_if_disordered();
             detect_incremental(T, moved, t0);
             clear_moved();
+            base_in_prev_ = false;
             coherent_ = true;
             return HGCD_OK;
         }
@@ -268,6 +287,7 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         stats_.narrow_seconds = t3 - t2;
         stats_.total_seconds = t3 - t0;
         clear_moved();
+        base_in_prev_ = false;
         coherent_ = !contacts_on_;
         if (adaptive_threads_) governor_.record(full_threads(), t3 - t0, double(live_bodies_) + double(total), meter.lost());
     } catch (...) {
@@ -276,6 +296,9 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         drop_movers();
         grid_ = Grid();
         pairs_.clear();
+        began_.clear();
+        ended_.clear();
+        base_in_prev_ = true;
         contacts_.clear();
         stats_ = hgcd_stats{};
         stats_.struct_size = struct_size;
@@ -289,7 +312,7 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
     // (On a step that is the world's first detect, grid_limits estimates the
     // density from the positions before this tick's moves, which run inside
     // the update: a heuristic, off by one tick's motion.)
-    const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), stored_gen_.data(),
+    const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), grid_live(threads),
                                             uint32_t(stored_gen_.size()), grid_limits(threads), threads, motion);
     grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)
     return us;
@@ -308,6 +331,9 @@ size_t World::find_candidates(int threads, bool keep_unmoved) {
     grid_.find_pairs(boxes(), threads, found);
     size_t total = 0;
     for (int t = 0; t < threads; ++t) total += found[t].size();
+    // Pairs the types, filters and exclusions refuse never reach the narrow
+    // phase (nor the lookups of temporal coherence).
+    if (special_bodies_) stats_.filtered_pairs = drop_filtered_pairs(threads, found);
     if (keep_unmoved) stats_.unmoved_pairs = keep_unmoved_pairs(threads, found);
     return total;
 }
@@ -324,6 +350,7 @@ void World::test_candidates(int threads) {
     std::vector<std::vector<hgcd_contact>> hit_contacts(static_cast<size_t>(threads));  // per thread, parallel to hits_
     narrow_phase(threads, plan, hit_contacts);
     merge_hits(threads, plan.want_contacts, hit_contacts);
+    find_events(threads);
 }
 
 void World::plan_narrow(int threads, NarrowPlan &plan) const {

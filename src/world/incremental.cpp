@@ -229,6 +229,7 @@ void World::detect_incremental(int threads, const MovedCount &moved, double t0) 
     const uint64_t changed_cell = update_movers(threads);
     const double t1 = omp_get_wtime();
     const size_t searched = find_moved_candidates(threads);
+    if (special_bodies_) stats_.filtered_pairs = drop_filtered_pairs(threads, candidates_);
     const size_t kept = keep_unmoved_colliding(threads);
     const double t2 = omp_get_wtime();
     test_candidates(threads);

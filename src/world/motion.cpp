@@ -25,6 +25,7 @@ struct Motion {
     Placement *place;
     double *velocity, *point;
     const uint32_t *live;
+    const BodyFilter *still;  // when some bodies are static or disabled: they do not move
     uint32_t count;  // of storage
     std::atomic<bool> applied{false};  // some range has moved
 
@@ -43,6 +44,8 @@ struct Motion {
             // points need no such request).
             if (s + 16 < m.count) __builtin_prefetch(&place[s + 16], 1);
             if (!m.live[s]) continue;
+            if (m.still && (m.still[s].type == HGCD_BODY_STATIC || (m.still[s].flags & BodyFilter::kDisabled)))
+                continue;
             for (int k = 0; k < 3; ++k) {
                 double &c = place[s].position[k];
                 double &v = velocity[3 * size_t(s) + k];
@@ -81,7 +84,7 @@ hgcd_status World::step() {
         parallel_for(T, n, 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
             int64_t mine = bad_of[size_t(me)];
             for (int64_t s = b; s < e; ++s) {
-                if (!stored_gen_[s]) continue;
+                if (!stored_gen_[s] || ((static_bodies_ || disabled_bodies_) && still(size_t(s)))) continue;
                 for (int k = 0; k < 3; ++k) {
                     if (!coordinate_ok(point_[3 * s + k] + velocity_[3 * s + k] * dt))
                         mine = std::max(mine, int64_t(slot_of_[s]));
@@ -111,6 +114,7 @@ hgcd_status World::step() {
     motion.velocity = velocity_.data();
     motion.point = point_.data();
     motion.live = stored_gen_.data();
+    motion.still = static_bodies_ || disabled_bodies_ ? filter_.data() : nullptr;
     motion.count = uint32_t(n);
     const SlotPass pass{&Motion::run, &motion};
     const double motion_seconds = omp_get_wtime() - t0;
@@ -186,10 +190,10 @@ bool World::renumber() {
     permute_records<3>(velocity_.data(), perm, n, tmp, T);
     permute_records<3>(point_.data(), perm, n, tmp, T);
     permute_records<6>(box_off_.data(), perm, n, tmp, T);
-    permute_records<1>(user_data_.data(), perm, n, tmp, T);
     permute_records<1>(r_level_.data(), perm, n, tmp, T);
     permute_records<1>(body_mesh_.data(), perm, n, tmp, T);
     permute_records<1>(body_record_.data(), perm, n, tmp, T);
+    permute_records<3>(reinterpret_cast<uint64_t *>(filter_.data()), perm, n, tmp, T);
     permute_records<1>(stored_gen_.data(), perm, n, tmp, T);
     permute_records<1>(moved_at_.data(), perm, n, tmp, T);
     if (!mover_.empty()) permute_records<1>(mover_.data(), perm, n, tmp, T);

@@ -65,6 +65,7 @@ World::World(const hgcd_world_desc &d)
     stats_.struct_size = sizeof(stats_);
     narrow_phase_ = d.narrow_phase;  // checked by hgcd_world_create
     contacts_on_ = d.contacts != 0;
+    kinematic_pairs_ = d.kinematic_pairs != 0;
 }
 
 hgcd_status World::fail(hgcd_status status, std::string message) const {

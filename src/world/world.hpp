@@ -7,11 +7,14 @@
 #include <new>
 #include <string>
 #include <type_traits>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "broad/grid.hpp"
 #include "common/parallel.hpp"
 #include "hgcd/hgcd.h"
+#include "world/filter.hpp"
 #include "world/mesh.hpp"
 #include "world/mesh_pool.hpp"
 #include "world/threads.hpp"
@@ -64,6 +67,15 @@ class World {
     hgcd_status get_mesh(hgcd_body id, hgcd_mesh *out) const;
     hgcd_status get_user_data(hgcd_body id, uint64_t *out) const;
     bool body_valid(hgcd_body id) const { return live_body(id) >= 0; }
+    // Types, enabling, filters and excluded pairs (filtering.cpp).
+    hgcd_status set_type(hgcd_body id, int32_t type);
+    hgcd_status get_type(hgcd_body id, int32_t *out) const;
+    hgcd_status set_enabled(hgcd_body id, bool enabled);
+    hgcd_status get_enabled(hgcd_body id, uint32_t *out) const;
+    hgcd_status set_filter(hgcd_body id, const hgcd_filter &filter);
+    hgcd_status get_filter(hgcd_body id, hgcd_filter *out) const;
+    hgcd_status exclude_pair(hgcd_body a, hgcd_body b, bool exclude);
+    hgcd_status pair_excluded(hgcd_body a, hgcd_body b, uint32_t *out) const;
 
     hgcd_status step();
     hgcd_status detect();
@@ -85,6 +97,8 @@ class World {
     bool contacts_recorded() const { return contacts_recorded_; }
 
     const std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> &pairs() const { return pairs_; }
+    const std::vector<hgcd_pair_event> &began() const { return began_; }
+    const std::vector<hgcd_pair_event> &ended() const { return ended_; }
     const hgcd_stats &stats() const { return stats_; }
     uint32_t body_count() const { return live_bodies_; }
     uint32_t mesh_count() const { return live_meshes_; }
@@ -146,6 +160,25 @@ class World {
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.
     uint64_t keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found);
+    // Removes from the candidates the pairs the types, filters or excluded
+    // pairs refuse (filtering.cpp); returns how many.
+    uint64_t drop_filtered_pairs(int threads, std::vector<PairBuffer> &found);
+    // The body stored at i gets filter record f: keeps plain_ and disabled_
+    // counts, and marks the body moved (its pairs' answers may change).
+    void set_body_filter(size_t i, const BodyFilter &f);
+    // What the grid reads as each stored body's generation (0: not there):
+    // stored_gen_ unless some bodies are disabled, then a copy without them.
+    const uint32_t *grid_live(int threads);
+    void forget_exclusions(uint32_t slot);
+    // The body stored at s does not move with hgcd_world_step (static or disabled).
+    bool still(size_t s) const {
+        return filter_[s].type == HGCD_BODY_STATIC || (filter_[s].flags & BodyFilter::kDisabled);
+    }
+    // Events (events.cpp): began_ and ended_ from prev_pairs_ and pairs_.
+    void find_events(int threads);
+    void bury(uint32_t slot);
+    uint64_t user_data_of(hgcd_body id) const;
+    hgcd_status check_pair(const char *what, hgcd_body a, hgcd_body b, int64_t *sa, int64_t *sb) const;
     // Live bodies created or moved since the last detect, and how many of
     // them are not movers yet (see below).
     struct MovedCount {
@@ -221,16 +254,17 @@ class World {
     LargeVector<uint32_t> live_gen_;   // body_gen_ if alive, else 0
     std::vector<uint32_t> at_;         // storage index
     std::vector<uint32_t> body_free_;  // stack of reusable slots
+    std::vector<uint64_t> user_data_;  // (by slot: the events read it by slot)
     // Per storage index (structure of arrays):
     LargeVector<uint32_t> slot_of_;
     LargeVector<uint32_t> stored_gen_;  // live_gen_ of the slot stored here
     LargeVector<Placement> place_;  // (narrow.hpp)
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
+    LargeVector<BodyFilter> filter_;   // type, enabled, filter (filter.hpp)
     // The first block of the mesh's record in pool_ (MeshPool::kNone: none),
     // read by the narrow phase beside the placements (refresh_records()).
     LargeVector<uint32_t> body_record_;
-    std::vector<uint64_t> user_data_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
     LargeVector<float> box_off_;
@@ -241,6 +275,14 @@ class World {
     // in a third of the memory of the placements.
     LargeVector<double> point_;
     uint32_t live_bodies_ = 0;
+    // Live bodies whose filter_ is not plain, those disabled, and those
+    // static (the motion skips them).
+    uint32_t special_bodies_ = 0, disabled_bodies_ = 0, static_bodies_ = 0;
+    bool kinematic_pairs_ = false;
+    // Excluded pairs, by pair_key of their slots, and each slot's partners.
+    std::unordered_set<uint64_t> excluded_;
+    std::unordered_map<uint32_t, std::vector<uint32_t>> excluded_with_;
+    std::vector<uint32_t> live_scratch_;  // grid_live
     // Temporal coherence. Per slot, whether the body was created or its
     // pose changed since the last detect; whether the last detect's pairs
     // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not
@@ -299,6 +341,20 @@ class World {
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> pairs_;
     std::vector<hgcd_contact, UninitAllocator<hgcd_contact>> contacts_;  // parallel to pairs_ when contacts_recorded_
     hgcd_stats stats_{};
+    // Events of the last detect, and what they need: whether prev_pairs_
+    // holds the last successful detect's pairs (after a failed detect, so
+    // the next one compares with them), per slot whether its body is in
+    // those pairs (built by the first destruction that needs it), and the
+    // user data of such bodies destroyed since.
+    std::vector<hgcd_pair_event> began_, ended_;
+    bool base_in_prev_ = false;
+    bool base_indexed_ = false;  // in_pairs_ describes those pairs (bury)
+    std::vector<uint8_t> in_pairs_;
+    struct Grave {
+        uint32_t slot, generation;
+        uint64_t user_data;
+    };
+    std::vector<Grave> graves_;
     mutable std::string last_error_;
 };
 

@@ -395,12 +395,17 @@ pub struct hgcd_world_desc {
     pub finish_task: hgcd_finish_task_fn,
     #[doc = " Passed to enqueue_task and finish_task as user_context. Default NULL."]
     pub task_context: *mut ::std::os::raw::c_void,
+    #[doc = " Non-zero: report pairs of two kinematic bodies and of a kinematic"]
+    #[doc = "  and a static body (enum hgcd_body_type). Default 0: such pairs are"]
+    #[doc = "  dropped before the narrow phase. Pairs of two static bodies are never"]
+    #[doc = "  reported."]
+    pub kinematic_pairs: u32,
 }
 #[test]
 fn bindgen_test_layout_hgcd_world_desc() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_world_desc>(),
-        128usize,
+        136usize,
         concat!("Size of: ", stringify!(hgcd_world_desc))
     );
     assert_eq!(
@@ -663,6 +668,23 @@ fn bindgen_test_layout_hgcd_world_desc() {
         );
     }
     test_field_task_context();
+    fn test_field_kinematic_pairs() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).kinematic_pairs) as usize - ptr as usize
+            },
+            128usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(kinematic_pairs)
+            )
+        );
+    }
+    test_field_kinematic_pairs();
 }
 extern "C" {
     #[doc = " A world descriptor with every default filled in (see the fields)."]
@@ -793,6 +815,107 @@ extern "C" {
         buffer: *mut hgcd_pair,
         capacity: usize,
         out_total: *mut usize,
+    ) -> hgcd_status;
+}
+#[doc = " A pair that began or ended colliding (hgcd_world_events), with both"]
+#[doc = "  bodies' user data (hgcd_body_desc.user_data), so that no lookup is needed"]
+#[doc = "  per event, also for a body destroyed since."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
+pub struct hgcd_pair_event {
+    #[doc = " The pair, as hgcd_world_pairs reports it (a.index < b.index)."]
+    pub pair: hgcd_pair,
+    #[doc = " The user data of pair.a and of pair.b."]
+    pub user_data_a: u64,
+    pub user_data_b: u64,
+}
+#[test]
+fn bindgen_test_layout_hgcd_pair_event() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_pair_event>(),
+        32usize,
+        concat!("Size of: ", stringify!(hgcd_pair_event))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_pair_event>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_pair_event))
+    );
+    fn test_field_pair() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair_event>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).pair) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_pair_event),
+                "::",
+                stringify!(pair)
+            )
+        );
+    }
+    test_field_pair();
+    fn test_field_user_data_a() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair_event>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).user_data_a) as usize - ptr as usize
+            },
+            16usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_pair_event),
+                "::",
+                stringify!(user_data_a)
+            )
+        );
+    }
+    test_field_user_data_a();
+    fn test_field_user_data_b() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_pair_event>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).user_data_b) as usize - ptr as usize
+            },
+            24usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_pair_event),
+                "::",
+                stringify!(user_data_b)
+            )
+        );
+    }
+    test_field_user_data_b();
+}
+extern "C" {
+    #[doc = " The pairs that began and ended colliding at the last step/detect:"]
+    #[doc = "  began holds each pair of this detect that the previous successful"]
+    #[doc = "  detect did not report, ended each pair that detect reported and this one"]
+    #[doc = "  does not, whatever the reason (apart, a body destroyed, disabled, made"]
+    #[doc = "  static, filtered out or its pair excluded). Pairs are compared by their"]
+    #[doc = "  full ids, generations included: a slot reused between the two detects"]
+    #[doc = "  ends its old body's pairs and begins its new body's. Each array is"]
+    #[doc = "  sorted by (a.index, b.index), without duplicates. Before the first detect"]
+    #[doc = "  every pair of the first detect has begun; after a detect refused for"]
+    #[doc = "  lack of memory both are empty, and the next detect compares with the"]
+    #[doc = "  last successful one."]
+    #[doc = "  Both arrays are owned by the world, with the lifetime of the pairs'"]
+    #[doc = "  array (hgcd_world_pairs); a pointer may be NULL when its count is 0."]
+    #[doc = "  Errors: NULL_ARGUMENT (any argument). Read-only, O(1); finding them costs"]
+    #[doc = "  each detect one merge of the previous and the new pairs"]
+    #[doc = "  (hgcd_stats.events_seconds)."]
+    pub fn hgcd_world_events(
+        world: *const hgcd_world,
+        out_began: *mut *const hgcd_pair_event,
+        out_began_count: *mut usize,
+        out_ended: *mut *const hgcd_pair_event,
+        out_ended_count: *mut usize,
     ) -> hgcd_status;
 }
 #[doc = " The surfaces meet (exact test): triangle triangle_a of body a's mesh"]
@@ -1069,12 +1192,19 @@ pub struct hgcd_stats {
     #[doc = "  few bodies moved since the previous detect (temporal coherence), the"]
     #[doc = "  bodies created or moved since then alone; 0 when none was."]
     pub searched_bodies: u64,
+    #[doc = " Candidate pairs dropped before the narrow phase by the body types,"]
+    #[doc = "  the filters or the excluded pairs (hgcd_filter); counted in"]
+    #[doc = "  candidate_pairs, not in narrow_tests."]
+    pub filtered_pairs: u64,
+    #[doc = " Seconds finding the began and ended pairs (hgcd_world_events),"]
+    #[doc = "  counted in narrow_seconds and total_seconds."]
+    pub events_seconds: f64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_stats() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_stats>(),
-        136usize,
+        152usize,
         concat!("Size of: ", stringify!(hgcd_stats))
     );
     assert_eq!(
@@ -1405,6 +1535,40 @@ fn bindgen_test_layout_hgcd_stats() {
         );
     }
     test_field_searched_bodies();
+    fn test_field_filtered_pairs() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).filtered_pairs) as usize - ptr as usize
+            },
+            136usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_stats),
+                "::",
+                stringify!(filtered_pairs)
+            )
+        );
+    }
+    test_field_filtered_pairs();
+    fn test_field_events_seconds() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_stats>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).events_seconds) as usize - ptr as usize
+            },
+            144usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_stats),
+                "::",
+                stringify!(events_seconds)
+            )
+        );
+    }
+    test_field_events_seconds();
 }
 extern "C" {
     #[doc = " Copies the statistics of the last step/detect into *out_stats, whose"]
@@ -1881,6 +2045,127 @@ extern "C" {
         narrow_phase: i32,
     ) -> hgcd_status;
 }
+#[doc = " Moves every tick (the default)."]
+pub const HGCD_BODY_DYNAMIC: hgcd_body_type = 0;
+#[doc = " Moved by the caller, like a platform or a door."]
+pub const HGCD_BODY_KINEMATIC: hgcd_body_type = 1;
+#[doc = " Level geometry: moved only when the caller sets its pose."]
+pub const HGCD_BODY_STATIC: hgcd_body_type = 2;
+#[doc = " How a body moves, and so which of its pairs are searched and reported"]
+#[doc = "  (hgcd_body_desc.type, hgcd_body_set_type). A pair with a dynamic body is"]
+#[doc = "  always considered; two static bodies never are; a kinematic body with a"]
+#[doc = "  kinematic or static one only when hgcd_world_desc.kinematic_pairs is set."]
+#[doc = "  A pair that is not considered costs no narrow test and is never reported."]
+#[doc = "  hgcd_world_step moves dynamic and kinematic bodies by their velocity,"]
+#[doc = "  never static ones (their velocity is kept, unused); every type moves with"]
+#[doc = "  hgcd_body_set_pose and hgcd_world_set_poses."]
+pub type hgcd_body_type = u32;
+#[doc = " Which bodies a body may collide with, with the semantics of Box2D v3's"]
+#[doc = "  b2Filter: two bodies A and B with the same non-zero group_index collide"]
+#[doc = "  when it is positive and never when it is negative; otherwise they"]
+#[doc = "  collide when (A.mask_bits & B.category_bits) != 0 and"]
+#[doc = "  (A.category_bits & B.mask_bits) != 0. A pair refused by the filters is"]
+#[doc = "  dropped before the narrow phase (no test, never reported), as are the"]
+#[doc = "  pairs excluded with hgcd_world_exclude_pair. The test is symmetric."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
+pub struct hgcd_filter {
+    #[doc = " The categories the body belongs to (usually one bit). Default 1."]
+    pub category_bits: u64,
+    #[doc = " The categories it collides with. Default UINT64_MAX (all)."]
+    pub mask_bits: u64,
+    #[doc = " Group: same positive value, always collide; same negative value,"]
+    #[doc = "  never; 0 (default) or different values, decided by the bits."]
+    pub group_index: i32,
+    #[doc = " Must be 0."]
+    pub reserved: u32,
+}
+#[test]
+fn bindgen_test_layout_hgcd_filter() {
+    assert_eq!(
+        ::std::mem::size_of::<hgcd_filter>(),
+        24usize,
+        concat!("Size of: ", stringify!(hgcd_filter))
+    );
+    assert_eq!(
+        ::std::mem::align_of::<hgcd_filter>(),
+        8usize,
+        concat!("Alignment of ", stringify!(hgcd_filter))
+    );
+    fn test_field_category_bits() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_filter>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).category_bits) as usize - ptr as usize
+            },
+            0usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_filter),
+                "::",
+                stringify!(category_bits)
+            )
+        );
+    }
+    test_field_category_bits();
+    fn test_field_mask_bits() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_filter>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).mask_bits) as usize - ptr as usize
+            },
+            8usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_filter),
+                "::",
+                stringify!(mask_bits)
+            )
+        );
+    }
+    test_field_mask_bits();
+    fn test_field_group_index() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_filter>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).group_index) as usize - ptr as usize
+            },
+            16usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_filter),
+                "::",
+                stringify!(group_index)
+            )
+        );
+    }
+    test_field_group_index();
+    fn test_field_reserved() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_filter>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).reserved) as usize - ptr as usize
+            },
+            20usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_filter),
+                "::",
+                stringify!(reserved)
+            )
+        );
+    }
+    test_field_reserved();
+}
+extern "C" {
+    #[doc = " The default filter: category 1, mask UINT64_MAX, group 0 (collides with"]
+    #[doc = "  every body whose own filter accepts category 1). Any thread."]
+    pub fn hgcd_filter_default() -> hgcd_filter;
+}
 #[doc = " Body descriptor: get one from hgcd_body_desc_default(), then set at least"]
 #[doc = "  the mesh."]
 #[repr(C)]
@@ -1910,12 +2195,20 @@ pub struct hgcd_body_desc {
     pub scale: f64,
     #[doc = " Any caller value, returned by hgcd_body_get_user_data. Default 0."]
     pub user_data: u64,
+    #[doc = " enum hgcd_body_type. Default HGCD_BODY_DYNAMIC."]
+    pub type_: i32,
+    #[doc = " Non-zero (default 1): the body takes part in detection; 0: it is"]
+    #[doc = "  created disabled (see hgcd_body_set_enabled)."]
+    pub enabled: u32,
+    #[doc = " Which bodies it may collide with. Default hgcd_filter_default();"]
+    #[doc = "  reserved must be 0."]
+    pub filter: hgcd_filter,
 }
 #[test]
 fn bindgen_test_layout_hgcd_body_desc() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_body_desc>(),
-        112usize,
+        144usize,
         concat!("Size of: ", stringify!(hgcd_body_desc))
     );
     assert_eq!(
@@ -2059,6 +2352,57 @@ fn bindgen_test_layout_hgcd_body_desc() {
         );
     }
     test_field_user_data();
+    fn test_field_type() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).type_) as usize - ptr as usize
+            },
+            112usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_body_desc),
+                "::",
+                stringify!(type_)
+            )
+        );
+    }
+    test_field_type();
+    fn test_field_enabled() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).enabled) as usize - ptr as usize
+            },
+            116usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_body_desc),
+                "::",
+                stringify!(enabled)
+            )
+        );
+    }
+    test_field_enabled();
+    fn test_field_filter() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).filter) as usize - ptr as usize
+            },
+            120usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_body_desc),
+                "::",
+                stringify!(filter)
+            )
+        );
+    }
+    test_field_filter();
 }
 extern "C" {
     #[doc = " A body descriptor with the defaults of its fields. Any thread."]
@@ -2208,6 +2552,102 @@ extern "C" {
         world: *const hgcd_world,
         body: hgcd_body,
         out_user_data: *mut u64,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets a body's type (enum hgcd_body_type), from the next step/detect."]
+    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT (not a type)."]
+    #[doc = "  O(1)."]
+    pub fn hgcd_body_set_type(world: *mut hgcd_world, body: hgcd_body, type_: i32) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets *out_type to the body's type (enum hgcd_body_type)."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_type), STALE_ID. Read-only, O(1)."]
+    pub fn hgcd_body_get_type(
+        world: *const hgcd_world,
+        body: hgcd_body,
+        out_type: *mut i32,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Enables (non-zero) or disables (0) a body, from the next step/detect. A"]
+    #[doc = "  disabled body keeps its id, pose, velocity, type, filter, exclusions and"]
+    #[doc = "  user data, and every call on it works as before, but it leaves the grid"]
+    #[doc = "  and every pair: it is never searched, tested or reported, and"]
+    #[doc = "  hgcd_world_step does not move it. Errors: NULL_ARGUMENT (world),"]
+    #[doc = "  STALE_ID. O(1)."]
+    pub fn hgcd_body_set_enabled(
+        world: *mut hgcd_world,
+        body: hgcd_body,
+        enabled: u32,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets *out_enabled to 1 if the body is enabled, else 0."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_enabled), STALE_ID. Read-only,"]
+    #[doc = "  O(1)."]
+    pub fn hgcd_body_get_enabled(
+        world: *const hgcd_world,
+        body: hgcd_body,
+        out_enabled: *mut u32,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets a body's filter (copied), from the next step/detect."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or filter), STALE_ID, INVALID_ARGUMENT"]
+    #[doc = "  (reserved not 0). O(1)."]
+    pub fn hgcd_body_set_filter(
+        world: *mut hgcd_world,
+        body: hgcd_body,
+        filter: *const hgcd_filter,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Copies a body's filter into *out_filter."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_filter), STALE_ID. Read-only,"]
+    #[doc = "  O(1)."]
+    pub fn hgcd_body_get_filter(
+        world: *const hgcd_world,
+        body: hgcd_body,
+        out_filter: *mut hgcd_filter,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Excludes the pair {a, b} from detection from the next step/detect (two"]
+    #[doc = "  bodies joined by a joint, say): it is dropped before the narrow phase,"]
+    #[doc = "  whatever the types and filters say. Excluding an excluded pair changes"]
+    #[doc = "  nothing. The exclusion lasts until hgcd_world_include_pair or until"]
+    #[doc = "  either body is destroyed (disabling keeps it)."]
+    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID (a or b), INVALID_ARGUMENT"]
+    #[doc = "  (a and b the same body), OUT_OF_MEMORY."]
+    #[doc = "  Cost: amortised O(1) (a hash set); destroying a body costs O(1) more per"]
+    #[doc = "  exclusion it has."]
+    pub fn hgcd_world_exclude_pair(
+        world: *mut hgcd_world,
+        a: hgcd_body,
+        b: hgcd_body,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Ends the exclusion of the pair {a, b} (from the next step/detect); a"]
+    #[doc = "  pair that is not excluded is left as it is."]
+    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID (a or b), INVALID_ARGUMENT (a and"]
+    #[doc = "  b the same body). Amortised O(1)."]
+    pub fn hgcd_world_include_pair(
+        world: *mut hgcd_world,
+        a: hgcd_body,
+        b: hgcd_body,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets *out_excluded to 1 if the pair {a, b} is excluded, else 0."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_excluded), STALE_ID, INVALID_ARGUMENT"]
+    #[doc = "  (a and b the same body). Read-only, O(1)."]
+    pub fn hgcd_world_pair_excluded(
+        world: *const hgcd_world,
+        a: hgcd_body,
+        b: hgcd_body,
+        out_excluded: *mut u32,
     ) -> hgcd_status;
 }
 extern "C" {

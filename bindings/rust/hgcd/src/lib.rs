@@ -27,6 +27,7 @@
 //! Threading: [`World`] is `Send` but not `Sync`; see its documentation.
 
 mod error;
+mod filter;
 pub mod scene;
 mod types;
 mod world;
@@ -34,11 +35,12 @@ mod world;
 pub use hgcd_sys as sys;
 
 pub use error::{Error, ErrorKind, Result};
+pub use filter::{BodyType, Filter};
 pub use types::{
     BodyDesc, BodyId, Contact, ContactKind, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose,
     Stats, ThreadPolicy, WorldDesc,
 };
-pub use world::{MeshPose, QueryFilter, QueryResults, Ray, RayHit, RayMode, World};
+pub use world::{MeshPose, PairEvent, QueryFilter, QueryResults, Ray, RayHit, RayMode, World};
 
 /// The run-time library version (major, minor, patch) (`hgcd_version`).
 pub fn version() -> (u32, u32, u32) {

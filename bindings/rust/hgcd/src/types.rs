@@ -6,6 +6,8 @@ use std::mem::{align_of, size_of};
 
 use hgcd_sys as sys;
 
+use crate::filter::{BodyType, Filter};
+
 macro_rules! id_type {
     ($(#[$doc:meta])* $name:ident, $raw:ty) => {
         $(#[$doc])*
@@ -181,6 +183,8 @@ pub struct WorldDesc {
     /// (default: fewer while the cores are busy with other work) or `Fixed`
     /// (see [`ThreadPolicy`]).
     pub thread_policy: ThreadPolicy,
+    /// Report kinematic-kinematic and kinematic-static pairs ([`BodyType`]).
+    pub kinematic_pairs: bool,
 }
 
 impl Default for WorldDesc {
@@ -198,6 +202,7 @@ impl Default for WorldDesc {
             narrow_phase: NarrowPhase::from_raw(d.narrow_phase),
             contacts: d.contacts != 0,
             thread_policy: ThreadPolicy::from_raw(d.thread_policy),
+            kinematic_pairs: d.kinematic_pairs != 0,
         }
     }
 }
@@ -218,6 +223,7 @@ impl WorldDesc {
         d.narrow_phase = self.narrow_phase.to_raw();
         d.contacts = u32::from(self.contacts);
         d.thread_policy = self.thread_policy.to_raw();
+        d.kinematic_pairs = u32::from(self.kinematic_pairs);
         d
     }
 }
@@ -260,6 +266,12 @@ pub struct BodyDesc {
     pub scale: f64,
     /// Opaque value returned by `World::body_user_data`.
     pub user_data: u64,
+    /// How the body moves, and which of its pairs are considered.
+    pub body_type: BodyType,
+    /// Whether it takes part in detection (default true).
+    pub enabled: bool,
+    /// Which bodies it may collide with.
+    pub filter: Filter,
 }
 
 impl Default for BodyDesc {
@@ -273,6 +285,9 @@ impl Default for BodyDesc {
             velocity: d.velocity,
             scale: d.scale,
             user_data: d.user_data,
+            body_type: BodyType::from_raw(d.type_),
+            enabled: d.enabled != 0,
+            filter: Filter::from_raw(&d.filter),
         }
     }
 }
@@ -296,6 +311,9 @@ impl BodyDesc {
         d.velocity = self.velocity;
         d.scale = self.scale;
         d.user_data = self.user_data;
+        d.type_ = self.body_type.to_raw();
+        d.enabled = u32::from(self.enabled);
+        d.filter = self.filter.to_raw();
         d
     }
 }
@@ -391,6 +409,11 @@ pub struct Stats {
     /// few moved since the previous detect, those created or moved since
     /// alone; 0 when none was.
     pub searched_bodies: u64,
+    /// Candidate pairs dropped before the narrow phase by body types,
+    /// filters or excluded pairs.
+    pub filtered_pairs: u64,
+    /// Seconds finding the began and ended pairs.
+    pub events_seconds: f64,
 }
 
 impl From<&sys::hgcd_stats> for Stats {
@@ -414,6 +437,8 @@ impl From<&sys::hgcd_stats> for Stats {
             libccd_fallback_tests: s.libccd_fallback_tests,
             unmoved_pairs: s.unmoved_pairs,
             searched_bodies: s.searched_bodies,
+            filtered_pairs: s.filtered_pairs,
+            events_seconds: s.events_seconds,
         }
     }
 }

@@ -1,8 +1,11 @@
 //! `World`: the owned `hgcd_world*` (its batch calls in world/batch.rs).
 
 mod batch;
+mod events;
+mod filter;
 mod query;
 
+pub use events::PairEvent;
 pub use query::{MeshPose, QueryFilter, QueryResults, Ray, RayHit, RayMode};
 
 use std::ffi::CStr;

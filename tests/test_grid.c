@@ -431,9 +431,35 @@ static void test_float_boxes_kernel(void **state) {
     assert_int_equal(mismatches, 0);
 }
 
+/* A body's box offsets, vector against scalar, bit for bit: quaternions
+ * with zero and negative zero components (products of -0), tiny and huge
+ * scales, points on the axes and at the origin. */
+static void test_offset_box_kernel(void **state) {
+    (void)state;
+    enum { n = 4000, points = 9 };
+    static double q[4 * n], s[n];
+    rng r = {91};
+    const double p[3 * points] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1, 0, 0, 0, -0.0, 2, -0.0,
+                                  0.5, -0.0, 0, 1e-300, -1e300, 3, -2.5, 0.1, 7};
+    for (uint32_t i = 0; i < n; ++i) {
+        random_unit_quaternion(&r, &q[4 * i]);
+        const uint64_t u = next(&r);
+        if (u % 3 == 0) q[4 * i + (u >> 8) % 4] = (u >> 16) % 2 ? 0.0 : -0.0;
+        if (u % 7 == 0) { q[4 * i] = q[4 * i + 1] = q[4 * i + 2] = (u >> 20) % 2 ? 0.0 : -0.0; q[4 * i + 3] = 1; }
+        s[i] = u % 5 == 0 ? 1e-200 : u % 5 == 1 ? 1e200 : 0.1 + 10 * unif(&r);
+    }
+    assert_int_equal(hgcdi_offset_box_check(q, s, n, p, points), 0);
+    assert_int_equal(hgcdi_offset_box_check(q, s, n, p, 4), 0);
+    /* A point at the origin alone: every offset a sum of signed zeros. */
+    const double origin[2][3] = {{-0.0, -0.0, -0.0}, {0.0, -0.0, 0.0}};
+    assert_int_equal(hgcdi_offset_box_check(q, s, n, origin[0], 1), 0);
+    assert_int_equal(hgcdi_offset_box_check(q, s, n, origin[1], 1), 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_float_boxes_kernel),
+        cmocka_unit_test(test_offset_box_kernel),
         cmocka_unit_test(test_row_sorted_outright),
         cmocka_unit_test(test_dense_mixed_levels),
         cmocka_unit_test(test_touching_on_cell_faces),

@@ -16,16 +16,15 @@
 namespace hgcd {
 namespace broad {
 
-// Body s's box [fl(p + low), fl(p + high)] rounded outward to float. SSE2
+// The box [dlo, dhi] rounded outward to float: lo[k] = float_at_most(dlo[k]),
+// hi[k] = float_at_least(dhi[k]), the same bits, without a branch. SSE2
 // converts two at a time in whole registers: scalar cvtsd2ss keeps the rest
 // of its destination register, which chained every conversion of a gather.
 // Rounded down as integers: a float's bits step down by 1 when it is
 // positive and up by 1 when negative, so the highs are rounded down negated;
 // magnitudes below FLT_MIN (tested on the double, which reads a subnormal as
 // 0 under DAZ: still below) go to 0 or, by the sign bit, -FLT_MIN.
-inline void float_box(const Boxes &boxes, uint32_t s, float *lo, float *hi) {
-    double dlo[3], dhi[3];
-    boxes.at(s, dlo, dhi);
+inline void round_outward(const double *dlo, const double *dhi, float *lo, float *hi) {
 #if defined(__SSE2__)
     auto down2 = [](__m128d x) {
         const __m128 f = _mm_cvtpd_ps(x);
@@ -53,6 +52,13 @@ inline void float_box(const Boxes &boxes, uint32_t s, float *lo, float *hi) {
         hi[k] = float_at_least(dhi[k]);
     }
 #endif
+}
+
+// Body s's box [fl(p + low), fl(p + high)] rounded outward to float.
+inline void float_box(const Boxes &boxes, uint32_t s, float *lo, float *hi) {
+    double dlo[3], dhi[3];
+    boxes.at(s, dlo, dhi);
+    round_outward(dlo, dhi, lo, hi);
 }
 
 // float_box's low x alone (float_at_most of the same double), where only

@@ -362,8 +362,12 @@ HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, uint32_t se
             k = seek(keys, k, rows, k, y < rr.y_lo ? row_key(z, rr.y_lo) : row_key(z + 1, rr.y_lo));
             continue;
         }
+        // (Forward from the hint a block at a time, as the sweeps' cursors
+        // move; back by seek when the last query here started further on.)
         const size_t b = R.start[k], e = R.start[k + 1];
-        const size_t j = seek(R.box.reach, b, e, entry_hint[k], q[0]);
+        const size_t h = std::min<size_t>(std::max<size_t>(entry_hint[k], b), e);
+        const size_t j = h > b && !(R.box.reach[h - 1] < q[0]) ? seek(R.box.reach, b, e, h, q[0])
+                                                               : floor_entry<Lanes>(R.box.reach, h, e, q[0]);
         entry_hint[k] = uint32_t(j);
         if (j < e && R.box.low_x[j] <= q[1]) scan(lanes, R.box, j, e, q[1], self, out);
         ++k;

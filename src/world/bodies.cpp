@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 
+#include "broad/float_box.hpp"
 #include "common/ieee.hpp"
 #include "common/transform.hpp"
 #include "world/world.hpp"
@@ -171,6 +172,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     stored_gen_[at_[slot]] = 0;
     query_.stale = true;
     moved_[slot] = moved_at_[at_[slot]] = 1;  // (its last pairs end)
+    if (at_[slot] < mover_.size()) mover_[at_[slot]] |= kDead;  // (the grid may still hold it)
     --mesh_users_[body_mesh_[at_[slot]]];
     --live_bodies_;
     if ((body_gen_[slot] & kCounterMask) != kCounterMask) body_free_.push_back(uint32_t(slot));
@@ -258,18 +260,11 @@ void World::set_box_offsets(size_t s) {
     const Placement &pl = place_[s];
     const Mesh &m = meshes_[body_mesh_[s]];
     const Rotation r = rotation_of(pl.orientation);
-    const double zero[3] = {0, 0, 0};
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double lo[3], hi[3];
     if (m.triangle_count <= Mesh::kExactBoxTriangles) {
-        for (size_t v = 0; v < m.box_points.size(); v += 3) {
-            double d[3];
-            transform_point(r, zero, pl.scale, &m.box_points[v], d);
-            for (int k = 0; k < 3; ++k) {
-                lo[k] = std::min(lo[k], d[k]);
-                hi[k] = std::max(hi[k], d[k]);
-            }
-        }
+        offset_box(r, pl.scale, m.box_points.data(), m.box_points.size() / 3, lo, hi);
     } else {
+        const double zero[3] = {0, 0, 0};
         // |R (s v) - R (s c)| <= stretch s radius for every vertex v; each
         // computed offset is within 8 eps (|R| |s v|) of R (s v), |R| <= 2.
         double c[3];
@@ -281,11 +276,7 @@ void World::set_box_offsets(size_t s) {
             hi[k] = c[k] + reach * (1 + 1e-12);
         }
     }
-    float *o = &box_off_[6 * s];
-    for (int k = 0; k < 3; ++k) {
-        o[k] = float_at_most(lo[k]);
-        o[3 + k] = float_at_least(hi[k]);
-    }
+    broad::round_outward(lo, hi, &box_off_[6 * s], &box_off_[6 * s + 3]);
 }
 
 }  // namespace hgcd

@@ -19,7 +19,7 @@ World::MovedCount World::count_moved(int threads) const {
         for (int64_t i = b; i < e; ++i) {
             if (!stored_gen_[size_t(i)] || !moved_at_[size_t(i)]) continue;
             ++mine.moved;
-            mine.new_movers += size_t(i) >= known || !mover_[size_t(i)];
+            mine.new_movers += size_t(i) >= known || !(mover_[size_t(i)] & kMover);
         }
         of[size_t(me)] = mine;
     });

@@ -44,7 +44,7 @@ bool World::incremental_fits(const MovedCount &moved) const {
 }
 
 void World::drop_movers() noexcept {
-    for (const uint32_t i : side_storage_) mover_[i] = 0;
+    std::fill(mover_.begin(), mover_.end(), uint8_t(0));  // (and the marks of the dead)
     side_storage_.clear();
     side_grid_ = Grid();
 }
@@ -79,13 +79,17 @@ void World::list_moved(int threads, size_t count) {
 // not yet), and every mover's state is brought to the world's, then the
 // second grid to their boxes. Returns the bodies that changed cell there.
 uint64_t World::update_movers(int threads) {
-    const size_t n = stored_gen_.size();
-    if (mover_.size() < n) mover_.resize(n, 0);
+    const size_t n = stored_gen_.size(), known = mover_.size();
+    if (known < n) {
+        mover_.resize(n);
+        // (Bodies destroyed from here on are marked as they go.)
+        for (size_t i = known; i < n; ++i) mover_[i] = stored_gen_[i] ? 0 : kDead;
+    }
     side_storage_.reserve(side_storage_.size() + moved_list_.size());
     for (const uint32_t i : moved_list_)
-        if (!mover_[i]) {
+        if (!(mover_[i] & kMover)) {
             side_storage_.push_back(i);
-            mover_[i] = 1;
+            mover_[i] = kMover;
         }
     const size_t k_count = side_storage_.size();
     side_point_.resize(3 * k_count);
@@ -135,6 +139,10 @@ size_t World::find_moved_candidates(int threads) {
         PairBuffer &mine = candidates_[size_t(me)];
         Grid::QueryCursors &cursors = cursors_of[size_t(me)];
         for (size_t k = size_t(c0); k < size_t(c1); ++k) {
+            if (k + 8 < moved_list_.size()) {  // (in storage order, but sparse: few to a line)
+                __builtin_prefetch(world.point(moved_list_[k + 8]));
+                __builtin_prefetch(world.off + 6 * size_t(moved_list_[k + 8]));
+            }
             const uint32_t m = moved_list_[k];
             float lo[3], hi[3];
             broad::float_box(world, m, lo, hi);
@@ -143,9 +151,8 @@ size_t World::find_moved_candidates(int threads) {
             uint64_t *pairs = mine.data();
             size_t to = from;
             for (size_t p = from; p < mine.size(); ++p) {
-                const uint32_t j = uint32_t(pairs[p]);
                 pairs[to] = pairs[p];
-                to += !mover_[j] & (stored_gen_[j] != 0);
+                to += mover_[uint32_t(pairs[p])] == 0;
             }
             mine.shrink(to);
         }
@@ -157,7 +164,7 @@ size_t World::find_moved_candidates(int threads) {
         Grid::QueryCursors &side_cursors = side_cursors_of[size_t(me)];
         for (int64_t v = v0; v < v1; ++v) {
             const uint32_t o = oversize[size_t(v)];
-            if (mover_[o] || !stored_gen_[o]) continue;
+            if (mover_[o]) continue;
             float lo[3], hi[3];
             broad::float_box(world, o, lo, hi);
             const size_t from = mine.size();

@@ -157,7 +157,7 @@ bool World::renumber() {
         // The grid may need to grow its per-slot arrays (slots made since
         // the last detect); after this nothing below allocates.
         grid_.reserve_slots(n);
-        if (!side_storage_.empty() && mover_.size() < n) mover_.resize(n, 0);
+        if (!mover_.empty() && mover_.size() < n) mover_.resize(n, 0);
     } catch (const std::bad_alloc &) {
         return false;  // renumbering only saves time; nothing has changed
     }
@@ -196,7 +196,7 @@ bool World::renumber() {
     permute_records<3>(reinterpret_cast<uint64_t *>(filter_.data()), perm, n, tmp, T);
     permute_records<1>(stored_gen_.data(), perm, n, tmp, T);
     permute_records<1>(moved_at_.data(), perm, n, tmp, T);
-    if (!side_storage_.empty()) permute_records<1>(mover_.data(), perm, n, tmp, T);
+    if (!mover_.empty()) permute_records<1>(mover_.data(), perm, n, tmp, T);
     permute_records<1>(slot_of_.data(), perm, n, tmp, T);
     parallel_for(T, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
         for (int64_t k = b; k < e; ++k) at_[slot_of_[k]] = uint32_t(k);

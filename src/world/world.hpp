@@ -313,12 +313,14 @@ class World {
 
     // Incremental detection. The movers: bodies created or moved since the
     // grid's last update (which still holds their old boxes), marked by
-    // storage index, each with an index into a second grid that holds their
-    // current boxes: arrays by that index of the storage index, the point,
-    // offsets, level radius and generation (0: destroyed since), and whether
-    // the body moved since the last detect. None whenever the grid is
-    // updated. moved_list_: the storage indices of the bodies moved since the
-    // last detect, during one.
+    // storage index (kMover; kDead marks bodies destroyed since, which the
+    // grid may hold too), each with an index into a second grid that holds
+    // their current boxes: arrays by that index of the storage index, the
+    // point, offsets, level radius and generation (0: destroyed since), and
+    // whether the body moved since the last detect. None whenever the grid
+    // is updated. moved_list_: the storage indices of the bodies moved since
+    // the last detect, during one.
+    static constexpr uint8_t kMover = 1, kDead = 2;
     std::vector<uint8_t> mover_;
     std::vector<uint32_t> side_storage_, side_gen_;
     std::vector<double> side_point_, side_r_level_;

@@ -19,6 +19,7 @@
 #include "world/threads.hpp"
 #include "narrow/narrow.hpp"
 #include "common/ieee.hpp"
+#include "common/transform.hpp"
 
 namespace hgcd {
 
@@ -157,6 +158,26 @@ int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint
     } catch (...) {
         return -2;
     }
+}
+
+int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, const double *p, uint32_t points) {
+    const hgcd::IeeeMode ieee;
+    int64_t differ = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const hgcd::Rotation r = hgcd::rotation_of(q + 4 * size_t(i));
+        double lo[3], hi[3], rlo[3], rhi[3];
+        hgcd::offset_box(r, s[i], p, points, lo, hi);
+        hgcd::offset_box_scalar(r, s[i], p, points, rlo, rhi);
+        float f[6], g[6];
+        hgcd::broad::round_outward(lo, hi, f, f + 3);
+        for (int k = 0; k < 3; ++k) {
+            g[k] = hgcd::float_at_most(rlo[k]);
+            g[3 + k] = hgcd::float_at_least(rhi[k]);
+        }
+        differ += std::memcmp(lo, rlo, sizeof lo) != 0 || std::memcmp(hi, rhi, sizeof hi) != 0 ||
+                  std::memcmp(f, g, sizeof f) != 0;
+    }
+    return differ;
 }
 
 int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n, int threads,

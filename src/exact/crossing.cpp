@@ -13,6 +13,7 @@
 // integers decide what it cannot (predicates.cpp).
 #include <cmath>
 
+#include "common/ieee.hpp"
 #include "exact/geometry.hpp"
 #include "exact/predicates.hpp"
 

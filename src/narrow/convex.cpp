@@ -2,6 +2,7 @@
 // small convex meshes, each certified against the rounding of its own
 // evaluation, so that a pair is rejected only when its solids cannot share a
 // point.
+#include "common/ieee.hpp"
 #include "narrow/convex.hpp"
 
 #include <algorithm>

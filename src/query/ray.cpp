@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/ieee.hpp"
 #include "common/parallel.hpp"
 #include "narrow/narrow.hpp"
 #include "query/solid.hpp"

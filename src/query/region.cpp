@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/ieee.hpp"
 #include "broad/grid.hpp"
 #include "common/parallel.hpp"
 #include "common/transform.hpp"

@@ -1,4 +1,5 @@
 // The exact per-body tests of the scene queries (solid.hpp).
+#include "common/ieee.hpp"
 #include "query/solid.hpp"
 
 #include <algorithm>

@@ -1,5 +1,6 @@
 // The query tree's build (binned surface area heuristic, median splits
 // where it finds none) and the conservative segment-box test of the ray traversal.
+#include "common/ieee.hpp"
 #include "query/tree.hpp"
 
 #include <algorithm>

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <vector>
 
+#include "common/ieee.hpp"
 #include "common/parallel.hpp"
 
 #include "world/world.hpp"

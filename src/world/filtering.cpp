@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <string>
 
+#include "common/ieee.hpp"
 #include "common/parallel.hpp"
 #include "world/world.hpp"
 

@@ -1,4 +1,5 @@
 // The packed records of small meshes (mesh_pool.hpp).
+#include "common/ieee.hpp"
 #include "world/mesh_pool.hpp"
 
 #include <cstring>

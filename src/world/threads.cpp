@@ -1,4 +1,5 @@
 // The adaptive thread policy's decisions (threads.hpp).
+#include "common/ieee.hpp"
 #include "world/threads.hpp"
 
 #include <algorithm>

@@ -14,6 +14,8 @@
 # steers the mutations.) SECONDS then only caps the time. Without FUZZ_RUNS
 # the seed comes from the clock and the working corpus grows from run to run,
 # which is what a long `make fuzz` wants.
+# FUZZ_TIMEOUT=S raises the per-input limit of that mode (30 s): on a machine
+# busy with other work an input of many oracle checks can take minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${HGCD_FUZZ_BUILD:-build-fuzz}
@@ -21,7 +23,7 @@ seconds=${1:-${FUZZ_SECONDS:-300}}
 bash fuzz/build.sh  # exits 77 (and so do we) when clang's libFuzzer runtime is missing
 mkdir -p "$out/corpus" "$out/artifacts"
 corpus="$out/corpus"
-mode=(-timeout=30)
+mode=(-timeout="${FUZZ_TIMEOUT:-30}")
 if [ -n "${FUZZ_RUNS:-}" ]; then
     corpus=$(mktemp -d)
     trap 'rm -rf "$corpus"' EXIT

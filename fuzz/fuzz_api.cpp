@@ -1101,9 +1101,11 @@ void op_step(Model &m) {
 // from the table of odd values, which must be refused).
 long g_queries = 0, g_query_answers = 0;
 void op_query(Input &in, Model &m, const Ctx &cx) {
-    std::vector<std::pair<uint32_t, size_t>> order;  // live bodies in slot order
+    // Live, enabled bodies in slot order (a disabled body is in no query's
+    // answer; these queries pass no filter).
+    std::vector<std::pair<uint32_t, size_t>> order;
     for (size_t i = 0; i < m.bodies.size(); ++i)
-        if (m.bodies[i].live) order.push_back({m.bodies[i].id.index, i});
+        if (m.bodies[i].live && m.bodies[i].enabled) order.push_back({m.bodies[i].id.index, i});
     std::sort(order.begin(), order.end());
     std::vector<std::vector<double>> world(order.size());
     std::vector<oracle_solid> solids(order.size());

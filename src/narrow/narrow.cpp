@@ -153,6 +153,16 @@ constexpr uint64_t kFaceTestBudget = 4096;
 // get exact triangle boxes from the world vertices and the exact triangle
 // test, exactly as the direct path.
 
+void next_epoch(NarrowScratch &s) {
+    if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
+        for (auto &c : s.side) {
+            std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
+            std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
+        }
+        s.epoch = 1;
+    }
+}
+
 void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, BodyView &v) {
     const Mesh &m = *pose.mesh;
     v.mesh = &m;
@@ -392,13 +402,7 @@ bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
 // the caller has counted it).
 __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
                                                Witness *witness, bool counted = true) {
-    if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
-        for (auto &c : s.side) {
-            std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
-            std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
-        }
-        s.epoch = 1;
-    }
+    next_epoch(s);
     BodyView va, vb;
     prepare_side(a, s.side[0], s.epoch, va);
     prepare_side(b, s.side[1], s.epoch, vb);
@@ -496,6 +500,11 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness 
     if (a.mesh->sat && b.mesh->sat) return collide_convex(a, b, s, witness);
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
     return collide_direct(a, b, s, witness);
+}
+
+void prepare_query_view(const BodyPose &pose, NarrowScratch &s, BodyView &v) {
+    next_epoch(s);
+    prepare_side(pose, s.side[0], s.epoch, v);
 }
 
 }  // namespace hgcd

@@ -7,6 +7,7 @@ from . import _arrays as A
 from ._arrays import BODY_ID, MESH_ID
 from ._errors import Error, Status, argument_error
 from ._hgcd import ffi, lib
+from ._queries import QueryMixin
 from ._types import CONTACT, NarrowPhase, ThreadPolicy, mesh_info_from_c, stats_from_c
 
 
@@ -85,7 +86,7 @@ class Mesh:
         return f"hgcd.Mesh(index={self.index}, generation={self.generation})"
 
 
-class World:
+class World(QueryMixin):
     """A world of meshes and bodies (hgcd_world). Frees its C world on close(),
     at the end of a `with` block, or when garbage-collected; after close()
     every call raises hgcd.Error (status NULL_ARGUMENT).

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -26,13 +27,6 @@ enum { BOX, SLAB, ICOSAHEDRON, ICOSPHERE, HULL, PARALLELEPIPED, TETRA, DENTED, S
 /* The shapes that must be convex (and so take the convex path together). */
 static const int must_be_convex[SHAPE_COUNT] = {1, 1, 1, 1, 1, 1, 1, 0};
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-/* A cube whose top is dented down to a vertex at the centre: closed, not convex. */
-static const double dented_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1,
-                                  1,  -1, 1,  1, 1, 1,  -1, 1, 1,  0, 0, -0.25};
-static const uint32_t dented_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
-                                    2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8};
 
 static double box_v[24], slab_v[24], par_v[24], ico_v[36], hull_v[36], sphere_v[3 * 42];
 static uint32_t box_t[36], ico_t[60], sphere_t[3 * 80];

@@ -6,6 +6,7 @@ from . import _arrays as A
 from ._arrays import BODY_ID
 from ._errors import Error, Status, argument_error
 from ._hgcd import ffi, lib
+from ._types import FILTER
 
 #: dtype of a ray hit (hgcd_ray_hit): body (BODY_ID; generation 0 when the ray
 #: hit nothing), triangle (uint32; 2**32 - 1 when inside), inside (uint32: the
@@ -17,11 +18,19 @@ assert ffi.sizeof("hgcd_ray") == 7 * 8 and ffi.sizeof("hgcd_mesh_pose") == 8 * 8
 
 
 def _filter(value, call):
-    """A C hgcd_filter from (category_bits, mask_bits[, group_index]), or NULL for None."""
+    """A C hgcd_filter from a FILTER scalar (hgcd.make_filter) or a tuple
+    (category_bits, mask_bits[, group_index]), or NULL for None."""
     if value is None:
         return ffi.NULL
+    if isinstance(value, (np.ndarray, np.void)) and value.dtype == FILTER:
+        if np.ndim(value) != 0:
+            raise argument_error(f"{call}: filter must be one FILTER, not an array of shape {np.shape(value)}")
+        value = tuple(value[()] if isinstance(value, np.ndarray) else value)
     try:
         fields = tuple(value)
+        if len(fields) == 4:  # (a FILTER's fields: reserved last, checked by the library)
+            f = ffi.new("hgcd_filter *", [int(x) for x in fields])
+            return f
         if len(fields) not in (2, 3):
             raise ValueError("needs 2 or 3 entries")
         f = ffi.new("hgcd_filter *")
@@ -50,9 +59,10 @@ class QueryMixin:
         segment from origin to origin + max_distance * direction. Returns a new
         (N,) array of RAY_HIT: per ray the closest hit (any_hit=True: some
         hit, for visibility), exact; body generation 0 where nothing was hit.
-        filter: None (every enabled body) or (category_bits, mask_bits[,
-        group_index]), the query standing for a body with that filter. Runs
-        without the GIL."""
+        filter: None (every enabled body), a FILTER (hgcd.make_filter) or
+        (category_bits, mask_bits[, group_index]): the query stands for a
+        body with that filter and considers the enabled bodies it would
+        collide with. Runs without the GIL."""
         o = A.rows(origins, 3, None, "origins", "world_cast_rays")
         n = o.shape[0]
         d = A.rows(directions, 3, n, "directions", "world_cast_rays")

@@ -102,6 +102,13 @@ def test_rays_boxes_points_by_hand():
         assert world.query_points([[1.0, 1, 1]], filter=(1, 0))[1].size == 0
         assert world.query_points([[1.0, 1, 1]], filter=(1, 1))[1].tolist() == [0]
         assert world.cast_rays([[-5.0, 0, 0]], [[1.0, 0, 0]], 20.0, filter=(2, 2))["body"]["generation"][0] == 0
+        # A body's own filter: body 0 in group -1, a query of group -1 skips it.
+        ids = world.query_points([[0.0, 0, 0], [5, 0, 0]], ids=True)[1]
+        world.set_filters(ids[:1], hgcd.make_filter(group_index=-1))
+        hit = world.cast_rays([[-5.0, 0, 0]], [[1.0, 0, 0]], 20.0, filter=hgcd.make_filter(group_index=-1))
+        assert hit["body"]["index"][0] == 1 and hit["distance"][0] == 9.0
+        world.set_enabled(ids[1:], False)
+        assert world.query_boxes([[-10.0, -2, -2, 10, 2, 2]])[1].tolist() == [0]
         empty = world.cast_rays(np.empty((0, 3)), np.empty((0, 3)), 1.0)
         assert empty.shape == (0,) and empty.dtype == hgcd.RAY_HIT
 

@@ -175,7 +175,10 @@ hgcd_status World::cast_rays(const hgcd_ray *rays, size_t count, size_t stride, 
         tree.spatial_order(count, [&](size_t k, double *p) { std::copy(ray(k)->origin, ray(k)->origin + 3, p); });
     parallel_for(T, int64_t(count), 256, Schedule::Dynamic, [&](int64_t j0, int64_t j1, int me) {
         Stack stack;
-        for (int64_t j = j0; j < j1; ++j) out[order[size_t(j)]] = cast(*ray(order[size_t(j)]), scratches[size_t(me)], stack);
+        for (int64_t j = j0; j < j1; ++j) {
+            const size_t k = order.empty() ? size_t(j) : order[size_t(j)];
+            out[k] = cast(*ray(k), scratches[size_t(me)], stack);
+        }
     });
     return HGCD_OK;
 }

@@ -109,7 +109,7 @@ void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&bo
         for (int a = 0; a < 3; ++a) p[a] = 0.5 * lo[a] + 0.5 * hi[a];
     });
     std::vector<std::vector<uint32_t>> found(chunks);
-    std::vector<uint32_t> start(count);
+    std::vector<size_t> start(count);
     std::vector<size_t> sizes(count + 1, 0);
     const int T = threads();
     std::vector<QueryScratch> scratches(static_cast<size_t>(T));  // per worker
@@ -122,7 +122,7 @@ void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&bo
             std::vector<uint32_t> &out = found[size_t(c)];
             const size_t end = std::min(count, size_t(c + 1) * kChunk);
             for (size_t j = size_t(c) * kChunk; j < end; ++j) {
-                const size_t q = order[j];
+                const size_t q = order.empty() ? j : order[j];
                 mine.clear();
                 double lo[3], hi[3];
                 box(q, lo, hi);
@@ -160,7 +160,7 @@ void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&bo
                 }
                 std::sort(mine.begin(), mine.end());
                 sizes[q + 1] = mine.size();
-                start[q] = uint32_t(out.size());
+                start[q] = out.size();
                 out.insert(out.end(), mine.begin(), mine.end());
             }
         }
@@ -172,7 +172,7 @@ void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&bo
             const std::vector<uint32_t> &f = found[size_t(c)];
             const size_t end = std::min(count, size_t(c + 1) * kChunk);
             for (size_t j = size_t(c) * kChunk; j < end; ++j) {
-                const size_t q = order[j];
+                const size_t q = order.empty() ? j : order[j];
                 for (size_t i = 0; i < sizes[q + 1] - sizes[q]; ++i) {
                     const uint32_t slot = f[start[q] + i];
                     bodies[sizes[q] + i] = hgcd_body{slot, live_gen_[slot]};

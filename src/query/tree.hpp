@@ -85,6 +85,7 @@ struct QueryTree {
     // query k's place: along a Morton curve over the tree's root box (ties
     // by index), so that queries answered one after the other walk the same
     // nodes and find them in cache. Each answer is independent of it.
+    // Empty (the given order) for 2^32 queries or more.
     template <class Point>
     std::vector<uint32_t> spatial_order(size_t count, Point &&point) const;
 };
@@ -94,6 +95,7 @@ uint32_t morton_code(const double *p, const float *lo, const float *hi);
 
 template <class Point>
 std::vector<uint32_t> QueryTree::spatial_order(size_t count, Point &&point) const {
+    if (count > UINT32_MAX) return {};
     float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     if (!wide.empty())
         for (int a = 0; a < 3; ++a) {

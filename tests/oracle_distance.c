@@ -223,6 +223,36 @@ double oracle_pair_margin(double world_margin, double margin_a, double margin_b)
     return d;
 }
 
+/* The triangles' boxes are more than d apart on an axis (then so are the
+ * triangles): the gap as an exact rational. */
+static int tri_boxes_apart(const double *P, const double *Q, double d) {
+    int k, i, apart = 0;
+    mpq_t gap, x, dq;
+    mpq_init(gap);
+    mpq_init(x);
+    mpq_init(dq);
+    mpq_set_d(dq, d);
+    for (k = 0; k < 3 && !apart; k++) {
+        double plo = P[k], phi = P[k], qlo = Q[k], qhi = Q[k];
+        for (i = 1; i < 3; i++) {
+            plo = fmin(plo, P[3 * i + k]), phi = fmax(phi, P[3 * i + k]);
+            qlo = fmin(qlo, Q[3 * i + k]), qhi = fmax(qhi, Q[3 * i + k]);
+        }
+        mpq_set_d(gap, qlo);
+        mpq_set_d(x, phi);
+        mpq_sub(gap, gap, x);
+        if (mpq_cmp(gap, dq) > 0) apart = 1;
+        mpq_set_d(gap, plo);
+        mpq_set_d(x, qhi);
+        mpq_sub(gap, gap, x);
+        if (mpq_cmp(gap, dq) > 0) apart = 1;
+    }
+    mpq_clear(gap);
+    mpq_clear(x);
+    mpq_clear(dq);
+    return apart;
+}
+
 static int cmp_pair(const void *x, const void *y) {
     const uint32_t *a = (const uint32_t *)x, *b = (const uint32_t *)y;
     if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
@@ -293,7 +323,7 @@ size_t oracle_pairs_within(size_t body_count, const oracle_mesh *const *body_mes
                         P[k] = wv[i][3 * (size_t)ma->tris[3 * s + k / 3] + k % 3];
                         Q[k] = wv[j][3 * (size_t)mb->tris[3 * t + k / 3] + k % 3];
                     }
-                    hit = oracle_tri_tri_within(P, Q, d);
+                    if (!tri_boxes_apart(P, Q, d)) hit = oracle_tri_tri_within(P, Q, d);
                 }
             if (!hit) {
                 /* Apart surfaces: within d only if one solid holds the other

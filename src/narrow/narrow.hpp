@@ -16,7 +16,9 @@ struct BodyPose {
     double scale;
 };
 
-enum class Contact { None, Surface, Containment };
+// Near: the margin path (collide_within) found the surfaces within its
+// distance (touching or not).
+enum class Contact { None, Surface, Containment, Near };
 
 // A body's pose as the world stores it, in one cache line: what the narrow
 // phase reads per body (collide_tetra_batch loads it in 32-byte halves).
@@ -100,6 +102,21 @@ struct NarrowScratch {
 // counts pairs whose conservative root boxes overlap.
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
                 Witness *witness = nullptr);
+
+// Exact, for a margin d > 0: true (Near or Containment) when the closed
+// solids of a and b are within Euclidean distance d: a triangle of each
+// within d (tri_tri_within), or one closed mesh holding a component of the
+// other. Every mesh takes this one path (direct, or the trees' traversal
+// with node boxes grown by d and without the oriented node test): the
+// tetrahedron, convex and libccd shortcuts are not used. A witness, when
+// asked for, is the first triangle pair within d found (they may or may not
+// touch) or which solid holds the other.
+// The contact margin of a pair (hgcd_world_desc.contact_margin): the
+// world's plus the sum of the two bodies', each addition rounded.
+inline double pair_margin(double world, double a, double b) { return world + (a + b); }
+
+Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &scratch,
+                       Witness *witness = nullptr);
 
 // collide() of every pair of tetrahedra pairs[0, n) into out[0, n), the
 // same verdicts and counts in scratch. With AVX2 (use_avx2) many pairs at a

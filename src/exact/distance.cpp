@@ -235,26 +235,34 @@ bool tri_tri_within(const double *p0, const double *p1, const double *p2, const 
         const double qlo = std::fmin(std::fmin(q0[k], q1[k]), q2[k]), qhi = std::fmax(std::fmax(q0[k], q1[k]), q2[k]);
         if (qlo - phi > d || plo - qhi > d) return false;
     }
-    if (tri_tri_intersect(p0, p1, p2, q0, q1, q2)) return true;
-    if (!(d > 0)) return false;
+    if (!(d > 0)) return tri_tri_intersect(p0, p1, p2, q0, q1, q2);
     Pair c;
     for (int i = 0; i < 3; ++i) {
         c.p[i] = p[i];
         c.p[3 + i] = q[i];
     }
     c.d = d;
+    // Any order gives the same answer; the cheap and common first: resting
+    // contact nearly always has a vertex within d of a vertex or an edge.
+    for (int i = 0; i < 3; ++i)
+        for (int j = 3; j < 6; ++j)
+            if (sign(c, [&](auto v) {
+                    const auto w = v.diff(i, j);
+                    return dot(w, w) - v.margin() * v.margin();
+                }) <= 0)
+                return true;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (point_segment(c, i, 3 + j, 3 + (j + 1) % 3) || point_segment(c, 3 + i, j, (j + 1) % 3))
+                return true;
     static const int ta[3] = {0, 1, 2}, tb[3] = {3, 4, 5};
-    // Faces first (the common case of resting contact), then edges.
     for (int i = 0; i < 3; ++i)
         if (point_face(c, i, tb) || point_face(c, 3 + i, ta)) return true;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             if (edge_edge_interior(c, i, (i + 1) % 3, 3 + j, 3 + (j + 1) % 3)) return true;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            if (point_segment(c, i, 3 + j, 3 + (j + 1) % 3) || point_segment(c, 3 + i, j, (j + 1) % 3))
-                return true;
-    return false;
+    // Crossing triangles with every feature pair farther than d apart.
+    return tri_tri_intersect(p0, p1, p2, q0, q1, q2);
 }
 
 }  // namespace hgcd

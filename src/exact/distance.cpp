@@ -223,6 +223,35 @@ bool edge_edge_interior(Pair &c, int p0, int p1, int q0, int q1) {
            }) <= 0;
 }
 
+// A float-only certificate that the plane of triangle t (3 vertices) has
+// every vertex of the other triangle o farther than d on one side (then so
+// is all of o, and the triangles are more than d apart). Never decides
+// "within": an uncertain case is left to the exact tests. Each signed
+// value n.(x - t0) (n the rounded normal) is within 2^-48 m of the exact
+// one with the exact normal N (index 8 in the sense above, m its
+// magnitude), and |N| <= |n| (1 + 2^-50) + 2^-50 mn (mn the normal's
+// magnitudes); both bounds carry a wide factor for their own rounding.
+bool plane_separates(const double *const *t, const double *const *o, double d) {
+    const double ux = t[1][0] - t[0][0], uy = t[1][1] - t[0][1], uz = t[1][2] - t[0][2];
+    const double vx = t[2][0] - t[0][0], vy = t[2][1] - t[0][1], vz = t[2][2] - t[0][2];
+    const double n[3] = {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+    const double an[3] = {std::fabs(uy * vz) + std::fabs(uz * vy), std::fabs(uz * vx) + std::fabs(ux * vz),
+                          std::fabs(ux * vy) + std::fabs(uy * vx)};
+    const double len = std::sqrt((n[0] * n[0] + n[1] * n[1]) + n[2] * n[2]) * (1 + 0x1p-40) +
+                       0x1p-40 * ((an[0] + an[1]) + an[2]);
+    const double need = d * len * (1 + 0x1p-40);
+    int above = 0, below = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double wx = o[i][0] - t[0][0], wy = o[i][1] - t[0][1], wz = o[i][2] - t[0][2];
+        const double h = (n[0] * wx + n[1] * wy) + n[2] * wz;
+        const double m = (an[0] * std::fabs(wx) + an[1] * std::fabs(wy)) + an[2] * std::fabs(wz);
+        const double bound = need + 0x1p-45 * m + 0x1p-700;
+        above += h > bound;
+        below += h < -bound;
+    }
+    return above == 3 || below == 3;
+}
+
 }  // namespace
 
 bool tri_tri_within(const double *p0, const double *p1, const double *p2, const double *q0, const double *q1,
@@ -236,6 +265,7 @@ bool tri_tri_within(const double *p0, const double *p1, const double *p2, const 
         if (qlo - phi > d || plo - qhi > d) return false;
     }
     if (!(d > 0)) return tri_tri_intersect(p0, p1, p2, q0, q1, q2);
+    if (plane_separates(q, p, d) || plane_separates(p, q, d)) return false;
     Pair c;
     for (int i = 0; i < 3; ++i) {
         c.p[i] = p[i];

@@ -103,18 +103,18 @@ struct NarrowScratch {
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
                 Witness *witness = nullptr);
 
-// Exact, for a margin d > 0: true (Near or Containment) when the closed
-// solids of a and b are within Euclidean distance d: a triangle of each
-// within d (tri_tri_within), or one closed mesh holding a component of the
-// other. Every mesh takes this one path (direct, or the trees' traversal
-// with node boxes grown by d and without the oriented node test): the
-// tetrahedron, convex and libccd shortcuts are not used. A witness, when
-// asked for, is the first triangle pair within d found (they may or may not
-// touch) or which solid holds the other.
 // The contact margin of a pair (hgcd_world_desc.contact_margin): the
 // world's plus the sum of the two bodies', each addition rounded.
 inline double pair_margin(double world, double a, double b) { return world + (a + b); }
 
+// Exact, for a margin d > 0: true (Surface, Containment or Near) when the
+// closed solids of a and b are within Euclidean distance d: collide() first
+// (solids that share a point, by its fast paths), then, for pairs apart, a
+// triangle of each within d (tri_tri_within): the direct path with boxes
+// grown by d after a face-plane test of convex meshes with a gap of d, or
+// the trees' traversal with node boxes grown by d (without the oriented
+// node test). A witness, when asked for, is collide()'s for touching pairs,
+// else (Near) the first triangle pair within d found.
 Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &scratch,
                        Witness *witness = nullptr);
 

@@ -541,8 +541,7 @@ Contact World::collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, 
         if (ma & mb & kCcdAsked) ++t.ccd_fallback;
         if (!want_contacts) return collide_within(pa, pb, d, t.scratch);
         Witness witness;
-        hit = collide(pa, pb, t.scratch, &witness);
-        if (hit == Contact::None) hit = collide_within(pa, pb, d, t.scratch, &witness);
+        hit = collide_within(pa, pb, d, t.scratch, &witness);
         if (hit != Contact::None) exact_contact(pa, pb, hit, witness, t.contact_scratch, contact);
     } else if (ma & mb & kCcdUse) {
         const CcdMethod method = ((ma | mb) & kCcdGjk) ? CcdMethod::Gjk : CcdMethod::Mpr;

@@ -66,11 +66,6 @@ static void die(const char *what) {
     exit(1);
 }
 
-static int cmp_u64(const void *a, const void *b) {
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* The world: ground body 0, then the cubes. */
 static void make(run *r, double margin, unsigned threads, int columns, int layers, double *pos, int ticks) {
     hgcd_world_desc wd = hgcd_world_desc_default();

@@ -75,6 +75,9 @@ class World {
     hgcd_status set_filter(hgcd_body id, const hgcd_filter &filter);
     hgcd_status get_filter(hgcd_body id, hgcd_filter *out) const;
     hgcd_status exclude_pair(hgcd_body a, hgcd_body b, bool exclude);
+    // Contact margins (bodies.cpp).
+    hgcd_status set_margin(hgcd_body id, double margin);
+    hgcd_status get_margin(hgcd_body id, double *out) const;
     hgcd_status pair_excluded(hgcd_body a, hgcd_body b, uint32_t *out) const;
 
     hgcd_status step();
@@ -139,6 +142,12 @@ class World {
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
+    // How far the box of the body stored at s is grown for the contact
+    // margins: at least world margin / 2 + its own margin, so that the
+    // boxes of two bodies within their pair's margin overlap (bodies.cpp).
+    double box_growth(size_t s) const;
+    // The level radius of the body stored at s (r_level_).
+    double level_radius(size_t s) const;
     Boxes boxes() const;
     void renumber_if_disordered();
     // detect(); renumbered: step() has renumbered storage already; motion:
@@ -194,6 +203,11 @@ class World {
     void list_moved(int threads, size_t count);
     uint64_t update_movers(int threads);  // returns the bodies that changed cell
     size_t find_moved_candidates(int threads);
+    // The moved bodies' pairs with the grid's residents that are not
+    // movers, into candidates_, through each mover's cached list of the
+    // residents near it (resident_cache.cpp).
+    void find_resident_candidates(int threads, std::vector<Grid::QueryCursors> &cursors_of);
+    void forget_resident_cache() noexcept;  // (the grid or storage changed)
     size_t keep_unmoved_colliding(int threads);
     // Forgets the movers (before the grid is updated, or dropped). No throw.
     void drop_movers() noexcept;
@@ -203,8 +217,8 @@ class World {
     void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;
     size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                         NarrowThread &t) const;
-    static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, bool want_contacts,
-                                NarrowThread &t, hgcd_contact *contact);
+    static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, double d,
+                                bool want_contacts, NarrowThread &t, hgcd_contact *contact);
     // The threads' hits into pairs_ (and contacts_).
     void merge_hits(int threads, bool want_contacts, const std::vector<std::vector<hgcd_contact>> &hit_contacts);
     // Moves every body's storage to the grid's sweep order (see at_); false,
@@ -278,6 +292,14 @@ class World {
     // Live bodies whose filter_ is not plain, those disabled, and those
     // static (the motion skips them).
     uint32_t special_bodies_ = 0, disabled_bodies_ = 0, static_bodies_ = 0;
+    // Contact margins: the world's (hgcd_world_desc.contact_margin), each
+    // body's by storage index, the live bodies with one > 0, and whether a
+    // margin changed since the grid's last update (its cached levels are
+    // then stale: the next detect rebuilds it).
+    double world_margin_ = 0;
+    LargeVector<double> margin_;
+    uint32_t margin_bodies_ = 0;
+    bool grid_stale_ = false;
     bool kinematic_pairs_ = false;
     // Excluded pairs, by pair_key of their slots, and each slot's partners.
     std::unordered_set<uint64_t> excluded_;
@@ -329,6 +351,23 @@ class World {
     Grid side_grid_;
     std::vector<PairBuffer> side_found_;
     std::vector<uint32_t> moved_list_;
+    // Per mover (by its index in the second grid), the grid's residents
+    // that met its fat box when it last searched the grid, with their boxes
+    // (resident_cache.cpp): a run of the worker's pool of the last detect
+    // that made it; valid while the mover moved at every detect since, and
+    // free of new movers while mover_marks_ (which counts bodies that became
+    // movers or died) has not changed since.
+    using ResidentEntry = Grid::QueryBox;  // (slot: the storage index)
+    struct ResidentCache {
+        float fat[6], last[3];  // fat box, and the low corner of the box at the last detect
+        uint32_t worker, begin, count;
+        bool valid = false;
+        uint64_t marks;
+    };
+    std::vector<ResidentCache> resident_cache_;
+    std::vector<std::vector<ResidentEntry>> resident_pool_[2];  // per worker: the last detect's, and this one's
+    int resident_pool_at_ = 0;  // the last detect's
+    uint64_t mover_marks_ = 0;
 
     Grid grid_;
     std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs

@@ -283,6 +283,7 @@ class World {
     // Live bodies whose filter_ is not plain, those disabled, and those
     // static (the motion skips them).
     uint32_t special_bodies_ = 0, disabled_bodies_ = 0, static_bodies_ = 0;
+    uint32_t plain_static_bodies_ = 0;  // live static bodies otherwise plain (BodyFilter::plain_static)
     bool kinematic_pairs_ = false;
     // Excluded pairs, by pair_key of their slots, and each slot's partners.
     std::unordered_set<uint64_t> excluded_;

@@ -579,7 +579,8 @@ typedef struct hgcd_stats {
     uint64_t candidate_pairs;
     /** Candidate pairs that reached the exact test (not rejected by its
      *  exact prefilters: the vertex boxes, and for two tetrahedra a
-     *  separating axis along the line between their positions). */
+     *  separating axis along the line between their positions; for two
+     *  small convex meshes that axis alone). */
     uint64_t narrow_tests;
     /** Triangle-triangle tests performed. */
     uint64_t triangle_tests;

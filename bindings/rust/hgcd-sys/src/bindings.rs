@@ -1183,7 +1183,8 @@ pub struct hgcd_stats {
     pub candidate_pairs: u64,
     #[doc = " Candidate pairs that reached the exact test (not rejected by its"]
     #[doc = "  exact prefilters: the vertex boxes, and for two tetrahedra a"]
-    #[doc = "  separating axis along the line between their positions)."]
+    #[doc = "  separating axis along the line between their positions; for two"]
+    #[doc = "  small convex meshes that axis alone)."]
     pub narrow_tests: u64,
     #[doc = " Triangle-triangle tests performed."]
     pub triangle_tests: u64,

@@ -47,6 +47,11 @@ struct BodyFilter {
     bool plain() const {
         return category == 1 && mask == ~uint64_t(0) && group == 0 && type == HGCD_BODY_DYNAMIC && flags == 0;
     }
+    // A static body otherwise plain: with only such special bodies, a pair
+    // is refused exactly when both bodies are static.
+    bool plain_static() const {
+        return category == 1 && mask == ~uint64_t(0) && group == 0 && type == HGCD_BODY_STATIC && flags == 0;
+    }
     hgcd_filter filter() const { return hgcd_filter{category, mask, group, 0}; }
 };
 static_assert(sizeof(BodyFilter) == 24, "three 8-byte records for the renumbering");

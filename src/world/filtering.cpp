@@ -26,6 +26,7 @@ void World::set_body_filter(size_t i, const BodyFilter &f) {
     disabled_bodies_ += uint32_t((f.flags & BodyFilter::kDisabled) != 0) -
                         uint32_t((old.flags & BodyFilter::kDisabled) != 0);
     static_bodies_ += uint32_t(f.type == HGCD_BODY_STATIC) - uint32_t(old.type == HGCD_BODY_STATIC);
+    plain_static_bodies_ += uint32_t(f.plain_static()) - uint32_t(old.plain_static());
     old = f;
     // (Temporal coherence keeps the answers of unmoved pairs: a pair whose
     // filtering changed must be searched and decided again.)
@@ -163,6 +164,9 @@ uint64_t World::drop_filtered_pairs(int threads, std::vector<PairBuffer> &found)
     const BodyFilter *filter = filter_.data();
     const uint32_t *slot_of = slot_of_.data();
     const bool kinematic_pairs = kinematic_pairs_;
+    // Every special body a plain static one: a pair is refused exactly when
+    // both are static (types_accept; plain filters accept each other).
+    const bool only_static = special_bodies_ == plain_static_bodies_;
     std::vector<uint64_t> dropped(size_t(threads), 0);
     // One candidate list an item, compacted in place.
     parallel_for(threads, threads, 1, Schedule::Dynamic, [&](int64_t begin, int64_t end, int) {
@@ -171,6 +175,20 @@ uint64_t World::drop_filtered_pairs(int threads, std::vector<PairBuffer> &found)
             uint64_t *pairs = list.data();
             const size_t n = list.size();
             size_t write = 0;
+            if (only_static) {
+                // (The second body is read only when the first is static:
+                // the pairs of a moved body with the residents near it have
+                // the moved body first, and it is seldom static.)
+                for (size_t k = 0; k < n; ++k) {
+                    const uint64_t key = pairs[k];
+                    pairs[write] = key;
+                    write += filter[key >> 32].type != HGCD_BODY_STATIC ||
+                             filter[uint32_t(key)].type != HGCD_BODY_STATIC;
+                }
+                dropped[size_t(t)] = n - write;
+                list.shrink(write);
+                continue;
+            }
             for (size_t k = 0; k < n; ++k) {
                 const uint64_t key = pairs[k];
                 const BodyFilter &fa = filter[key >> 32], &fb = filter[uint32_t(key)];

@@ -292,6 +292,7 @@ class World {
     // Live bodies whose filter_ is not plain, those disabled, and those
     // static (the motion skips them).
     uint32_t special_bodies_ = 0, disabled_bodies_ = 0, static_bodies_ = 0;
+    uint32_t plain_static_bodies_ = 0;  // live static bodies otherwise plain (BodyFilter::plain_static)
     // Contact margins: the world's (hgcd_world_desc.contact_margin), each
     // body's by storage index, the live bodies with one > 0, and whether a
     // margin changed since the grid's last update (its cached levels are

@@ -178,175 +178,209 @@ static void random_orientation(double q[4]) {
     q[0] /= n, q[1] /= n, q[2] /= n, q[3] /= n;
 }
 
-int main(int argc, char **argv) {
-    long ticks = 100000, nbodies = 2000, churn = 20, check_every = 1000;
-    int threads = 0, i;
-    uint64_t seed = 1;
+/* The run's state: the world, the bench's own copy of every live body, and
+ * what the checks keep between ticks. */
+typedef struct {
+    long ticks, nbodies, churn, check_every;
+    int threads;
+    double side;
+    hgcd_world *w;
+    shape shared[3];
+    id_log body_ids, mesh_ids;
+    body *live;
+    long n;
+    /* The oracle's inputs and pairs, and the slot-to-bench numbering, grown as needed. */
+    const oracle_mesh **om;
+    double *pos, *ori, *scl;
+    uint32_t *index_of, *oracle_pairs;
+    size_t index_cap, pairs_cap;
+    long checks;
+    uint64_t pairs_checked;
+} soak;
+
+static void parse_args(soak *s, int argc, char **argv, uint64_t *seed) {
+    int i;
+    s->ticks = 100000, s->nbodies = 2000, s->churn = 20, s->check_every = 1000, s->threads = 0;
     for (i = 1; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--ticks")) ticks = atol(argv[i + 1]);
-        else if (!strcmp(argv[i], "--bodies")) nbodies = atol(argv[i + 1]);
-        else if (!strcmp(argv[i], "--churn")) churn = atol(argv[i + 1]);
-        else if (!strcmp(argv[i], "--check-every")) check_every = atol(argv[i + 1]);
-        else if (!strcmp(argv[i], "--threads")) threads = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--seed")) seed = strtoull(argv[i + 1], NULL, 10);
+        if (!strcmp(argv[i], "--ticks")) s->ticks = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--bodies")) s->nbodies = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--churn")) s->churn = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--check-every")) s->check_every = atol(argv[i + 1]);
+        else if (!strcmp(argv[i], "--threads")) s->threads = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--seed")) *seed = strtoull(argv[i + 1], NULL, 10);
         else {
             fprintf(stderr, "bench_soak: unknown option %s\n", argv[i]);
-            return 2;
+            exit(2);
         }
     }
-    if (i != argc || ticks < 1 || nbodies < 2 || churn < 0 || churn > nbodies || check_every < 1) {
+    if (i != argc || s->ticks < 1 || s->nbodies < 2 || s->churn < 0 || s->churn > s->nbodies ||
+        s->check_every < 1) {
         fprintf(stderr, "usage: bench_soak [--ticks T] [--bodies N] [--churn K] [--check-every C] "
                         "[--threads P] [--seed S]\n");
-        return 2;
+        exit(2);
     }
+}
+
+/* Destroys k random bodies (and the meshes of their own), checking their
+ * ids are refused afterwards. */
+static void destroy_some(soak *s, long k) {
+    for (; k > 0 && s->n > 0; --k) {
+        long j = (long)(next_u64() % (uint64_t)s->n);
+        body b = s->live[j];
+        CHECK(s->w, hgcd_body_destroy(s->w, b.id));
+        if (hgcd_body_validate(s->w, b.id) == HGCD_OK) FAIL("a destroyed body id is still valid");
+        if (b.own_mesh) {
+            CHECK(s->w, hgcd_mesh_destroy(s->w, b.mesh->id));
+            if (hgcd_mesh_validate(s->w, b.mesh->id) == HGCD_OK) FAIL("a destroyed mesh id is still valid");
+            free(b.mesh);
+        }
+        s->live[j] = s->live[--s->n];
+    }
+}
+
+/* Creates bodies up to N, a quarter on meshes of their own, checking that
+ * no id is handed out twice. */
+static void create_up_to_n(soak *s) {
+    while (s->n < s->nbodies) {
+        body *b = &s->live[s->n];
+        hgcd_body_desc bd = hgcd_body_desc_default();
+        int k;
+        b->own_mesh = next_u64() % 4 == 0;
+        if (b->own_mesh) {
+            b->mesh = malloc(sizeof *b->mesh);
+            if (!b->mesh) FAIL("out of memory");
+            make_octa(b->mesh, 1);
+            create_mesh(s->w, b->mesh);
+            if (!id_log_issue(&s->mesh_ids, b->mesh->id.index, b->mesh->id.generation))
+                FAIL("mesh id {%u, %u} handed out twice", b->mesh->id.index, b->mesh->id.generation);
+        } else {
+            b->mesh = &s->shared[next_u64() % 3];
+        }
+        for (k = 0; k < 3; ++k) b->position[k] = s->side * uniform();
+        random_orientation(b->orientation);
+        b->scale = 0.5 + uniform();
+        bd.mesh = b->mesh->id;
+        memcpy(bd.position, b->position, sizeof bd.position);
+        memcpy(bd.orientation, b->orientation, sizeof bd.orientation);
+        bd.scale = b->scale;
+        CHECK(s->w, hgcd_body_create(s->w, &bd, &b->id));
+        if (!id_log_issue(&s->body_ids, b->id.index, b->id.generation))
+            FAIL("body id {%u, %u} handed out twice", b->id.index, b->id.generation);
+        ++s->n;
+    }
+}
+
+/* Every body takes a small random step (reflected into the cube) and a new
+ * orientation, one hgcd_body_set_pose each. */
+static void move_all(soak *s) {
+    long k;
+    for (k = 0; k < s->n; ++k) {
+        body *b = &s->live[k];
+        int a;
+        for (a = 0; a < 3; ++a) {
+            b->position[a] += 0.2 * (uniform() - 0.5);
+            if (b->position[a] < 0) b->position[a] = -b->position[a];
+            if (b->position[a] > s->side) b->position[a] = 2 * s->side - b->position[a];
+        }
+        random_orientation(b->orientation);
+        CHECK(s->w, hgcd_body_set_pose(s->w, b->id, b->position, b->orientation));
+    }
+}
+
+/* Whether (a, b) is in the sorted pair list of count entries. */
+static int sorted_pairs_hold(const uint32_t *pairs, size_t count, uint32_t a, uint32_t b) {
+    size_t lo = 0, hi = count;
+    while (lo < hi) {
+        const size_t q = (lo + hi) / 2;
+        if (pairs[2 * q] < a || (pairs[2 * q] == a && pairs[2 * q + 1] < b))
+            lo = q + 1;
+        else
+            hi = q;
+    }
+    return lo < count && pairs[2 * lo] == a && pairs[2 * lo + 1] == b;
+}
+
+/* The library's pairs must equal the oracle's on every live body. */
+static void check_with_oracle(soak *s, long t) {
+    const hgcd_pair *pp;
+    size_t count, expect, m;
+    long k;
+    CHECK(s->w, hgcd_world_pairs(s->w, &pp, &count));
+    /* The oracle numbers bodies 0..n-1 in the bench's order; map the
+     * library's slot indices to those. */
+    uint32_t max_index = 0;
+    for (k = 0; k < s->n; ++k)
+        if (s->live[k].id.index > max_index) max_index = s->live[k].id.index;
+    if (max_index + 1 > s->index_cap) {
+        s->index_cap = 2 * (size_t)(max_index + 1);
+        s->index_of = realloc(s->index_of, s->index_cap * sizeof *s->index_of);
+        if (!s->index_of) FAIL("out of memory");
+    }
+    for (k = 0; k < s->n; ++k) {
+        s->index_of[s->live[k].id.index] = (uint32_t)k;
+        s->om[k] = &s->live[k].mesh->om;
+        memcpy(s->pos + 3 * k, s->live[k].position, 3 * sizeof *s->pos);
+        memcpy(s->ori + 4 * k, s->live[k].orientation, 4 * sizeof *s->ori);
+        s->scl[k] = s->live[k].scale;
+    }
+    expect = oracle_colliding_pairs((size_t)s->n, s->om, s->pos, s->ori, s->scl, NULL, 0);
+    if (expect > s->pairs_cap) {
+        s->pairs_cap = 2 * expect + 16;
+        s->oracle_pairs = realloc(s->oracle_pairs, 2 * s->pairs_cap * sizeof *s->oracle_pairs);
+        if (!s->oracle_pairs) FAIL("out of memory");
+    }
+    oracle_colliding_pairs((size_t)s->n, s->om, s->pos, s->ori, s->scl, s->oracle_pairs, s->pairs_cap);
+    if (count != expect) FAIL("tick %ld: %zu pairs, the oracle finds %zu", t, count, expect);
+    /* Same count, and every library pair (in the bench's numbering) is one
+     * of the oracle's sorted pairs: the lists are equal. */
+    for (m = 0; m < count; ++m) {
+        const uint32_t a = s->index_of[pp[m].a.index], b = s->index_of[pp[m].b.index];
+        if (!sorted_pairs_hold(s->oracle_pairs, expect, a < b ? a : b, a < b ? b : a))
+            FAIL("tick %ld: pair (%u, %u) is not the oracle's", t, a < b ? a : b, a < b ? b : a);
+    }
+    ++s->checks;
+    s->pairs_checked += count;
+}
+
+int main(int argc, char **argv) {
+    soak s = {0};
+    uint64_t seed = 1;
+    int i;
+    parse_args(&s, argc, argv, &seed);
     rng_state = seed;
     /* The cube holds about one body per 12 unit cubes: many touching pairs. */
-    const double side = cbrt(12.0 * (double)nbodies);
+    s.side = cbrt(12.0 * (double)s.nbodies);
 
-    hgcd_world *w = NULL;
     hgcd_world_desc wd = hgcd_world_desc_default();
-    wd.thread_count = threads;
-    CHECK(w, hgcd_world_create(&wd, &w));
-
-    shape shared[3];
-    make_tetra(&shared[0]);
-    make_box(&shared[1], 1.0, 0.5, 0.25);
-    make_octa(&shared[2], 0);
-    id_log body_ids = {0}, mesh_ids = {0};
+    wd.thread_count = (uint32_t)s.threads;
+    CHECK(s.w, hgcd_world_create(&wd, &s.w));
+    make_tetra(&s.shared[0]);
+    make_box(&s.shared[1], 1.0, 0.5, 0.25);
+    make_octa(&s.shared[2], 0);
     for (i = 0; i < 3; ++i) {
-        create_mesh(w, &shared[i]);
-        if (!id_log_issue(&mesh_ids, shared[i].id.index, shared[i].id.generation)) FAIL("mesh id handed out twice");
+        create_mesh(s.w, &s.shared[i]);
+        if (!id_log_issue(&s.mesh_ids, s.shared[i].id.index, s.shared[i].id.generation))
+            FAIL("mesh id handed out twice");
     }
+    const size_t nb = (size_t)s.nbodies;
+    s.live = calloc(nb, sizeof *s.live);
+    s.om = calloc(nb, sizeof *s.om);
+    s.pos = calloc(3 * nb, sizeof *s.pos), s.ori = calloc(4 * nb, sizeof *s.ori), s.scl = calloc(nb, sizeof *s.scl);
+    if (!s.live || !s.om || !s.pos || !s.ori || !s.scl) FAIL("out of memory");
 
-    body *live = calloc((size_t)nbodies, sizeof *live);
-    const oracle_mesh **om = calloc((size_t)nbodies, sizeof *om);
-    double *pos = calloc(3 * (size_t)nbodies, sizeof *pos), *ori = calloc(4 * (size_t)nbodies, sizeof *ori);
-    double *scl = calloc((size_t)nbodies, sizeof *scl);
-    uint32_t *index_of = NULL, *oracle_pairs = NULL;
-    hgcd_pair *lib_pairs = NULL;
-    size_t index_cap = 0, pairs_cap = 0;
-    if (!live || !om || !pos || !ori || !scl) FAIL("out of memory");
-
-    long n = 0, checks = 0;
-    uint64_t pairs_checked = 0;
     double rss_tenth = 0, rss_max = 0, t0 = now_seconds(), detect_s = 0;
     long t;
-    for (t = 0; t < ticks; ++t) {
-        /* Destroy K random bodies (none on the first tick). */
-        long k, destroyed = t == 0 ? 0 : churn;
-        for (k = 0; k < destroyed && n > 0; ++k) {
-            long j = (long)(next_u64() % (uint64_t)n);
-            body b = live[j];
-            CHECK(w, hgcd_body_destroy(w, b.id));
-            if (hgcd_body_validate(w, b.id) == HGCD_OK) FAIL("a destroyed body id is still valid");
-            if (b.own_mesh) {
-                CHECK(w, hgcd_mesh_destroy(w, b.mesh->id));
-                if (hgcd_mesh_validate(w, b.mesh->id) == HGCD_OK) FAIL("a destroyed mesh id is still valid");
-                free(b.mesh);
-            }
-            live[j] = live[--n];
-        }
-        /* Create bodies up to N: a quarter on meshes of their own. */
-        while (n < nbodies) {
-            body *b = &live[n];
-            hgcd_body_desc bd = hgcd_body_desc_default();
-            b->own_mesh = next_u64() % 4 == 0;
-            if (b->own_mesh) {
-                b->mesh = malloc(sizeof *b->mesh);
-                if (!b->mesh) FAIL("out of memory");
-                make_octa(b->mesh, 1);
-                create_mesh(w, b->mesh);
-                if (!id_log_issue(&mesh_ids, b->mesh->id.index, b->mesh->id.generation))
-                    FAIL("mesh id {%u, %u} handed out twice", b->mesh->id.index, b->mesh->id.generation);
-            } else {
-                b->mesh = &shared[next_u64() % 3];
-            }
-            for (k = 0; k < 3; ++k) b->position[k] = side * uniform();
-            random_orientation(b->orientation);
-            b->scale = 0.5 + uniform();
-            bd.mesh = b->mesh->id;
-            memcpy(bd.position, b->position, sizeof bd.position);
-            memcpy(bd.orientation, b->orientation, sizeof bd.orientation);
-            bd.scale = b->scale;
-            CHECK(w, hgcd_body_create(w, &bd, &b->id));
-            if (!id_log_issue(&body_ids, b->id.index, b->id.generation))
-                FAIL("body id {%u, %u} handed out twice", b->id.index, b->id.generation);
-            ++n;
-        }
-        /* Every body moves and turns. */
-        for (k = 0; k < n; ++k) {
-            body *b = &live[k];
-            int a;
-            for (a = 0; a < 3; ++a) {
-                b->position[a] += 0.2 * (uniform() - 0.5);
-                if (b->position[a] < 0) b->position[a] = -b->position[a];
-                if (b->position[a] > side) b->position[a] = 2 * side - b->position[a];
-            }
-            random_orientation(b->orientation);
-            CHECK(w, hgcd_body_set_pose(w, b->id, b->position, b->orientation));
-        }
+    for (t = 0; t < s.ticks; ++t) {
+        destroy_some(&s, t == 0 ? 0 : s.churn);
+        create_up_to_n(&s);
+        move_all(&s);
         const double d0 = now_seconds();
-        CHECK(w, hgcd_world_detect(w));
+        CHECK(s.w, hgcd_world_detect(s.w));
         detect_s += now_seconds() - d0;
-
-        if ((t + 1) % check_every == 0 || t + 1 == ticks) {
-            const hgcd_pair *pp;
-            size_t count, expect, m;
-            CHECK(w, hgcd_world_pairs(w, &pp, &count));
-            /* The oracle numbers bodies 0..n-1 in the bench's order; map the
-             * library's slot indices to those. */
-            uint32_t max_index = 0;
-            for (k = 0; k < n; ++k)
-                if (live[k].id.index > max_index) max_index = live[k].id.index;
-            if (max_index + 1 > index_cap) {
-                index_cap = 2 * (size_t)(max_index + 1);
-                index_of = realloc(index_of, index_cap * sizeof *index_of);
-                if (!index_of) FAIL("out of memory");
-            }
-            for (k = 0; k < n; ++k) {
-                index_of[live[k].id.index] = (uint32_t)k;
-                om[k] = &live[k].mesh->om;
-                memcpy(pos + 3 * k, live[k].position, 3 * sizeof *pos);
-                memcpy(ori + 4 * k, live[k].orientation, 4 * sizeof *ori);
-                scl[k] = live[k].scale;
-            }
-            expect = oracle_colliding_pairs((size_t)n, om, pos, ori, scl, NULL, 0);
-            if (expect > pairs_cap || count > pairs_cap) {
-                pairs_cap = 2 * (expect > count ? expect : count) + 16;
-                oracle_pairs = realloc(oracle_pairs, 2 * pairs_cap * sizeof *oracle_pairs);
-                lib_pairs = realloc(lib_pairs, pairs_cap * sizeof *lib_pairs);
-                if (!oracle_pairs || !lib_pairs) FAIL("out of memory");
-            }
-            oracle_colliding_pairs((size_t)n, om, pos, ori, scl, oracle_pairs, pairs_cap);
-            if (count != expect) FAIL("tick %ld: %zu pairs, the oracle finds %zu", t, count, expect);
-            /* Both lists as sorted (i, j) of the bench's numbering. */
-            for (m = 0; m < count; ++m) {
-                uint32_t a = index_of[pp[m].a.index], b = index_of[pp[m].b.index];
-                lib_pairs[m].a.index = a < b ? a : b;
-                lib_pairs[m].b.index = a < b ? b : a;
-            }
-            for (m = 0; m < count; ++m) {
-                size_t q;
-                int found = 0;
-                /* oracle_pairs is sorted: binary search. */
-                size_t lo = 0, hi = expect;
-                while (lo < hi) {
-                    q = (lo + hi) / 2;
-                    if (oracle_pairs[2 * q] < lib_pairs[m].a.index ||
-                        (oracle_pairs[2 * q] == lib_pairs[m].a.index && oracle_pairs[2 * q + 1] < lib_pairs[m].b.index))
-                        lo = q + 1;
-                    else
-                        hi = q;
-                }
-                found = lo < expect && oracle_pairs[2 * lo] == lib_pairs[m].a.index &&
-                        oracle_pairs[2 * lo + 1] == lib_pairs[m].b.index;
-                if (!found) FAIL("tick %ld: pair (%u, %u) is not the oracle's", t, lib_pairs[m].a.index, lib_pairs[m].b.index);
-            }
-            ++checks;
-            pairs_checked += count;
-        }
-        if (t + 1 == (ticks + 9) / 10) rss_tenth = rss_bytes();
-        if (t + 1 > (ticks + 9) / 10 && (t + 1) % 100 == 0) {
+        if ((t + 1) % s.check_every == 0 || t + 1 == s.ticks) check_with_oracle(&s, t);
+        /* Resident memory: bounded after the first tenth. */
+        if (t + 1 == (s.ticks + 9) / 10) rss_tenth = rss_bytes();
+        if (t + 1 > (s.ticks + 9) / 10 && (t + 1) % 100 == 0) {
             const double r = rss_bytes();
             if (r > rss_max) rss_max = r;
             if (r > 1.25 * rss_tenth + 16e6)
@@ -354,21 +388,20 @@ int main(int argc, char **argv) {
         }
         if ((t + 1) % 10000 == 0)
             fprintf(stderr, "bench_soak: tick %ld, %zu ids, %ld oracle checks, RSS %.1f MB\n", t + 1,
-                    body_ids.issued + mesh_ids.issued, checks,
-                    rss_bytes() / 1e6);
+                    s.body_ids.issued + s.mesh_ids.issued, s.checks, rss_bytes() / 1e6);
     }
     const double total = now_seconds() - t0;
     printf("{\"bench\":\"soak\",\"ticks\":%ld,\"bodies\":%ld,\"churn\":%ld,\"threads\":%d,\"seed\":%llu,"
            "\"ids_issued\":%zu,\"oracle_checks\":%ld,\"pairs_checked\":%llu,\"rss_tenth_mb\":%.1f,"
            "\"rss_max_after_mb\":%.1f,\"tick_ms\":%.3f,\"detect_ms\":%.3f,\"seconds\":%.1f}\n",
-           ticks, nbodies, churn, threads, (unsigned long long)seed, body_ids.issued + mesh_ids.issued, checks,
-           (unsigned long long)pairs_checked, rss_tenth / 1e6, rss_max / 1e6, 1e3 * total / (double)ticks,
-           1e3 * detect_s / (double)ticks, total);
+           s.ticks, s.nbodies, s.churn, s.threads, (unsigned long long)seed, s.body_ids.issued + s.mesh_ids.issued,
+           s.checks, (unsigned long long)s.pairs_checked, rss_tenth / 1e6, rss_max / 1e6,
+           1e3 * total / (double)s.ticks, 1e3 * detect_s / (double)s.ticks, total);
 
-    for (i = 0; i < n; ++i)
-        if (live[i].own_mesh) free(live[i].mesh);
-    hgcd_world_destroy(w);
-    free(live), free(om), free(pos), free(ori), free(scl), free(index_of), free(oracle_pairs), free(lib_pairs);
-    free(body_ids.last), free(mesh_ids.last);
+    for (i = 0; i < s.n; ++i)
+        if (s.live[i].own_mesh) free(s.live[i].mesh);
+    hgcd_world_destroy(s.w);
+    free(s.live), free(s.om), free(s.pos), free(s.ori), free(s.scl), free(s.index_of), free(s.oracle_pairs);
+    free(s.body_ids.last), free(s.mesh_ids.last);
     return 0;
 }

@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -163,8 +164,6 @@ static void grid_cube(mesh_t *m, uint32_t n) {
     free(remap);
 }
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
 
 /* Fixture: the meshes every test uses. */
 enum { M_BLOB, M_KNOT, M_SMALL_BLOB, M_SHELL, M_GRID_CUBE, M_TETRA, M_COUNT };

@@ -46,6 +46,7 @@
 #include <hgcd/hgcd.h>
 #include <hgcd/hgcd_scene.h>
 
+#include "support/shapes.h"
 #include "support/testing.h"
 #include "oracle.h"
 
@@ -53,21 +54,6 @@
 
 enum { SH_TETRA, SH_CUBE, SH_FINE_CUBE, SH_DENTED, SH_TWIN, SH_COUNT };
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
-                                -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
-static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
-                                  2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
-/* Cube with its top dented down to a vertex at the centre: not convex. */
-static const double dented_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1,
-                                  1,  -1, 1,  1, 1, 1,  -1, 1, 1,  0, 0, -0.25};
-static const uint32_t dented_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
-                                    2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8};
-/* Two tetrahedra in one closed mesh: not convex, two components. */
-static const double twin_v[] = {0.5, 0.5, 0.5, 0.5, -0.5, -0.5, -0.5, 0.5, -0.5, -0.5, -0.5, 0.5,
-                                2.5, 0.5, 0.5, 2.5, -0.5, -0.5, 1.5, 0.5, -0.5, 1.5, -0.5, 0.5};
-static const uint32_t twin_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 4, 5, 6, 4, 7, 5, 4, 6, 7, 5, 7, 6};
 
 /* The cube [-1, 1]^3 with every face cut into 4 x 4 squares: 98 vertices,
  * 192 triangles, convex (enough triangles for the narrow phase's tree path). */

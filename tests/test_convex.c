@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -26,13 +27,6 @@ enum { BOX, SLAB, ICOSAHEDRON, ICOSPHERE, HULL, PARALLELEPIPED, TETRA, DENTED, S
 /* The shapes that must be convex (and so take the convex path together). */
 static const int must_be_convex[SHAPE_COUNT] = {1, 1, 1, 1, 1, 1, 1, 0};
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-/* A cube whose top is dented down to a vertex at the centre: closed, not convex. */
-static const double dented_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1,
-                                  1,  -1, 1,  1, 1, 1,  -1, 1, 1,  0, 0, -0.25};
-static const uint32_t dented_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
-                                    2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8};
 
 static double box_v[24], slab_v[24], par_v[24], ico_v[36], hull_v[36], sphere_v[3 * 42];
 static uint32_t box_t[36], ico_t[60], sphere_t[3 * 80];
@@ -148,6 +142,17 @@ static size_t check_against_oracle(scene *sc) {
     }
     assert_int_equal(mismatches, 0);
     assert_int_equal(count, n);
+    /* Containment against surfaces apart: a witness request (contacts) takes
+     * the exact path for every pair the convex kernel does not separate, so
+     * its containment count is the reference for the kernel's. */
+    hgcd_stats plain = {.struct_size = sizeof plain}, exact = {.struct_size = sizeof exact};
+    hgcd_world_stats(sc->w, &plain);
+    assert_int_equal(hgcd_world_set_contacts(sc->w, 1), HGCD_OK);
+    assert_int_equal(hgcd_world_detect(sc->w), HGCD_OK);
+    hgcd_world_stats(sc->w, &exact);
+    assert_int_equal(hgcd_world_set_contacts(sc->w, 0), HGCD_OK);
+    assert_int_equal(exact.colliding_pairs, plain.colliding_pairs);
+    assert_int_equal(exact.containment_pairs, plain.containment_pairs);
     free(expect);
     free(meshes);
     return n;
@@ -371,6 +376,65 @@ static void test_tip_to_tip(void **state) {
     scene_free(&sc);
 }
 
+/* Pairs the convex kernel must settle alone (no exact triangle test): boxes
+ * apart only along the cross product of two edges, boxes and icospheres deep
+ * in each other (surfaces cross), and each inside a larger one (containment,
+ * counted as such). With the oracle's verdicts. */
+static void test_kernel_decides(void **state) {
+    (void)state;
+    const double s2 = sqrt(0.5);
+    const double h = 0.39269908169872414; /* pi / 8 */
+    const double qz[4] = {0, 0, sin(h), cos(h)}, qy[4] = {0, sin(h), 0, cos(h)};
+    const double q1[4] = {0.1, 0.2, 0.3, sqrt(1 - 0.14)}, id[4] = {0, 0, 0, 1};
+    struct {
+        int a, b;
+        const double *qa, *qb;
+        double xb, sb;
+        size_t pairs, containment;
+    } cases[] = {
+        {BOX, BOX, qz, qy, 4 * s2 + 0.05, 1, 0, 0},  /* an edge of each towards the other, apart */
+        {BOX, BOX, qz, qy, 4 * s2 - 0.05, 1, 1, 0},  /* the same edges crossing */
+        {BOX, BOX, id, q1, 1.2, 1, 1, 0},            /* deep */
+        {ICOSPHERE, ICOSPHERE, id, q1, 1.1, 1, 1, 0},
+        {ICOSPHERE, BOX, q1, id, 1.5, 0.7, 1, 0},
+        {BOX, BOX, q1, id, 0.1, 0.3, 1, 1},          /* containment */
+        {ICOSPHERE, ICOSPHERE, q1, id, 0.2, 0.5, 1, 1},
+        {BOX, ICOSPHERE, q1, qz, 0.1, 0.4, 1, 1},
+    };
+    /* The whole pair turned by r0, so that no box of world vertices parts
+     * the apart pair. */
+    const double r0[4] = {0.3, -0.4, 0.5, sqrt(0.5)};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        scene sc;
+        scene_init(&sc, 2, 1);
+        /* (the two edge cases off the line of centres, which would part them) */
+        const double pa[3] = {0, 0, 0}, v[3] = {cases[c].xb, c < 2 ? 0.6 : 0.01, c < 2 ? 0.5 : -0.02};
+        double qa[4], qb[4], t[3], pb[3];
+        qmul(r0, cases[c].qa, qa);
+        qmul(r0, cases[c].qb, qb);
+        /* pb = v + 2 w (r x v) + 2 r x (r x v), r = r0's vector part */
+        t[0] = 2 * (r0[1] * v[2] - r0[2] * v[1]);
+        t[1] = 2 * (r0[2] * v[0] - r0[0] * v[2]);
+        t[2] = 2 * (r0[0] * v[1] - r0[1] * v[0]);
+        pb[0] = v[0] + r0[3] * t[0] + (r0[1] * t[2] - r0[2] * t[1]);
+        pb[1] = v[1] + r0[3] * t[1] + (r0[2] * t[0] - r0[0] * t[2]);
+        pb[2] = v[2] + r0[3] * t[2] + (r0[0] * t[1] - r0[1] * t[0]);
+        add(&sc, cases[c].a, pa, qa, 1);
+        add(&sc, cases[c].b, pb, qb, cases[c].sb);
+        assert_int_equal(check_against_oracle(&sc), cases[c].pairs);
+        assert_int_equal(hgcd_world_detect(sc.w), HGCD_OK);
+        hgcd_stats st = {.struct_size = sizeof st};
+        hgcd_world_stats(sc.w, &st);
+        if (st.triangle_tests != 0 || st.containment_pairs != cases[c].containment)
+            fprintf(stderr, "case %zu: %llu triangle tests, %llu containment\n", c,
+                    (unsigned long long)st.triangle_tests, (unsigned long long)st.containment_pairs);
+        assert_int_equal(st.colliding_pairs, cases[c].pairs);
+        assert_int_equal(st.triangle_tests, 0);
+        assert_int_equal(st.containment_pairs, cases[c].containment);
+        scene_free(&sc);
+    }
+}
+
 int main(void) {
     make_shapes();
     const struct CMUnitTest tests[] = {
@@ -379,6 +443,7 @@ int main(void) {
         cmocka_unit_test(test_hand_built),
         cmocka_unit_test(test_near_touching),
         cmocka_unit_test(test_tip_to_tip),
+        cmocka_unit_test(test_kernel_decides),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

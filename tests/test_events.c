@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -19,8 +20,6 @@
 
 enum { kCap = 600, kMaxIds = 20000 };
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
 
 /* Every body ever created: its id and user data. */
 static hgcd_body ever_id[kMaxIds];

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -23,14 +24,6 @@
 
 enum { kCap = 360, kShapes = 3 };
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
-                                -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
-static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
-                                  2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
-static const double triangle_v[] = {-1.5, -1, 0, 1.5, -1, 0.25, 0, 1.5, -0.25};
-static const uint32_t triangle_t[] = {0, 1, 2};
 
 static oracle_mesh shapes[kShapes] = {
     {tetra_v, tetra_t, 4, 4, 1}, {cube_v, cube_t, 8, 12, 1}, {triangle_v, triangle_t, 3, 1, 0}};

@@ -28,6 +28,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -46,12 +47,6 @@
 
 /* ------------------------------------------------------------- shapes -- */
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
-                                -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
-static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
-                                  2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
 enum { SHEET_N = 6 }; /* an open, wavy sheet of 2 * 6 * 6 triangles */
 static double sheet_v[3 * (SHEET_N + 1) * (SHEET_N + 1)];
 static uint32_t sheet_t[6 * SHEET_N * SHEET_N];

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -26,22 +27,6 @@
 enum { SHAPE_TETRA, SHAPE_CUBE, SHAPE_DENTED, SHAPE_TRIANGLE, SHAPE_BOWL, SHAPE_NEEDLE, SHAPE_TWIN, SHAPE_FINE,
        SHAPE_COUNT };
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1};
-static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
-                                  2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
-static const double dented_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1,
-                                  1,  -1, 1,  1, 1, 1,  -1, 1, 1,  0, 0, -0.25};
-static const uint32_t dented_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
-                                    2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8};
-static const double triangle_v[] = {-1.5, -1, 0, 1.5, -1, 0.25, 0, 1.5, -0.25};
-static const uint32_t triangle_t[] = {0, 1, 2};
-static const double needle_v[] = {-1.5, 0, 0, 0, 0, 0, 1.5, 0, 0, 0.5, 0.5, 0.5};
-static const uint32_t needle_t[] = {0, 1, 2, 3, 3, 3};
-static const double twin_v[] = {0.5, 0.5, 0.5, 0.5, -0.5, -0.5, -0.5, 0.5, -0.5, -0.5, -0.5, 0.5,
-                                2.5, 0.5, 0.5, 2.5, -0.5, -0.5, 1.5, 0.5, -0.5, 1.5, -0.5, 0.5};
-static const uint32_t twin_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 4, 5, 6, 4, 7, 5, 4, 6, 7, 5, 7, 6};
 
 /* A cube [-1, 1]^3 whose faces are 4 x 4 grids (192 triangles, welded: a
  * closed mesh with a tree of its own). */

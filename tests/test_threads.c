@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -26,10 +27,6 @@
 
 enum { WORKERS = 4, TICKS = 4 };
 
-static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
-                                -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
-static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
-                                  2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
 static const double tri_v[] = {-1.5, -1, 0, 1.5, -1, 0.25, 0, 1.5, -0.25};
 static const uint32_t tri_t[] = {0, 1, 2};
 

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "support/shapes.h"
 
 #include <cmocka.h>
 
@@ -27,17 +28,6 @@
 
 /* ------------------------------------------------------------- shapes -- */
 
-static const double tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-static const uint32_t tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
-static const double cube_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
-                                -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
-static const uint32_t cube_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5,
-                                  2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 6, 4, 6, 7};
-static const double triangle_v[] = {-1.5, -1, 0, 1.5, -1, 0.25, 0, 1.5, -0.25};
-static const uint32_t triangle_t[] = {0, 1, 2};
-/* Zero-area triangles only: a segment and a point (accepted by design). */
-static const double needle_v[] = {-1.5, 0, 0, 0, 0, 0, 1.5, 0, 0, 0.5, 0.5, 0.5};
-static const uint32_t needle_t[] = {0, 1, 2, 3, 3, 3};
 /* The cube with every face on its own copies of the corners: 24 vertices at
  * 8 places. Closedness is decided on indices, so this mesh is open (it
  * collides through its surface only), as hgcd.h says. */
@@ -49,15 +39,6 @@ static const double dup_tetra_v[] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1,
                                      1, 1, 1, /* copy of 0, unused */ 7, 7, 7 /* unused, far */};
 static const uint32_t dup_tetra_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 0, 0, 1, 1, 0, 0};
 
-/* Cube whose top is dented down to a vertex at the centre: closed, not convex. */
-static const double dented_v[] = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1,
-                                  1,  -1, 1,  1, 1, 1,  -1, 1, 1,  0, 0, -0.25};
-static const uint32_t dented_t[] = {0, 2, 1, 0, 3, 2, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7,
-                                    2, 7, 6, 3, 0, 4, 3, 4, 7, 4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8};
-/* Two separate tetrahedra in one closed mesh: two components, not convex. */
-static const double twin_v[] = {0.5, 0.5,  0.5,  0.5, -0.5, -0.5, -0.5, 0.5, -0.5, -0.5, -0.5, 0.5,
-                                2.5, 0.5,  0.5,  2.5, -0.5, -0.5, 1.5,  0.5, -0.5, 1.5,  -0.5, 0.5};
-static const uint32_t twin_t[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 4, 5, 6, 4, 7, 5, 4, 6, 7, 5, 7, 6};
 
 enum { S_TETRA, S_CUBE, S_TRIANGLE, S_NEEDLE, S_SPLIT_CUBE, S_DUP_TETRA, S_DENTED, S_TWIN, S_COUNT };
 /* Shapes hgcd does not flag convex (far_scene without convex_too). */

@@ -64,6 +64,7 @@ typedef struct hgcd_world_desc {
     int32_t narrow_phase;
     uint32_t contacts;
     int32_t thread_policy;
+    uint32_t kinematic_pairs;
     ...;
 } hgcd_world_desc;
 hgcd_world_desc hgcd_world_desc_default(void);
@@ -114,9 +115,33 @@ typedef struct hgcd_stats {
     uint64_t libccd_fallback_tests;
     uint64_t unmoved_pairs;
     uint64_t searched_bodies;
+    uint64_t filtered_pairs;
+    double events_seconds;
     ...;
 } hgcd_stats;
 hgcd_status hgcd_world_stats(const hgcd_world *world, hgcd_stats *out_stats);
+
+typedef struct hgcd_pair_event {
+    hgcd_pair pair;
+    uint64_t user_data_a;
+    uint64_t user_data_b;
+    ...;
+} hgcd_pair_event;
+hgcd_status hgcd_world_events(const hgcd_world *world, const hgcd_pair_event **out_began,
+                              size_t *out_began_count, const hgcd_pair_event **out_ended,
+                              size_t *out_ended_count);
+
+enum hgcd_body_type { HGCD_BODY_DYNAMIC, HGCD_BODY_KINEMATIC, HGCD_BODY_STATIC, ... };
+typedef struct hgcd_filter {
+    uint64_t category_bits;
+    uint64_t mask_bits;
+    int32_t group_index;
+    uint32_t reserved;
+    ...;
+} hgcd_filter;
+hgcd_filter hgcd_filter_default(void);
+hgcd_status hgcd_world_pair_excluded(const hgcd_world *world, hgcd_body a, hgcd_body b,
+                                     uint32_t *out_excluded);
 
 typedef struct hgcd_mesh_desc {
     const double *vertices;
@@ -178,11 +203,29 @@ void hgcd_scene_tetra_unit_mesh(double *vertices, uint32_t *triangles);
 void hgcd_scene_tetra_move(uint64_t n, double side, double *centers, double *velocities);
 
 /* The binding's own loops (hgcd_py.h): one C call for many bodies. */
+typedef struct hgcd_py_body_columns {
+    const double *positions;
+    const double *orientations;
+    const double *velocities;
+    const double *scales;
+    const uint64_t *user_data;
+    const int32_t *types;
+    const uint8_t *enabled;
+    const hgcd_filter *filters;
+} hgcd_py_body_columns;
 hgcd_status hgcd_py_create_bodies(hgcd_world *world, const hgcd_mesh *meshes, size_t mesh_count,
-                                  size_t count, const double *positions,
-                                  const double *orientations, const double *velocities,
-                                  const double *scales, const uint64_t *user_data,
+                                  size_t count, const hgcd_py_body_columns *columns,
                                   hgcd_body *out_bodies, size_t *out_failed);
+hgcd_status hgcd_py_set_flags(hgcd_world *world, const hgcd_body *bodies, size_t count,
+                              const int32_t *types, const uint8_t *enabled,
+                              const hgcd_filter *filters, size_t *out_failed);
+hgcd_status hgcd_py_get_flags(const hgcd_world *world, const hgcd_body *bodies, size_t count,
+                              int32_t *types, uint8_t *enabled, hgcd_filter *filters,
+                              size_t *out_failed);
+hgcd_status hgcd_py_set_excluded(hgcd_world *world, const hgcd_pair *pairs, size_t count,
+                                 uint32_t exclude, uint8_t *scratch, size_t *out_failed);
+hgcd_status hgcd_py_pairs_excluded(const hgcd_world *world, const hgcd_pair *pairs, size_t count,
+                                   uint8_t *out_excluded, size_t *out_failed);
 hgcd_status hgcd_py_destroy_bodies(hgcd_world *world, const hgcd_body *bodies, size_t count,
                                    size_t *out_failed);
 hgcd_status hgcd_py_get_bodies(const hgcd_world *world, const hgcd_body *bodies, size_t count,

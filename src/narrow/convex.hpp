@@ -1,7 +1,10 @@
 // The convex path of the narrow phase: pairs of small convex meshes
-// (Mesh::sat) are first tried on separating axes, each certified against the
-// rounding of its evaluation, before the exact triangle test. Internal to
-// src/narrow (narrow.cpp calls it).
+// (Mesh::sat) are first decided by a kernel that reads only the meshes'
+// precomputed data and the two poses (convex_kernel.cpp): separating axes and
+// a certificate that the surfaces cross, each certified against the rounding
+// of its evaluation. What it leaves open goes on with world vertices, a
+// search for an edge through a triangle (convex.cpp) and the exact test.
+// Internal to src/narrow (narrow.cpp calls it).
 #pragma once
 #include "common/transform.hpp"
 #include "narrow/narrow.hpp"
@@ -12,26 +15,40 @@ namespace hgcd {
 // of edge directions (box and box: 9).
 constexpr uint32_t kEdgeAxisPairs = 36;
 
-// Certainly apart along the line between the bodies' positions (tested
-// before any world vertex is computed)? ra, rb: the bodies' rotations. Sets
-// *deep when the two bodies reach along that line past each other by more
-// than kDeep - 1 times the distance between their positions: such a pair
-// most likely collides, and the search for crossing surfaces goes first.
+// Pairs whose bodies reach along the line of centres past each other by
+// more than kDeep - 1 times the distance between their positions most
+// likely collide: the certificates that they do go first.
 constexpr double kDeep = 1.0;
-bool convex_centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &ra, const Rotation &rb, bool *deep);
 
-// Certainly apart along a face normal of either mesh (those most nearly
-// along the line of centres) or, for meshes with few edge directions, the
-// cross product of an edge direction of each? wa, wb: the world vertices
-// (world_vertices), box_a, box_b their exact boxes.
-bool convex_axes_apart(const BodyPose &a, const double *wa, const double *box_a, const Rotation &ra,
-                       const BodyPose &b, const double *wb, const double *box_b, const Rotation &rb);
+enum class ConvexVerdict {
+    ApartOnCentres,  // a separating axis along the line of centres
+    Apart,           // a separating axis among the face normals and edge pairs
+    Surface,         // the surfaces certainly cross
+    AHoldsB,         // a's solid holds b's, the surfaces apart
+    BHoldsA,
+    Open,            // nothing certain
+};
+
+// The kernel, for two bodies whose meshes have Mesh::sat: in order, the
+// separating axis along the line between their positions (tested on the
+// meshes' vertex runs, four vertices per vector, AVX2 where use_avx2());
+// for deep pairs (kDeep) the poke certificate (the vertex of one body
+// reaching furthest towards the other strictly inside it, by its face
+// planes with a certified margin, while another vertex lies strictly
+// outside it on that line); separating axes along the face normals nearest
+// that line (six of each mesh at most) and, for meshes with at most
+// kEdgeAxisPairs pairs of edge directions, the edge cross products; for
+// other pairs the poke certificate last; last, when one body's stretch of
+// that line lies within the other's, whether every vertex of it lies
+// strictly inside the other (containment).
+ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b);
 
 // Certainly do the surfaces cross: an edge of one mesh through the
 // interior of a triangle of the other (both its ends strictly on either
 // side of the triangle's plane, the line strictly inside its three edges,
 // every sign certified by a filter)? Tried on the edges at each mesh's
-// vertex nearest the other's position; false proves nothing.
+// vertex nearest the other's position; false proves nothing. wa, wb: the
+// world vertices (world_vertices).
 bool convex_surfaces_cross(const BodyPose &a, const double *wa, const BodyPose &b, const double *wb);
 
 }  // namespace hgcd

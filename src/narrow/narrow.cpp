@@ -505,25 +505,28 @@ __attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPo
     return direct_exact(a, s.world_a.data(), box_a, b, s.world_b.data(), box_b, s, witness, true);
 }
 
-// The convex path (both meshes Mesh::sat): the separating axis along the
-// line of centres, the world vertices and their exact boxes, the axes of
-// convex_axes_apart, then the exact steps of the direct or tree path.
-// exact_tests counts the pairs whose exact boxes overlap.
+// The convex path (both meshes Mesh::sat): the kernel (convex_decide), then
+// for the pairs it leaves open the world vertices and their exact boxes, the
+// search for an edge through a triangle, and the exact steps of the direct
+// or tree path. A witness request (contacts) takes only the kernel's
+// separations: its certificates name no triangle pair. exact_tests counts
+// the pairs that pass the line of centres.
 __attribute__((noinline)) Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
                                                  Witness *witness) {
-    const Rotation ra = rotation_of(a.orientation), rb = rotation_of(b.orientation);
-    bool deep;
-    if (convex_centres_apart(a, b, ra, rb, &deep)) return Contact::None;
+    const ConvexVerdict v = convex_decide(a, b);
+    if (v == ConvexVerdict::ApartOnCentres) return Contact::None;
+    ++s.exact_tests;
+    if (v == ConvexVerdict::Apart) return Contact::None;
+    if (!witness) {
+        if (v == ConvexVerdict::Surface) return Contact::Surface;
+        if (v == ConvexVerdict::AHoldsB || v == ConvexVerdict::BHoldsA) return Contact::Containment;
+    }
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);
     if (boxes_disjoint(box_a, box_b)) return Contact::None;
-    ++s.exact_tests;
     const double *wa = s.world_a.data(), *wb = s.world_b.data();
-    // (A witness asks for the exact path's first meeting triangles.)
-    if (deep && !witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
-    if (convex_axes_apart(a, wa, box_a, ra, b, wb, box_b, rb)) return Contact::None;
-    if (!deep && !witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
+    if (!witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
     return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
 }

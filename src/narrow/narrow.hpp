@@ -102,11 +102,13 @@ struct NarrowScratch {
 // Exact: true when the closed solids of a and b share a point (surfaces meet,
 // or one closed mesh holds a component of the other). Pairs of tetrahedra
 // (Mesh::tetra) without a witness request take the tetra path (face-plane
-// signs of both point sets, tetra.cpp); other pairs of small meshes (no
+// signs of both point sets, tetra.cpp); pairs of small convex meshes
+// (Mesh::sat) the convex path (convex.hpp); other pairs of small meshes (no
 // tree) the direct path: all world vertices, exact boxes, triangle pairs.
 // The direct path counts exact_tests as pairs whose exact boxes overlap, the
 // tetra path as those that also pass its separating axis along the line of
-// centres (tested first, before any world vertex). If either mesh
+// centres (tested first, before any world vertex), the convex path as those
+// that pass that axis. If either mesh
 // has a tree, a simultaneous traversal of the two trees (a mesh without one
 // is a single leaf) reaches the same exact triangle test; exact_tests then
 // counts pairs whose conservative root boxes overlap.

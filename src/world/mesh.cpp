@@ -3,6 +3,7 @@
 #include "world/mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -229,8 +230,78 @@ void set_adjacency(const Mesh &m, SatData &d) {
     for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) d.vertex_tris[fill[m.triangles[i]]++] = i / 3;
 }
 
+// The vertices in runs of x, y, z for the batched kernel, padded with
+// copies of vertex 0.
+void set_soa(const Mesh &m, SatData &d) {
+    const uint32_t n = m.vertex_count, p = (n + SatData::kLanes - 1) / SatData::kLanes * SatData::kLanes;
+    d.padded = p;
+    d.soa.resize(3 * size_t(p));
+    for (uint32_t i = 0; i < p; ++i)
+        for (int k = 0; k < 3; ++k) d.soa[k * size_t(p) + i] = m.vertices[3 * size_t(i < n ? i : 0) + k];
+}
+
+// The planes of the deep-inside test (SatData::inside_test). It needs a
+// mesh whose solid is its hull: one component, no zero-area triangle, the
+// origin strictly on the inner side of every triangle's plane (exact
+// orient3d) and inside the solid by exact ray parity. Every point of the
+// open hull then has the origin's parity (the segment between them stays in
+// the open hull, which no triangle reaches), so it is inside the solid.
+// Per triangle, N~ = fl((b - a) x (c - a)) from rounded differences is
+// within 4 eps perm_k of the exact N on each axis (perm_k the sum of the two
+// products' magnitudes, first order), so |N~ - N|_2 <= 4 eps sum_k perm_k;
+// unit vectors differ by at most twice that over |N|, and fl(N~ / |N~|)
+// adds 4 eps: theta = 16 eps sum perm / |N~| + 8 eps bounds |n - N/|N||_2
+// while 4 eps sum perm <= |N~| / 2, which theta <= 2^-30 ensures.
+void set_planes(const Mesh &m, SatData &d) {
+    if (m.component_vertices.size() != 1 || m.degenerate_count || !m.inward_sign) return;
+    const double *x = m.vertices.data();
+    const double origin[3] = {0, 0, 0};
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], x[3 * v + k]);
+            hi[k] = std::max(hi[k], x[3 * v + k]);
+        }
+    std::vector<double> planes;  // n x, n y, n z, k per plane
+    double theta = 0;
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
+        const uint32_t *f = &m.triangles[3 * t];
+        const double *a = &x[3 * f[0]], *b = &x[3 * f[1]], *c = &x[3 * f[2]];
+        if (orient3d(a, b, c, origin) != m.inward_sign) return;
+        const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const double m0 = e1[1] * e2[2], m1 = e1[2] * e2[1], m2 = e1[2] * e2[0], m3 = e1[0] * e2[2],
+                     m4 = e1[0] * e2[1], m5 = e1[1] * e2[0];
+        const double N[3] = {m0 - m1, m2 - m3, m4 - m5};
+        const double perm = (std::fabs(m0) + std::fabs(m1)) + (std::fabs(m2) + std::fabs(m3)) +
+                            (std::fabs(m4) + std::fabs(m5));
+        const double len = std::sqrt((N[0] * N[0] + N[1] * N[1]) + N[2] * N[2]);
+        if (!(len > 0)) return;
+        theta = std::max(theta, 16 * 0x1p-53 * perm / len + 8 * 0x1p-53);
+        // Outward: orient3d(a, b, c, p) = -(p - a) . N has the inward sign
+        // for inner points p.
+        const double sign = m.inward_sign;
+        const double n[3] = {sign * N[0] / len, sign * N[1] / len, sign * N[2] / len};
+        const double k = (n[0] * a[0] + n[1] * a[1]) + n[2] * a[2];
+        bool seen = false;
+        for (size_t q = 0; q < planes.size() && !seen; q += 4)
+            seen = planes[q] == n[0] && planes[q + 1] == n[1] && planes[q + 2] == n[2] && planes[q + 3] == k;
+        if (!seen) planes.insert(planes.end(), {n[0], n[1], n[2], k});
+    }
+    if (!(theta <= 0x1p-30)) return;
+    if (!point_in_closed_mesh(origin, x, m.triangles.data(), m.triangle_count, lo, hi)) return;
+    const uint32_t count = uint32_t(planes.size() / 4);
+    const uint32_t p = (count + SatData::kLanes - 1) / SatData::kLanes * SatData::kLanes;
+    d.planes.resize(4 * size_t(p));
+    for (uint32_t i = 0; i < p; ++i)
+        for (int k = 0; k < 4; ++k) d.planes[k * size_t(p) + i] = planes[4 * size_t(i < count ? i : 0) + k];
+    d.plane_count = count;
+    d.planes_padded = p;
+    d.theta = theta;
+    d.inside_test = true;
+}
+
 // The convex path's data (Mesh::sat): face normals, then edge directions,
-// parallel ones once; reach; adjacency.
+// parallel ones once; reach; adjacency; the kernel's vertex runs and planes.
 void set_sat(Mesh &m, const std::vector<char> &used) {
     if (!m.convex || m.tetra || m.vertex_count > Mesh::kSatVertices) return;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
@@ -246,15 +317,28 @@ void set_sat(Mesh &m, const std::vector<char> &used) {
         faces += add_axis(axes, n);
     }
     if (!faces) return;
-    std::vector<double> edge_axes;
-    uint32_t edges = 0;
+    // Edge directions of the hull's edges: an edge between two triangles in
+    // one plane (a box face's diagonal) is none, and its direction is not
+    // needed for the separating axes (any edge shared otherwise is kept).
+    std::vector<std::array<uint32_t, 3>> sides;  // (low end, high end, opposite vertex)
     for (uint32_t t = 0; t < m.triangle_count; ++t) {
         const uint32_t *f = &m.triangles[3 * t];
-        for (int k = 0; k < 3; ++k) {
-            const double *a = &x[3 * f[k]], *b = &x[3 * f[(k + 1) % 3]];
+        for (int k = 0; k < 3; ++k)
+            sides.push_back({std::min(f[k], f[(k + 1) % 3]), std::max(f[k], f[(k + 1) % 3]), f[(k + 2) % 3]});
+    }
+    std::sort(sides.begin(), sides.end());
+    std::vector<double> edge_axes;
+    uint32_t edges = 0;
+    for (size_t i = 0; i < sides.size();) {
+        size_t j = i;
+        while (j < sides.size() && sides[j][0] == sides[i][0] && sides[j][1] == sides[i][1]) ++j;
+        const double *a = &x[3 * sides[i][0]], *b = &x[3 * sides[i][1]];
+        const bool flat = j - i == 2 && orient3d(a, b, &x[3 * sides[i][2]], &x[3 * sides[i + 1][2]]) == 0;
+        if (!flat) {
             const double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
             edges += add_axis(edge_axes, e);
         }
+        i = j;
     }
     axes.insert(axes.end(), edge_axes.begin(), edge_axes.end());
     auto d = std::make_shared<SatData>();
@@ -264,6 +348,8 @@ void set_sat(Mesh &m, const std::vector<char> &used) {
     d->edges = edges;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
         d->reach = std::max(d->reach, std::fabs(x[3 * v]) + std::fabs(x[3 * v + 1]) + std::fabs(x[3 * v + 2]));
+    set_soa(m, *d);
+    set_planes(m, *d);
     m.sat = std::move(d);
 }
 

@@ -22,6 +22,21 @@ struct SatData {
     std::vector<double> axes;
     uint32_t faces = 0, edges = 0;
     double reach = 0;  // max over the vertices of |x| + |y| + |z| (mesh frame)
+    // The vertices as the batched kernel reads them (narrow/convex_kernel.cpp):
+    // x of every vertex, then y, then z, each run padded to `padded` (a
+    // multiple of kLanes) with copies of vertex 0, which change no support.
+    static constexpr uint32_t kLanes = 4;
+    uint32_t padded = 0;
+    std::vector<double> soa;
+    // Outward face planes for the test of a point deep inside the solid,
+    // when `inside_test` holds (see set_planes in mesh.cpp): unit normal n
+    // and offset k = n . (a vertex of the face) per triangle, exact
+    // duplicates once, as runs nx, ny, nz, k padded like the vertices (copies
+    // of plane 0). theta bounds |n - N| for the exact unit normal N of each.
+    bool inside_test = false;
+    uint32_t plane_count = 0, planes_padded = 0;
+    std::vector<double> planes;
+    double theta = 0;
     // For the search of an edge that crosses a triangle: the edges (other
     // end vertices) and the triangles at each vertex, as offsets
     // (vertex_count + 1) into lists.

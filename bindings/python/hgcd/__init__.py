@@ -18,11 +18,12 @@ from ._arrays import BODY_ID, MESH_ID
 from ._errors import Error, Status
 from ._hgcd import ffi as _ffi
 from ._hgcd import lib as _lib
-from ._types import CONTACT, ContactKind, MeshInfo, NarrowPhase, Stats, ThreadPolicy
+from ._features import make_filter
+from ._types import CONTACT, FILTER, PAIR_EVENT, BodyType, ContactKind, MeshInfo, NarrowPhase, Stats, ThreadPolicy
 from ._world import Mesh, World
 
 __all__ = ["World", "Mesh", "Error", "Status", "NarrowPhase", "ThreadPolicy", "ContactKind", "Stats", "MeshInfo",
-           "BODY_ID", "MESH_ID", "CONTACT", "scene", "version", "libccd_precision"]
+           "BodyType", "make_filter", "BODY_ID", "MESH_ID", "CONTACT", "FILTER", "PAIR_EVENT", "scene", "version", "libccd_precision"]
 
 
 def version():

@@ -1,4 +1,4 @@
-"""The plain result types: enums, Stats, MeshInfo and the contact dtype."""
+"""The plain result types: enums, Stats, MeshInfo and the contact, filter and event dtypes."""
 import dataclasses
 import enum
 
@@ -22,6 +22,14 @@ class ThreadPolicy(enum.IntEnum):
 
     ADAPTIVE = lib.HGCD_THREADS_ADAPTIVE  # fewer while the cores are busy with other work
     FIXED = lib.HGCD_THREADS_FIXED  # always the thread count
+
+
+class BodyType(enum.IntEnum):
+    """How a body moves and which pairs it takes part in (enum hgcd_body_type)."""
+
+    DYNAMIC = lib.HGCD_BODY_DYNAMIC  # moves every tick (the default)
+    KINEMATIC = lib.HGCD_BODY_KINEMATIC  # moved by the caller; pairs with kinematic/static only if asked
+    STATIC = lib.HGCD_BODY_STATIC  # level geometry: static-static pairs are never searched
 
 
 class ContactKind(enum.IntEnum):
@@ -65,6 +73,8 @@ class Stats:
     libccd_fallback_tests: int
     unmoved_pairs: int
     searched_bodies: int
+    filtered_pairs: int
+    events_seconds: float
 
 
 @dataclasses.dataclass(frozen=True)
@@ -112,3 +122,29 @@ def _contact_dtype():
 #: dtype of World.contacts(): fields a, b (BODY_ID), kind (ContactKind values),
 #: triangle_a, triangle_b, depth, normal (3), point (3), as hgcd_contact.
 CONTACT = _contact_dtype()
+
+
+def _struct_dtype(ctype, fields):
+    """numpy's view of a C struct: (name, format, C field path) with the
+    offsets and size of the compiled header."""
+    def off(path):
+        return sum(ffi.offsetof(t, f) for t, f in path)
+    return np.dtype({"names": [f[0] for f in fields], "formats": [f[1] for f in fields],
+                     "offsets": [off(f[2]) for f in fields], "itemsize": ffi.sizeof(ctype)})
+
+
+#: dtype of a body's filter (hgcd_filter, Box2D v3's semantics): category_bits,
+#: mask_bits (uint64), group_index (int32), reserved (uint32, must be 0).
+FILTER = _struct_dtype("hgcd_filter", [
+    ("category_bits", "<u8", [("hgcd_filter", "category_bits")]),
+    ("mask_bits", "<u8", [("hgcd_filter", "mask_bits")]),
+    ("group_index", "<i4", [("hgcd_filter", "group_index")]),
+    ("reserved", "<u4", [("hgcd_filter", "reserved")])])
+
+#: dtype of World.events(): a, b (BODY_ID, a.index < b.index), user_data_a,
+#: user_data_b (uint64), as hgcd_pair_event.
+PAIR_EVENT = _struct_dtype("hgcd_pair_event", [
+    ("a", BODY_ID, [("hgcd_pair_event", "pair"), ("hgcd_pair", "a")]),
+    ("b", BODY_ID, [("hgcd_pair_event", "pair"), ("hgcd_pair", "b")]),
+    ("user_data_a", "<u8", [("hgcd_pair_event", "user_data_a")]),
+    ("user_data_b", "<u8", [("hgcd_pair_event", "user_data_b")])])

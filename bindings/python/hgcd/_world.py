@@ -6,8 +6,9 @@ import numpy as np
 from . import _arrays as A
 from ._arrays import BODY_ID, MESH_ID
 from ._errors import Error, Status, argument_error
+from ._features import EngineFeatures, per_body, type_values
 from ._hgcd import ffi, lib
-from ._types import CONTACT, NarrowPhase, ThreadPolicy, mesh_info_from_c, stats_from_c
+from ._types import CONTACT, FILTER, NarrowPhase, ThreadPolicy, mesh_info_from_c, stats_from_c
 
 
 def _enum(cls, value, call):
@@ -85,7 +86,7 @@ class Mesh:
         return f"hgcd.Mesh(index={self.index}, generation={self.generation})"
 
 
-class World:
+class World(EngineFeatures):
     """A world of meshes and bodies (hgcd_world). Frees its C world on close(),
     at the end of a `with` block, or when garbage-collected; after close()
     every call raises hgcd.Error (status NULL_ARGUMENT).
@@ -101,12 +102,13 @@ class World:
     while the cores are busy with other work; FIXED always threads), bounds
     ((min xyz, max xyz): step() reflects bodies there; None = no reflection),
     time_step, min_cell_size, max_cell_size, narrow_phase (NarrowPhase),
-    contacts (record what each pair is made of: contacts()).
+    contacts (record what each pair is made of: contacts()), kinematic_pairs
+    (also report kinematic-kinematic and kinematic-static pairs: BodyType).
     """
 
     def __init__(self, *, threads=0, bounds=None, time_step=1.0, min_cell_size=0.0,
                  max_cell_size=0.0, narrow_phase=NarrowPhase.EXACT, contacts=False,
-                 thread_policy=ThreadPolicy.ADAPTIVE):
+                 thread_policy=ThreadPolicy.ADAPTIVE, kinematic_pairs=False):
         self._lock = threading.Lock()
         self._w = ffi.NULL
         desc = ffi.new("hgcd_world_desc *", lib.hgcd_world_desc_default())
@@ -120,6 +122,7 @@ class World:
         except (TypeError, ValueError, OverflowError) as e:
             raise argument_error(f"world_create: {e}")
         desc.contacts = 1 if contacts else 0
+        desc.kinematic_pairs = 1 if kinematic_pairs else 0
         if bounds is not None:
             lo = A.column(bounds[0], 3, "bounds[0]", "world_create", np.float64)
             hi = A.column(bounds[1], 3, "bounds[1]", "world_create", np.float64)
@@ -258,14 +261,17 @@ class World:
     # -- bodies -----------------------------------------------------------
 
     def create_bodies(self, mesh, positions=None, orientations=None, velocities=None, scales=None,
-                      user_data=None, *, count=None):
+                      user_data=None, *, count=None, types=None, enabled=None, filters=None):
         """Creates bodies in one call and returns their ids, a (N,) BODY_ID array.
 
         mesh: a Mesh for all, or one per body (a list of Mesh, or a MESH_ID
         array); positions (N, 3), orientations (N, 4) unit quaternions
         (x, y, z, w), velocities (N, 3), scales (N,) float64; user_data (N,)
-        uint64. An argument left None takes the library's default (origin,
-        identity, at rest, 1, 0); count gives N when every array is None.
+        uint64; types (BodyType, one or (N,)), enabled (bool, one or (N,)),
+        filters (a FILTER from make_filter, one or (N,)). An argument left
+        None takes the library's default (origin, identity, at rest, 1, 0,
+        DYNAMIC, enabled, the default filter); count gives N when every array
+        is None.
         Bodies are created in order; if one is refused, those made are
         destroyed again and the error names the entry."""
         given = [a for a in (positions, orientations, velocities, scales, user_data) if a is not None]
@@ -289,14 +295,22 @@ class World:
             None if scales is None else A.packed(A.column(scales, n, "scales", call, np.float64)),
             None if user_data is None else A.packed(A.column(user_data, n, "user_data", call, np.uint64)),
         ]
+        arrays += [
+            None if types is None else type_values(types, n, call),
+            None if enabled is None else per_body(np.asarray(enabled, dtype=bool).astype(np.uint8), n,
+                                                  np.uint8, "enabled", call),
+            None if filters is None else per_body(filters, n, FILTER, "filters", call),
+        ]
         meshes = self._mesh_ids(mesh, None if isinstance(mesh, Mesh) else n)
-        ctypes = ("double *", "double *", "double *", "double *", "uint64_t *")
-        c_arrays = [ffi.NULL if a is None else A.ptr(t, a) for a, t in zip(arrays, ctypes)]
+        ctypes = ("double *", "double *", "double *", "double *", "uint64_t *", "int32_t *", "uint8_t *",
+                  "hgcd_filter *")
+        columns = ffi.new("hgcd_py_body_columns *",
+                          [ffi.NULL if a is None else A.ptr(t, a) for a, t in zip(arrays, ctypes)])
         out = np.empty(n, dtype=BODY_ID)
         failed = ffi.new("size_t *")
         with self._lock:
             status = lib.hgcd_py_create_bodies(self._live(), A.ptr("hgcd_mesh *", meshes), len(meshes), n,
-                                               *c_arrays, A.ptr("hgcd_body *", out), failed)
+                                               columns, A.ptr("hgcd_body *", out), failed)
             self._check(status, f"create_bodies: entry {failed[0]}: ")
         return out
 

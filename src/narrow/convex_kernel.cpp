@@ -1,0 +1,369 @@
+// The convex path's first kernel (narrow/convex.hpp): a pair of small convex
+// meshes decided from the meshes' vertex runs and planes (SatData) and the
+// two poses alone, without world vertices, four vertices per vector.
+#include "narrow/convex.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "common/cpu.hpp"
+#include "common/simd.hpp"
+#include "narrow/tetra.hpp"
+
+// Every vector function here is inlined into its kernel and lives in an
+// anonymous namespace: no vector crosses a call boundary, so GCC's note that
+// a 32-byte vector return would change the ABI without AVX does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace hgcd {
+
+namespace {
+
+#define HGCD_CK_INLINE inline __attribute__((always_inline))
+
+// Four doubles per vector: AVX2 registers in the AVX2 clone, two SSE2 (or
+// NEON) registers each elsewhere; IEEE operations lane by lane and no FMA
+// (-ffp-contract=off, and no FMA target), so both builds compute the same
+// bits as the scalar expressions written beside them.
+HGCD_CK_INLINE f64x4 load4(const double *p) {
+    f64x4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+HGCD_CK_INLINE f64x4 splat(double x) { return f64x4{x, x, x, x}; }
+HGCD_CK_INLINE f64x4 vmax4(f64x4 a, f64x4 b) { return a > b ? a : b; }
+HGCD_CK_INLINE f64x4 vmin4(f64x4 a, f64x4 b) { return a < b ? a : b; }
+HGCD_CK_INLINE double hmax4(f64x4 a) { return std::max(std::max(a[0], a[1]), std::max(a[2], a[3])); }
+HGCD_CK_INLINE double hmin4(f64x4 a) { return std::min(std::min(a[0], a[1]), std::min(a[2], a[3])); }
+
+// The smallest and largest of fl(s v) . d over the vertices v of mesh d:
+// the local vertices l = fl(s v) as transform_point rounds them, projected
+// as (lx dx + ly dy) + lz dz.
+HGCD_CK_INLINE void range(const SatData &m, double s, const double *d, double &lo, double &hi) {
+    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
+    const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s);
+    f64x4 mx = splat(-INFINITY), mn = splat(INFINITY);
+    for (uint32_t i = 0; i < m.padded; i += SatData::kLanes) {
+        const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
+        mx = vmax4(mx, p);
+        mn = vmin4(mn, p);
+    }
+    lo = hmin4(mn);
+    hi = hmax4(mx);
+}
+
+// The first vertex whose projection (range's expression, same bits) is p.
+HGCD_CK_INLINE uint32_t vertex_at(const Mesh &mesh, double s, const double *d, double p) {
+    const double *v = mesh.vertices.data();
+    for (uint32_t i = 0; i < mesh.vertex_count; ++i, v += 3)
+        if (((s * v[0]) * d[0] + (s * v[1]) * d[1]) + (s * v[2]) * d[2] == p) return i;
+    return 0;  // (not reached: p is one of these values)
+}
+
+HGCD_CK_INLINE void rotate_t(const Rotation &r, const double *v, double *out) {  // R^T v
+    for (int j = 0; j < 3; ++j) out[j] = (r.m[j] * v[0] + r.m[3 + j] * v[1]) + r.m[6 + j] * v[2];
+}
+HGCD_CK_INLINE void rotate(const Rotation &r, const double *v, double *out) {  // R v
+    for (int j = 0; j < 3; ++j) out[j] = (r.m[3 * j] * v[0] + r.m[3 * j + 1] * v[1]) + r.m[3 * j + 2] * v[2];
+}
+HGCD_CK_INLINE double norm1(const double *v) { return (std::fabs(v[0]) + std::fabs(v[1])) + std::fabs(v[2]); }
+HGCD_CK_INLINE double norm_inf(const double *v) {
+    return std::max(std::max(std::fabs(v[0]), std::fabs(v[1])), std::fabs(v[2]));
+}
+
+// A separating axis N (any double vector, world frame) for the pair: each
+// solid lies in the hull of its rounded world vertices w = fl(c + fl(R l)),
+// so it suffices that the projections of the two vertex sets are strictly
+// apart. Computed: o = fl(u . N) for u = fl(c_b - c_a), and each body's
+// range of fl(l . d) with d = fl(R^T N). With P = |c_a|_inf + |c_b|_inf,
+// L = s reach >= |l|_1 (up to a factor 1 + eps) and |R_kj| < 2 (quaternions
+// unit within 1e-6), against the exact (w - c_a) . N and (w_b - c_a) . N:
+//  - d misses R^T N by 6 eps |N|_1 per axis, so l . d misses l . R^T N by
+//    6 eps L |N|_1, and its evaluation rounds by another 6 eps L |N|_1;
+//  - w - (c + R l) is at most eps |c|_inf + 8 eps L per axis: eps P |N|_1
+//    + 8 eps L |N|_1 on the projection;
+//  - o misses (c_b - c_a) . N by 6 eps P |N|_1 (u's rounding, then the dot);
+//  - the final sums of o and the two bounds round by 2 eps (P + 2 L_a +
+//    2 L_b) |N|_1 and a little.
+// All together below 12 eps P + 30 eps (L_a + L_b) times |N|_1 (first
+// order), which kAxisMargin = 2^-44 = 512 eps of (P + L_a + L_b) |N|_1
+// covers many times over; 2^-960 covers underflowed products (|l|, |N| <
+// 2^52, so each is wrong by less than 2^-1074).
+constexpr double kAxisMargin = 0x1p-44;
+
+struct PairView {
+    const BodyPose &a, &b;
+    const SatData &sa, &sb;
+    Rotation ra, rb;
+    double u[3];
+    double scale;  // P + L_a + L_b
+};
+
+HGCD_CK_INLINE bool apart_on(const PairView &p, const double *N) {
+    double da[3], db[3], alo, ahi, blo, bhi;
+    rotate_t(p.ra, N, da);
+    rotate_t(p.rb, N, db);
+    range(p.sa, p.a.scale, da, alo, ahi);
+    range(p.sb, p.b.scale, db, blo, bhi);
+    const double o = (p.u[0] * N[0] + p.u[1] * N[1]) + p.u[2] * N[2];
+    const double margin = kAxisMargin * (p.scale * norm1(N)) + tet::kUnderflowFloor;
+    return ((o + blo) - ahi > margin) | (alo - (o + bhi) > margin);
+}
+
+// The face axes of m worth trying first: those most nearly along d (the
+// direction to the other body in m's frame), at most kFaceAxes of them.
+constexpr int kFaceAxes = 6;
+HGCD_CK_INLINE int pick_faces(const SatData &m, const double *d, uint32_t *out) {
+    const uint32_t n = m.faces;
+    if (n <= uint32_t(kFaceAxes)) {
+        for (uint32_t k = 0; k < n; ++k) out[k] = k;
+        return int(n);
+    }
+    double score[kFaceAxes];
+    int count = 0;
+    for (uint32_t k = 0; k < n; ++k) {
+        const double *x = &m.axes[3 * k];
+        const double s = std::fabs((x[0] * d[0] + x[1] * d[1]) + x[2] * d[2]);
+        if (count == kFaceAxes && s <= score[count - 1]) continue;
+        int at = count < kFaceAxes ? count++ : count - 1;
+        for (; at > 0 && score[at - 1] < s; --at) {
+            score[at] = score[at - 1];
+            out[at] = out[at - 1];
+        }
+        score[at] = s;
+        out[at] = k;
+    }
+    return count;
+}
+
+// Separating axes after the line of centres: face normals of both meshes
+// (those nearest that line first), then edge against edge when the meshes
+// have at most kEdgeAxisPairs pairs of edge directions.
+HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double *db) {
+    uint32_t fa[kFaceAxes], fb[kFaceAxes];
+    const int na = pick_faces(p.sa, da, fa), nb = pick_faces(p.sb, db, fb);
+    double N[3];
+    for (int k = 0; k < std::max(na, nb); ++k) {
+        if (k < na) {
+            rotate(p.ra, &p.sa.axes[3 * fa[k]], N);
+            if (apart_on(p, N)) return true;
+        }
+        if (k < nb) {
+            rotate(p.rb, &p.sb.axes[3 * fb[k]], N);
+            if (apart_on(p, N)) return true;
+        }
+    }
+    const uint64_t pairs = uint64_t(p.sa.edges) * p.sb.edges;
+    if (pairs == 0 || pairs > kEdgeAxisPairs) return false;
+    double ea[kEdgeAxisPairs][3];
+    for (uint32_t i = 0; i < p.sa.edges; ++i) rotate(p.ra, &p.sa.axes[3 * (p.sa.faces + i)], ea[i]);
+    for (uint32_t j = 0; j < p.sb.edges; ++j) {
+        double eb[3];
+        rotate(p.rb, &p.sb.axes[3 * (p.sb.faces + j)], eb);
+        for (uint32_t i = 0; i < p.sa.edges; ++i) {
+            const double *x = ea[i];
+            N[0] = x[1] * eb[2] - x[2] * eb[1];
+            N[1] = x[2] * eb[0] - x[0] * eb[2];
+            N[2] = x[0] * eb[1] - x[1] * eb[0];
+            if (apart_on(p, N)) return true;
+        }
+    }
+    return false;
+}
+
+// Is a point certainly strictly inside the solid of body `in` (pose in,
+// rotation r, data m with m.inside_test)? z: the point's coordinates in the
+// body's frame as computed, within 14 eps dz per axis of the exact ones
+// (dz: see the callers).
+// In the body's frame, phi(y) = R^T (y - c) (R as rounded: an affine
+// bijection, so phi carries solids, surfaces and parity along), the solid is
+// the parity solid of the mesh with vertices phi(w_i) = l_i + E_i,
+// l_i = fl(s v_i), E_i = (R^T R - I) l_i + R^T e_i, e_i = w_i - (c + R l_i).
+// For a quaternion with n2 = |q|^2 = 1 + delta, R = n2 Rhat - delta I up to
+// entry roundings of 6 eps, so R^T R - I has entries below 5 |delta| + 40 eps
+// and |E_i|_inf <= (5 |delta| + 40 eps) L + 4 eps |c|_inf + 26 eps L; l_i
+// is within eps L of s v_i. Let z* be the exact point, and D the largest
+// Euclidean displacement of a vertex between the mesh s v and the mesh
+// phi(w_i), D <= 2 (that inf-norm bound). If every exact facet plane of the
+// hull s H has z* more than D on its inner side, z* is inside s H at
+// distance > D from its boundary, which holds the surface of mesh s v; z* / s
+// then has the origin's odd parity (SatData::inside_test); moving each
+// vertex in a straight line from s v_i to phi(w_i) moves every surface
+// point by at most D, never through z*, so the parity stays odd: z* is in
+// phi's image of the solid, off its surface, and so is the point in the
+// solid, off its surface.
+// Per plane g = fl(fl(n . z) - fl(s k)) misses the exact signed distance
+// N . (z* - s a) of the facet plane (a a vertex of its triangle) by at most
+// theta (|z|_1 + L) + 3 eps L (n and k, mesh.cpp) + 5 eps (|z|_1 + L)
+// (evaluation) + |z - z*|_2. So g < -m for every plane with
+//   m = 2^-40 (|c|_inf + L + |z|_1 + dz) + 12 dq L + 2 theta (|z|_1 + L)
+//       + 2^-960,
+// dq = |1 - fl(n2)| + 2^-50 >= |delta| + 24 eps, settles it: 2^-40 = 8192
+// eps covers twice the eps terms above, 12 dq L twice 5 |delta| L + 40 eps L.
+HGCD_CK_INLINE bool strictly_inside(const BodyPose &in, const SatData &m, const double *z, double dz) {
+    const double *c = in.position, *q = in.orientation;
+    const double n2 = ((q[0] * q[0] + q[1] * q[1]) + q[2] * q[2]) + q[3] * q[3];
+    const double dq = std::fabs(1.0 - n2) + 0x1p-50;
+    const double L = in.scale * m.reach, z1 = norm1(z);
+    const double margin = 0x1p-40 * (((norm_inf(c) + L) + z1) + dz) + 12 * dq * L + 2 * m.theta * (z1 + L) +
+                          tet::kUnderflowFloor;
+    const uint32_t n = m.planes_padded;
+    const double *nx = m.planes.data(), *ny = nx + n, *nz = ny + n, *k = nz + n;
+    const f64x4 zx = splat(z[0]), zy = splat(z[1]), zz = splat(z[2]), s = splat(in.scale);
+    f64x4 worst = splat(-INFINITY);
+    for (uint32_t i = 0; i < n; i += SatData::kLanes) {
+        const f64x4 g = ((load4(nx + i) * zx + load4(ny + i) * zy) + load4(nz + i) * zz) - s * load4(k + i);
+        worst = vmax4(worst, g);
+    }
+    return hmax4(worst) < -margin;
+}
+
+// Is the world vertex w of another body strictly inside body `in`? Its
+// frame coordinates z = fl(R^T fl(w - c)) are within 10 eps |fl(w - c)|_1
+// of the exact ones on each axis.
+HGCD_CK_INLINE bool vertex_inside(const BodyPose &in, const Rotation &r, const SatData &m, const double *w) {
+    const double *c = in.position;
+    const double D[3] = {w[0] - c[0], w[1] - c[1], w[2] - c[2]};
+    double z[3];
+    rotate_t(r, D, z);
+    return strictly_inside(in, m, z, norm1(D));
+}
+
+// Does the vertex of `b` reaching furthest towards `a` (along db, b's frame,
+// reaching b_toward) lie strictly inside a, while some vertex of b lies
+// strictly outside a (found on the line of centres)? Then b's surface,
+// connected (inside_test: one component), has a path of edges from a point
+// inside a's solid to one outside, which crosses a's surface: the surfaces
+// meet.
+HGCD_CK_INLINE bool vertex_poke(const BodyPose &a, const Rotation &ra, const SatData &sa, const BodyPose &b,
+                                const Rotation &rb, const double *db, double b_toward) {
+    const uint32_t v = vertex_at(*b.mesh, b.scale, db, b_toward);
+    double w[3];
+    transform_point(rb, b.position, b.scale, &b.mesh->vertices[3 * size_t(v)], w);
+    return vertex_inside(a, ra, sa, w);
+}
+
+// Where the ray from the body's position along d (its frame) leaves the
+// hull of its face planes, in units of d: min (s k) / (n . d) over the
+// planes facing d. Only a guess (the point it yields is certified later).
+HGCD_CK_INLINE double exit_along(const SatData &m, double s, const double *d) {
+    const uint32_t n = m.planes_padded;
+    const double *nx = m.planes.data(), *ny = nx + n, *nz = ny + n, *k = nz + n;
+    const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s), inf = splat(INFINITY);
+    f64x4 t = inf;
+    for (uint32_t i = 0; i < n; i += SatData::kLanes) {
+        const f64x4 g = (load4(nx + i) * dx + load4(ny + i) * dy) + load4(nz + i) * dz;
+        const f64x4 r = (sv * load4(k + i)) / g;
+        t = vmin4(t, g > 0 ? r : inf);
+    }
+    return hmin4(t);
+}
+
+// A point strictly inside both solids, while each body has a vertex
+// strictly outside the other (a_out, b_out: found on the line of centres):
+// then the surfaces meet. (Were they apart, each connected surface would lie
+// wholly outside the other solid, as its outer vertex does; the
+// intersection of the solids would be a bounded mod-2 3-chain whose boundary,
+// (S_a in b) + (a in S_b), is empty, hence null, yet it holds a ball about
+// the point.) The point: P = c_a + t u, u = fl(c_b - c_a), the middle of the
+// stretch of the segment from c_a to c_b inside both faces' hulls. In a's
+// frame its exact coordinates are t R_a^T u, computed as fl(t da), within
+// 14 eps |t| |u|_1 (da within 12 eps |u|_1 of R_a^T u); in b's frame
+// R_b^T ((t - 1) u + (u - (c_b - c_a))), computed as fl((1 - t) db), within
+// 14 eps (|1 - t| + 1) |u|_1 (u within eps |u|_inf of c_b - c_a).
+HGCD_CK_INLINE bool point_inside_both(const BodyPose &a, const SatData &sa, const BodyPose &b, const SatData &sb,
+                                      const double *u, const double *da, const double *db) {
+    const double ta = exit_along(sa, a.scale, da), tb = exit_along(sb, b.scale, db);
+    if (!(ta + tb > 1)) return false;
+    const double t = 0.5 * ((1 - tb) + ta), t1 = 1 - t, u1 = norm1(u);
+    const double za[3] = {t * da[0], t * da[1], t * da[2]}, zb[3] = {t1 * db[0], t1 * db[1], t1 * db[2]};
+    return strictly_inside(a, sa, za, std::fabs(t) * u1) && strictly_inside(b, sb, zb, (std::fabs(t1) + 1) * u1);
+}
+
+// Every vertex of `in` strictly inside `out` (by vertex_inside's depth
+// test): then `in`'s surface, in the hull of its vertices, is inside out's
+// solid and off its surface. (The depth test puts each vertex's image z*
+// more than D inside every facet plane of s H, and the hull of such points
+// is too, plane by plane; the argument of strictly_inside then holds for
+// each of its points.) So the solids meet and the surfaces do not.
+HGCD_CK_INLINE bool holds_all(const BodyPose &out, const Rotation &ro, const SatData &so, const BodyPose &in,
+                              const Rotation &ri) {
+    const Mesh &m = *in.mesh;
+    for (uint32_t v = 0; v < m.vertex_count; ++v) {
+        double w[3];
+        transform_point(ri, in.position, in.scale, &m.vertices[3 * size_t(v)], w);
+        if (!vertex_inside(out, ro, so, w)) return false;
+    }
+    return true;
+}
+
+HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
+    const SatData &sa = *a.mesh->sat, &sb = *b.mesh->sat;
+    PairView p{a, b, sa, sb, rotation_of(a.orientation), rotation_of(b.orientation), {}, 0};
+    const double *ca = a.position, *cb = b.position;
+    for (int k = 0; k < 3; ++k) p.u[k] = cb[k] - ca[k];
+    // The line of centres: tet_axis_separates's test and margin (tetra.hpp),
+    // whose argument holds for any number of vertices (the world vertices
+    // are fl(c + fl(R l)) with l = fl(s v) here too, and reach bounds
+    // |v|_1 of every vertex), with the projections' other ends for the poke
+    // tests below.
+    double da[3], db[3], ub[3];
+    rotate_t(p.ra, p.u, da);
+    rotate_t(p.rb, p.u, ub);
+    for (int j = 0; j < 3; ++j) db[j] = -1.0 * ub[j];
+    double alo, ahi, blo, bhi;
+    range(sa, a.scale, da, alo, ahi);
+    range(sb, b.scale, db, blo, bhi);
+    const double uu = (p.u[0] * p.u[0] + p.u[1] * p.u[1]) + p.u[2] * p.u[2];
+    const double reach_ab = ahi + bhi;
+    const double gap = uu - reach_ab;
+    const double reach = 2 * (a.scale * sa.reach + b.scale * sb.reach);
+    const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(p.u[0]) +
+                       (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * std::fabs(p.u[1])) +
+                      (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * std::fabs(p.u[2]);
+    const double cmargin = tet::kCentresMargin * (uu + cu) + tet::kUnderflowFloor;
+    if (gap > 0 && gap > cmargin) return ConvexVerdict::ApartOnCentres;
+    // On that line, relative to c_a, a's vertices project to [alo, ahi] and
+    // b's to [uu - bhi, uu - blo] (b's range is taken along -R_b^T u): the
+    // same sums as the gap above with other ends of the ranges, so the same
+    // argument and margin make each comparison below certain.
+    const bool b_out = (uu - blo) - ahi > cmargin;  // a vertex of b beyond a's far end
+    const bool a_out = (uu - bhi) - alo > cmargin;  // a vertex of a before b's near end
+    const bool deep = reach_ab > kDeep * uu;
+    auto poke = [&] {
+        if (!sa.inside_test || !sb.inside_test) return false;
+        return (b_out && vertex_poke(a, p.ra, sa, b, p.rb, db, bhi)) ||
+               (a_out && vertex_poke(b, p.rb, sb, a, p.ra, da, ahi)) ||
+               (a_out && b_out && point_inside_both(a, sa, b, sb, p.u, da, db));
+    };
+    if (deep && poke()) return ConvexVerdict::Surface;
+    p.scale = ((norm_inf(ca) + norm_inf(cb)) + a.scale * sa.reach) + b.scale * sb.reach;
+    if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
+    if (!deep && poke()) return ConvexVerdict::Surface;
+    // One body's stretch of the line of centres inside the other's: try
+    // whether it holds the whole body.
+    if (sa.inside_test && sb.inside_test) {
+        if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb)) return ConvexVerdict::AHoldsB;
+        if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra)) return ConvexVerdict::BHoldsA;
+    }
+    return ConvexVerdict::Open;
+}
+
+#if HGCD_AVX2
+__attribute__((target("avx2"))) ConvexVerdict decide_avx2(const BodyPose &a, const BodyPose &b) {
+    return decide(a, b);
+}
+#endif
+ConvexVerdict decide_base(const BodyPose &a, const BodyPose &b) { return decide(a, b); }
+
+}  // namespace
+
+ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b) {
+#if HGCD_AVX2
+    if (use_avx2()) return decide_avx2(a, b);
+#endif
+    return decide_base(a, b);
+}
+
+}  // namespace hgcd

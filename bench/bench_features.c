@@ -2,6 +2,7 @@
  *
  *   bench_features --mode static|mask|events [--n N] [--dynamic D]
  *                  [--threads K] [--ticks T] [--rounds R] [--commit HASH]
+ *                  [--engine 0|1] [--per-tick 0|1]
  *
  * static: a scene of N + D objects (default 1000000 + 50000) in the
  *   reference cube (side 200); objects 0 .. D-1 are dynamic and move with the
@@ -25,7 +26,10 @@
  *
  * Each round builds world A, runs T ticks, frees it, then the same for B
  * (A/B interleaved by round; building is not timed). Prints one JSON line:
- * medians over every tick of every round, in ms, and the ratios. */
+ * medians over every tick of every round, in ms, and the ratios; the
+ * *_cpu_ms figures are the process's CPU time of a tick (hgcd's part only),
+ * which a loaded machine does not stretch as it does the wall clock (with
+ * 1 thread). --per-tick 1: each tick's times and counts to stderr. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -40,12 +44,20 @@ typedef struct {
     const char *mode, *commit;
     uint64_t n, dynamic;
     unsigned threads;
-    int ticks, rounds, engine;
+    int ticks, rounds, engine, per_tick;
 } options;
 
 static double now(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* The process's CPU time: a loaded machine stretches the wall-clock time
+ * of a tick, not its CPU time on 1 thread. */
+static double cpu_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
@@ -120,7 +132,7 @@ static hgcd_world *make_world(const options *o, const scene *s, const uint64_t *
 }
 
 typedef struct {
-    double *total, *narrow, *broad, *events; /* ms, one per tick of every round */
+    double *total, *narrow, *broad, *events, *cpu; /* ms, one per tick of every round */
     hgcd_stats last;
 } samples;
 
@@ -139,8 +151,10 @@ static int run(hgcd_world *w, const options *o, const scene *s, samples *smp, in
     }
     for (int k = 0; k < o->ticks; ++k) {
         double wall = 0;
+        double c0 = cpu_now();
         if (o->engine) {
             hgcd_scene_tetra_move(D, s->side, c, v);
+            c0 = cpu_now();
             const double t0 = now();
             if (failed(hgcd_world_set_poses(w, NULL, D, c, 0, NULL, 0), w, "world_set_poses") ||
                 failed(hgcd_world_detect(w), w, "world_detect"))
@@ -153,11 +167,17 @@ static int run(hgcd_world *w, const options *o, const scene *s, samples *smp, in
         st.struct_size = sizeof st;
         if (failed(hgcd_world_stats(w, &st), w, "world_stats")) return 1;
         smp->total[*at] = 1e3 * (o->engine ? wall : st.total_seconds);  /* engine: set_poses + detect */
+        smp->cpu[*at] = 1e3 * (cpu_now() - c0);
         smp->narrow[*at] = 1e3 * st.narrow_seconds;
         smp->broad[*at] = 1e3 * st.broad_seconds;
         smp->events[*at] = 1e3 * st.events_seconds;
         ++*at;
         smp->last = st;
+        if (o->per_tick)
+            fprintf(stderr, "%s tick %d: %.3f ms cpu %.3f (update %.3f broad %.3f narrow %.3f) searched %llu candidates %llu levels %u oversize %u\n",
+                    which ? "B" : "A", k, smp->total[*at - 1], smp->cpu[*at - 1], 1e3 * st.update_seconds, 1e3 * st.broad_seconds,
+                    1e3 * st.narrow_seconds, (unsigned long long)st.searched_bodies,
+                    (unsigned long long)st.candidate_pairs, st.level_count, st.oversize_count);
         if (!pairs_out) continue;
         const hgcd_pair *p;
         size_t n;
@@ -248,9 +268,10 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--rounds")) o.rounds = atoi(v);
         else if (!strcmp(a, "--commit")) o.commit = v;
         else if (!strcmp(a, "--engine")) o.engine = atoi(v);
+        else if (!strcmp(a, "--per-tick")) o.per_tick = atoi(v);
         else {
             fprintf(stderr, "usage: %s --mode static|mask|events [--n N] [--dynamic D] [--threads K] [--ticks T] "
-                            "[--rounds R] [--commit HASH] [--engine 0|1]\n", argv[0]);
+                            "[--rounds R] [--commit HASH] [--engine 0|1] [--per-tick 0|1]\n", argv[0]);
             return 2;
         }
     }
@@ -260,8 +281,8 @@ int main(int argc, char **argv) {
     scene s;
     if (scene_make(&s, total, 200)) return 1;
     const size_t T = (size_t)o.ticks * (size_t)o.rounds;
-    samples A = {calloc(T, 8), calloc(T, 8), calloc(T, 8), calloc(T, 8), {0}};
-    samples B = {calloc(T, 8), calloc(T, 8), calloc(T, 8), calloc(T, 8), {0}};
+    samples A = {calloc(T, 8), calloc(T, 8), calloc(T, 8), calloc(T, 8), calloc(T, 8), {0}};
+    samples B = {calloc(T, 8), calloc(T, 8), calloc(T, 8), calloc(T, 8), calloc(T, 8), {0}};
     int at_a = 0, at_b = 0;
     uint64_t *which_b = NULL, count_b = total;
     int32_t *type_a = NULL, *type_b = NULL;
@@ -309,6 +330,7 @@ int main(int argc, char **argv) {
         printf(",\"events_ms\":%.3f,\"events_share\":%.4f}\n", median(A.events, nt), median(ev, nt < 4096 ? nt : 4096));
         return 0;
     }
+    const double a_cpu = median(A.cpu, nt), b_cpu = median(B.cpu, nt);
     const double b_total = median(B.total, nt), b_narrow = median(B.narrow, nt), b_broad = median(B.broad, nt);
     printf(",\"b_bodies\":%llu,\"b_tick_ms\":%.3f,\"b_broad_ms\":%.3f,\"b_narrow_ms\":%.3f,\"b_candidates\":%llu,"
            "\"b_filtered\":%llu,\"b_narrow_tests\":%llu,\"b_pairs\":%llu,\"tick_ratio_a_over_b\":%.3f,"
@@ -317,6 +339,7 @@ int main(int argc, char **argv) {
            (unsigned long long)B.last.filtered_pairs, (unsigned long long)B.last.narrow_tests,
            (unsigned long long)B.last.colliding_pairs, a_total / b_total, b_narrow / a_narrow,
            (b_broad + b_narrow) / (a_broad + a_narrow));
+    printf(",\"a_tick_cpu_ms\":%.3f,\"b_tick_cpu_ms\":%.3f,\"cpu_ratio_a_over_b\":%.3f", a_cpu, b_cpu, a_cpu / b_cpu);
     if (is_static) printf(",\"same_pairs\":%s", same ? "true" : "false");
     printf("}\n");
     return is_static && !same;

@@ -85,7 +85,9 @@
  *                     (all threads) in those calls: on 1 thread, the
  *                     figure to compare on a machine busy with other work;
  *                     searched_bodies and unmoved_pairs of the last tick
- *                     (hgcd_stats).
+ *                     (hgcd_stats);
+ *   step mode only:   tick_cpu_ms  median of the process's CPU time in
+ *                     hgcd_world_step.
  *
  * --per-tick prints each tick's times and pairs_fnv to stderr. Diagnostics go
  * to stderr. Exit status: 0 when the JSON line was printed (even with
@@ -436,9 +438,10 @@ static int engine_tick(hgcd_world *w, const options *o, caller_state *c, double 
 static int run_ticks(hgcd_world *w, const options *o, caller_state *c, double *s[S_COUNT], hgcd_stats *st) {
     for (int k = 0; k < o->ticks; ++k) {
         if (o->mode == MODE_STEP) {
-            const double t0 = now_seconds();
+            const double t0 = now_seconds(), c0 = cpu_seconds();
             if (failed(hgcd_world_step(w), w, "world_step")) return 1;
             s[S_WALL][k] = 1e3 * (now_seconds() - t0);
+            s[S_DETECT_CPU][k] = 1e3 * (cpu_seconds() - c0);
         } else if (engine_tick(w, o, c, s, k)) {
             return 1;
         }
@@ -526,6 +529,7 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
            r->initial_ms, r->setup_ms, st->level_count, st->oversize_count, r->rss_after / (1024.0 * 1024.0),
            (r->rss_after - r->rss_before) / (double)o->n, tick_mean, tick_max, update_mean, broad_mean,
            narrow_mean);
+    if (o->mode == MODE_STEP) printf("\"tick_cpu_ms\":%.3f,", median(s[S_DETECT_CPU], ticks));
     if (o->mode != MODE_STEP || o->mesh_per_body)
         printf("\"mesh_per_body\":%s,", o->mesh_per_body ? "true" : "false");
     if (o->mode != MODE_STEP)

@@ -47,6 +47,7 @@ typedef struct {
     hgcd_mesh mesh[2][kShapes];
     hgcd_body id[2][kMaxBodies];
     int live[kMaxBodies], shape[kMaxBodies];
+    int is_static[kMaxBodies], disabled[kMaxBodies]; /* (run_static) */
     double pos[kMaxBodies][3], ori[kMaxBodies][4], scale[kMaxBodies];
     int n;
     double side;
@@ -115,10 +116,12 @@ static void create(scene *sc, int i) {
         memcpy(bd.position, sc->pos[i], sizeof bd.position);
         memcpy(bd.orientation, sc->ori[i], sizeof bd.orientation);
         bd.velocity[0] = 0.01;
+        bd.type = sc->is_static[i] == 1 ? HGCD_BODY_STATIC : HGCD_BODY_DYNAMIC;
         assert_int_equal(hgcd_body_create(sc->w[k], &bd, &sc->id[k][i]), HGCD_OK);
     }
     assert_int_equal(sc->id[0][i].index, sc->id[1][i].index);
     sc->live[i] = 1;
+    sc->disabled[i] = 0;
 }
 
 static void destroy(scene *sc, int i) {
@@ -183,20 +186,25 @@ static void oracle_check(scene *sc) {
     static double p[kMaxBodies][3], q[kMaxBodies][4], s[kMaxBodies];
     static uint32_t index[kMaxBodies], expect[2 * kMaxBodies * 8];
     size_t live = 0;
+    static int still[kMaxBodies];
     for (int i = 0; i < sc->n; ++i) {
-        if (!sc->live[i]) continue;
+        if (!sc->live[i] || sc->disabled[i]) continue;
+        still[live] = sc->is_static[i] == 1;
         meshes[live] = &kOracleMesh[sc->shape[i]];
         memcpy(p[live], sc->pos[i], sizeof p[live]);
         memcpy(q[live], sc->ori[i], sizeof q[live]);
         s[live] = sc->scale[i];
         index[live++] = sc->id[0][i].index;
     }
-    const size_t n = oracle_colliding_pairs(live, meshes, p[0], q[0], s, expect, sizeof expect / (2 * sizeof *expect));
-    assert_true(n <= sizeof expect / (2 * sizeof *expect));
-    for (size_t k = 0; k < n; ++k) { /* to hgcd's indices, a < b, sorted */
+    const size_t all = oracle_colliding_pairs(live, meshes, p[0], q[0], s, expect, sizeof expect / (2 * sizeof *expect));
+    assert_true(all <= sizeof expect / (2 * sizeof *expect));
+    size_t n = 0;
+    for (size_t k = 0; k < all; ++k) { /* to hgcd's indices, a < b, sorted; no static-static pair */
+        if (still[expect[2 * k]] && still[expect[2 * k + 1]]) continue;
         const uint32_t a = index[expect[2 * k]], b = index[expect[2 * k + 1]];
-        expect[2 * k] = a < b ? a : b;
-        expect[2 * k + 1] = a < b ? b : a;
+        expect[2 * n] = a < b ? a : b;
+        expect[2 * n + 1] = a < b ? b : a;
+        ++n;
     }
     qsort(expect, n, 2 * sizeof *expect, cmp_pair);
     const hgcd_pair *got;
@@ -281,6 +289,103 @@ static void run(int n, double side, uint32_t threads, int ticks, int oracle_ever
 /* HGCD_SKIP_SLOW_TESTS (sanitizer and valgrind runs): smaller worlds. */
 static int slow(void) { return getenv("HGCD_SKIP_SLOW_TESTS") == NULL; }
 
+/* A world mostly of static bodies, as a level's geometry: one body in eight
+ * dynamic, moving every tick by a small step along its own direction (so
+ * that most ticks its box stays within the margin around the box it
+ * searched the grid with last: its list of residents is reused), now and
+ * then a jump. Between detects the static bodies change: one is moved, one
+ * destroyed and another created static, one made dynamic for a tick and
+ * static again, one disabled and later enabled; the large boxes (oversize)
+ * are static or dynamic. A's pairs equal B's every tick and the oracle's
+ * (less the static-static pairs) every few ticks. */
+static void set_type(scene *sc, int i, int is_static) {
+    for (int k = 0; k < 2; ++k)
+        assert_int_equal(hgcd_body_set_type(sc->w[k], sc->id[k][i], is_static ? HGCD_BODY_STATIC : HGCD_BODY_DYNAMIC),
+                         HGCD_OK);
+    sc->is_static[i] = is_static;
+}
+
+static void set_enabled(scene *sc, int i, int enabled) {
+    for (int k = 0; k < 2; ++k) assert_int_equal(hgcd_body_set_enabled(sc->w[k], sc->id[k][i], enabled), HGCD_OK);
+    sc->disabled[i] = !enabled;
+}
+
+static void run_static(int n, double side, uint32_t threads, int ticks, int oracle_every, uint64_t seed) {
+    static scene sc;
+    static double dir[kMaxBodies][3];
+    static int moved[kMaxBodies];
+    scene_init(&sc, n, side, threads, seed);
+    for (int i = 0; i < n; ++i) {
+        sc.is_static[i] = i % 8 != 3;
+        create(&sc, i);
+        for (int k = 0; k < 3; ++k) dir[i][k] = 0.04 * (unif(&sc.r) - 0.5);
+    }
+    int incremental = 0, oracle_checks = 0, type_flips = 0;
+    for (int tick = 0; tick < ticks; ++tick) {
+        rng *r = &sc.r;
+        for (int i = 0; i < n; ++i) {
+            moved[i] = sc.live[i] && !sc.is_static[i] && tick > 0;
+            if (!moved[i]) continue;
+            if (next(r) % 50 == 0) {
+                new_pose(&sc, i, 0);
+            } else {
+                for (int k = 0; k < 3; ++k) sc.pos[i][k] += dir[i][k];
+                if (sc.pos[i][0] == sc.pos[i][0] + dir[i][0]) sc.pos[i][0] = nextafter(sc.pos[i][0], INFINITY);
+            }
+        }
+        push_poses(&sc, moved, (unsigned)(next(r) % 3));
+        /* The static bodies change between detects. */
+        const int a = (int)(next(r) % (uint64_t)n), b = (int)(next(r) % (uint64_t)n), c = (int)(next(r) % (uint64_t)n);
+        switch (tick % 6) {
+        case 1: /* a static body moved (by a small step or a jump) */
+            if (sc.live[a] && sc.is_static[a] == 1) {
+                new_pose(&sc, a, (int)(next(r) % 2));
+                for (int k = 0; k < 2; ++k)
+                    assert_int_equal(hgcd_body_set_pose(sc.w[k], sc.id[k][a], sc.pos[a], sc.ori[a]), HGCD_OK);
+            }
+            break;
+        case 2: /* one destroyed, another created static (indices reused) */
+            if (sc.live[a] && sc.is_static[a] == 1) destroy(&sc, a);
+            if (!sc.live[b]) {
+                sc.is_static[b] = 1;
+                create(&sc, b);
+            }
+            break;
+        case 3: /* made dynamic for a tick, or static again; disabled or enabled */
+            for (int i = 0; i < n; ++i)
+                if (sc.live[i] && sc.is_static[i] == 2) set_type(&sc, i, 1);
+            if (sc.live[b] && sc.is_static[b] == 1) {
+                set_type(&sc, b, 0);
+                sc.is_static[b] = 2; /* (dynamic, unmoved: static again next time) */
+                ++type_flips;
+            }
+            if (sc.live[c]) set_enabled(&sc, c, sc.disabled[c]);
+            break;
+        default:
+            break;
+        }
+        assert_int_equal(hgcd_world_set_narrow_phase(sc.w[1], HGCD_NARROW_EXACT), HGCD_OK);
+        for (int k = 0; k < 2; ++k) assert_int_equal(hgcd_world_detect(sc.w[k]), HGCD_OK);
+        same_pairs(&sc);
+        if (tick % oracle_every == 0) {
+            oracle_check(&sc);
+            ++oracle_checks;
+        }
+        const hgcd_stats sa = stats_of(sc.w[0]), sb = stats_of(sc.w[1]);
+        assert_int_equal(sa.colliding_pairs, sb.colliding_pairs);
+        incremental += sa.searched_bodies < sb.searched_bodies;
+    }
+    assert_true(incremental >= ticks / 2);
+    assert_true(oracle_checks > 0 && type_flips > 0);
+    scene_free(&sc);
+}
+
+static void test_incremental_static(void **state) {
+    (void)state;
+    run_static(slow() ? 1600 : 600, slow() ? 20 : 14, 1, slow() ? 48 : 24, 3, 5);
+    run_static(slow() ? 1600 : 600, slow() ? 20 : 14, 2, slow() ? 48 : 24, 3, 6);
+}
+
 static void test_incremental_one_thread(void **state) {
     (void)state;
     if (slow()) run(2400, 24, 1, 60, 0, 1);
@@ -304,6 +409,7 @@ int main(void) {
         cmocka_unit_test(test_incremental_one_thread),
         cmocka_unit_test(test_incremental_two_threads),
         cmocka_unit_test(test_incremental_oracle),
+        cmocka_unit_test(test_incremental_static),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -168,6 +168,13 @@ class Grid {
     // Read-only but for the cursors: threads may query at once, each with
     // its own. May throw bad_alloc. (sweep.cpp)
     void query(const float *lo, const float *hi, uint32_t self, QueryCursors &cursors, PairBuffer &out) const;
+    // The same residents as query() (closed intervals), each with its box
+    // as the lists hold it, appended to out.
+    struct QueryBox {
+        float lo[3], hi[3];
+        uint32_t slot;
+    };
+    void query_boxes(const float *lo, const float *hi, QueryCursors &cursors, std::vector<QueryBox> &out) const;
     // The oversize bodies of the last update, ascending.
     const std::vector<uint32_t> &oversize() const { return oversize_; }
     // Whether an update has built the grid (false for a new or dropped one).

@@ -347,13 +347,13 @@ HGCD_SWEEP_INLINE size_t seek(const T *v, size_t b, size_t e, size_t h, const T 
 // reaches the box's low x (those before it end before the box), searched
 // from where it started last time in that row (entry_hint), and stops with
 // the block that passes its high x.
-template <class Lanes>
-HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, uint32_t self, const RowRange &rr,
-                                  size_t &row_hint, uint32_t *entry_hint, PairBuffer &out) {
+// scan_row(j, e): the entries from j up to the box's high x, of the row
+// ending at e.
+template <class Lanes, class ScanRow>
+HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, const RowRange &rr, size_t &row_hint,
+                                  uint32_t *entry_hint, ScanRow &&scan_row) {
     const CellKey *keys = R.keys.data();
     const size_t rows = R.keys.size();
-    const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
-    const Lanes lanes(box, 0);
     const CellKey last = row_key(rr.z_hi, rr.y_hi);
     size_t k = row_hint = seek(keys, 0, rows, row_hint, row_key(rr.z_lo, rr.y_lo));
     while (k < rows && keys[k] <= last) {
@@ -369,7 +369,7 @@ HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, uint32_t se
         const size_t j = h > b && !(R.box.reach[h - 1] < q[0]) ? seek(R.box.reach, b, e, h, q[0])
                                                                : floor_entry<Lanes>(R.box.reach, h, e, q[0]);
         entry_hint[k] = uint32_t(j);
-        if (j < e && R.box.low_x[j] <= q[1]) scan(lanes, R.box, j, e, q[1], self, out);
+        if (j < e && R.box.low_x[j] <= q[1]) scan_row(j, e);
         ++k;
     }
 }
@@ -378,7 +378,10 @@ HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, uint32_t se
 __attribute__((target("avx2"), noinline)) void query_rows_avx2(const RowsView &R, const float *q, uint32_t self,
                                                                const RowRange &rr, size_t &row_hint,
                                                                uint32_t *entry_hint, PairBuffer &out) {
-    query_rows<Lanes8>(R, q, self, rr, row_hint, entry_hint, out);
+    const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
+    const Lanes8 lanes(box, 0);
+    query_rows<Lanes8>(R, q, rr, row_hint, entry_hint,
+                       [&](size_t j, size_t e) { scan(lanes, R.box, j, e, q[1], self, out); });
 }
 #endif
 
@@ -435,7 +438,39 @@ void Grid::query(const float *lo, const float *hi, uint32_t self, QueryCursors &
             continue;
         }
 #endif
-        query_rows<Lanes4>(R, q, self, rr, cursors.row[l], entry.data(), out);
+        const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
+        const Lanes4 lanes(box, 0);
+        query_rows<Lanes4>(R, q, rr, cursors.row[l], entry.data(),
+                           [&](size_t j, size_t e) { scan(lanes, R.box, j, e, q[1], self, out); });
+    }
+}
+
+void Grid::query_boxes(const float *lo, const float *hi, QueryCursors &cursors, std::vector<QueryBox> &out) const {
+    const size_t levels = levels_.size();
+    if (cursors.row.size() != levels) {
+        cursors.row.assign(levels, 0);
+        cursors.entry.assign(levels, {});
+    }
+    const double dlo[3] = {lo[0], lo[1], lo[2]}, dhi[3] = {hi[0], hi[1], hi[2]};
+    const float q[6] = {lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]};
+    for (size_t l = 0; l < levels; ++l) {
+        const List &list = levels_[l].residents;
+        if (list.count() == 0) continue;
+        std::vector<uint32_t> &entry = cursors.entry[l];
+        if (entry.size() != list.row_keys.size()) entry.assign(list.row_keys.size(), 0);
+        const RowsView R{list.row_keys, list.row_start.data(), list.arrays()};
+        const BoxArrays &B = R.box;
+        // (Box by box: the boxes are copied out, a few a query.)
+        query_rows<Lanes4>(R, q, rows_meeting(dlo, dhi, levels_[l].exponent), cursors.row[l], entry.data(),
+                           [&](size_t j, size_t e) {
+                               for (; j < e && B.low_x[j] <= q[1]; ++j) {
+                                   if (q[0] <= B.high_x[j] && B.low_y[j] <= q[3] && q[2] <= B.high_y[j] &&
+                                       B.low_z[j] <= q[5] && q[4] <= B.high_z[j])
+                                       out.push_back(QueryBox{{B.low_x[j], B.low_y[j], B.low_z[j]},
+                                                              {B.high_x[j], B.high_y[j], B.high_z[j]},
+                                                              B.slot[j]});
+                               }
+                           });
     }
 }
 

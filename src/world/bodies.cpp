@@ -173,6 +173,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     query_.stale = true;
     moved_[slot] = moved_at_[at_[slot]] = 1;  // (its last pairs end)
     if (at_[slot] < mover_.size()) mover_[at_[slot]] |= kDead;  // (the grid may still hold it)
+    ++mover_marks_;  // (the movers' lists of residents may hold it)
     --mesh_users_[body_mesh_[at_[slot]]];
     --live_bodies_;
     if ((body_gen_[slot] & kCounterMask) != kCounterMask) body_free_.push_back(uint32_t(slot));

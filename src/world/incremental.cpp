@@ -10,8 +10,8 @@
 // forgets them.
 //
 // Every pair of bodies whose exact boxes meet and one of which moved is
-// found once: with the other a non-mover resident of the grid (a query of
-// the grid with the moved body's box), a mover (the second grid's own
+// found once: with the other a non-mover resident of the grid (the moved
+// body's list of the residents near it, resident_cache.cpp), a mover (the second grid's own
 // pairs), or a non-mover oversize body of the grid (its box queried in the
 // second grid). The narrow phase decides each exactly, so the pairs are
 // those a full detect finds, bit for bit.
@@ -34,9 +34,6 @@ namespace {
 // grid rather than searching around the moved bodies.
 constexpr double kMoverShare = 0.25;
 
-// Bodies a unit of the queries' dynamic schedule.
-constexpr int64_t kQueryChunk = 64;
-
 }  // namespace
 
 bool World::incremental_fits(const MovedCount &moved) const {
@@ -47,6 +44,7 @@ void World::drop_movers() noexcept {
     std::fill(mover_.begin(), mover_.end(), uint8_t(0));  // (and the marks of the dead)
     side_storage_.clear();
     side_grid_ = Grid();
+    forget_resident_cache();
 }
 
 // moved_list_: the storage indices of the `count` live bodies created or
@@ -88,6 +86,7 @@ uint64_t World::update_movers(int threads) {
     side_storage_.reserve(side_storage_.size() + moved_list_.size());
     for (const uint32_t i : moved_list_)
         if (!(mover_[i] & kMover)) {
+            ++mover_marks_;
             side_storage_.push_back(i);
             mover_[i] = kMover;
         }
@@ -132,31 +131,7 @@ size_t World::find_moved_candidates(int threads) {
     const std::vector<uint32_t> &oversize = grid_.oversize();
     // Each worker's cursors, kept from range to range.
     std::vector<Grid::QueryCursors> cursors_of(static_cast<size_t>(threads)), side_cursors_of(cursors_of.size());
-    // Each moved body against the grid's residents, less the movers
-    // (their boxes there are old) and the bodies destroyed since.
-    parallel_for(threads, int64_t(moved_list_.size()), kQueryChunk, Schedule::Dynamic, [&](int64_t c0, int64_t c1,
-                                                                                            int me) {
-        PairBuffer &mine = candidates_[size_t(me)];
-        Grid::QueryCursors &cursors = cursors_of[size_t(me)];
-        for (size_t k = size_t(c0); k < size_t(c1); ++k) {
-            if (k + 8 < moved_list_.size()) {  // (in storage order, but sparse: few to a line)
-                __builtin_prefetch(world.point(moved_list_[k + 8]));
-                __builtin_prefetch(world.off + 6 * size_t(moved_list_[k + 8]));
-            }
-            const uint32_t m = moved_list_[k];
-            float lo[3], hi[3];
-            broad::float_box(world, m, lo, hi);
-            const size_t from = mine.size();
-            grid_.query(lo, hi, m, cursors, mine);
-            uint64_t *pairs = mine.data();
-            size_t to = from;
-            for (size_t p = from; p < mine.size(); ++p) {
-                pairs[to] = pairs[p];
-                to += mover_[uint32_t(pairs[p])] == 0;
-            }
-            mine.shrink(to);
-        }
-    });
+    find_resident_candidates(threads, cursors_of);
     // The grid's oversize bodies that are not movers against the movers
     // moved since the last detect.
     parallel_for(threads, int64_t(oversize.size()), 1, Schedule::Dynamic, [&](int64_t v0, int64_t v1, int me) {

@@ -202,6 +202,7 @@ bool World::renumber() {
         for (int64_t k = b; k < e; ++k) at_[slot_of_[k]] = uint32_t(k);
     });
     for (uint32_t &i : side_storage_) i = new_of_old[i];  // (the second grid's slots are its own)
+    forget_resident_cache();  // (its lists name storage indices)
     // The meshes' records follow (where bodies have meshes of their own).
     if (pool_.repack(body_mesh_.data(), stored_gen_.data(), n)) refresh_records();
     return true;

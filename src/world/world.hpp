@@ -194,6 +194,11 @@ class World {
     void list_moved(int threads, size_t count);
     uint64_t update_movers(int threads);  // returns the bodies that changed cell
     size_t find_moved_candidates(int threads);
+    // The moved bodies' pairs with the grid's residents that are not
+    // movers, into candidates_, through each mover's cached list of the
+    // residents near it (resident_cache.cpp).
+    void find_resident_candidates(int threads, std::vector<Grid::QueryCursors> &cursors_of);
+    void forget_resident_cache() noexcept;  // (the grid or storage changed)
     size_t keep_unmoved_colliding(int threads);
     // Forgets the movers (before the grid is updated, or dropped). No throw.
     void drop_movers() noexcept;
@@ -344,6 +349,23 @@ class World {
     Grid side_grid_;
     std::vector<PairBuffer> side_found_;
     std::vector<uint32_t> moved_list_;
+    // Per mover (by its index in the second grid), the grid's residents
+    // that met its fat box when it last searched the grid, with their boxes
+    // (resident_cache.cpp): a run of the worker's pool of the last detect
+    // that made it; valid while the mover moved at every detect since, and
+    // free of new movers while mover_marks_ (which counts bodies that became
+    // movers or died) has not changed since.
+    using ResidentEntry = Grid::QueryBox;  // (slot: the storage index)
+    struct ResidentCache {
+        float fat[6], last[3];  // fat box, and the low corner of the box at the last detect
+        uint32_t worker, begin, count;
+        bool valid = false;
+        uint64_t marks;
+    };
+    std::vector<ResidentCache> resident_cache_;
+    std::vector<std::vector<ResidentEntry>> resident_pool_[2];  // per worker: the last detect's, and this one's
+    int resident_pool_at_ = 0;  // the last detect's
+    uint64_t mover_marks_ = 0;
 
     Grid grid_;
     std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs

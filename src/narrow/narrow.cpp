@@ -307,6 +307,50 @@ inline bool obb_separated(const double *na, const double *nb) {
     return apart;
 }
 
+// Is the box `other` (which holds every rounded world vertex under a node of
+// the other body) strictly on one side of the plane of each triangle of leaf
+// n of v? Then no triangle under that node meets the leaf. The axis is the
+// computed normal (any vector is a valid axis); a triangle projects within
+// its vertices' projections, each computed within g_3 sum_k |n_k v_k| of
+// exact, the box within its corners' extremes sum_k max(n_k lo_k, n_k hi_k)
+// (and min), computed within g_4 sum_k |n_k| max(|lo_k|, |hi_k|): margins of
+// 2e-15 times those sums (+ 1e-300 for underflow) cover them and the
+// rounding of the margins and comparisons. A zero normal proves nothing.
+bool leaf_planes_apart(BodyView &v, uint32_t n, const double *other) {
+    uint32_t first, count;
+    leaf_range(v, n, first, count);
+    for (uint32_t t = first; t < first + count; ++t) {
+        const uint32_t *f = &v.tris[3 * size_t(t)];
+        const double *p0 = v.vertex(f[0]), *p1 = v.vertex(f[1]), *p2 = v.vertex(f[2]);
+        const double u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        const double w[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        const double nx = u[1] * w[2] - u[2] * w[1], ny = u[2] * w[0] - u[0] * w[2], nz = u[0] * w[1] - u[1] * w[0];
+        const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
+        double tmin = INFINITY, tmax = -INFINITY, tmag = 0;
+        for (const double *p : {p0, p1, p2}) {
+            const double d = (nx * p[0] + ny * p[1]) + nz * p[2];
+            tmin = std::min(tmin, d);
+            tmax = std::max(tmax, d);
+            tmag = std::max(tmag, (ax * std::fabs(p[0]) + ay * std::fabs(p[1])) + az * std::fabs(p[2]));
+        }
+        const double bmax = (std::max(nx * other[0], nx * other[3]) + std::max(ny * other[1], ny * other[4])) +
+                            std::max(nz * other[2], nz * other[5]);
+        const double bmin = (std::min(nx * other[0], nx * other[3]) + std::min(ny * other[1], ny * other[4])) +
+                            std::min(nz * other[2], nz * other[5]);
+        const double bmag = (ax * std::max(std::fabs(other[0]), std::fabs(other[3])) +
+                             ay * std::max(std::fabs(other[1]), std::fabs(other[4]))) +
+                            az * std::max(std::fabs(other[2]), std::fabs(other[5]));
+        const double slack = 2e-15 * (tmag + bmag) + 1e-300;
+        if (!(bmin - slack > tmax || bmax + slack < tmin)) return false;
+    }
+    return true;
+}
+
+// A leaf of at most this many triangles is tried against the planes of its
+// triangles (leaf_planes_apart) before the other node is descended: a body
+// deep inside a large mesh, or near its flat faces, stops there.
+constexpr uint32_t kPlaneLeaf = 16;
+
 // Do the surfaces meet under the node pair (start_a, start_b)? meet: the
 // meeting triangles (leaf order), leaves: their leaves.
 bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, uint32_t start_a,
@@ -324,6 +368,13 @@ bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, ui
         // The oriented test pays off above the leaves (a leaf pair goes to
         // triangle boxes, which are cheaper).
         if (oriented && !(la && lb) && obb_separated(ba, bb)) continue;
+        if (la != lb) {
+            BodyView &lv = la ? a : b;
+            const uint32_t ln = la ? i : j;
+            uint32_t first, count;
+            leaf_range(lv, ln, first, count);
+            if (count <= kPlaneLeaf && leaf_planes_apart(lv, ln, la ? bb : ba)) continue;
+        }
         if (la && lb) {
             if (leaves_meet(a, i, ba, b, j, bb, s, meet)) {
                 leaves[0] = i;

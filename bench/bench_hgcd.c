@@ -4,8 +4,10 @@
  *              [--lib NAME] [--min-cell-size W] [--side L] [--check]
  *              [--mode step|engine-batch|engine-single] [--mesh-per-body]
  *              [--turn A] [--moving-fraction F] [--per-tick]
- *              [--thread-policy adaptive|fixed] [--tasks]
+ *              [--thread-policy adaptive|fixed] [--tasks] [--margin M]
  *
+ * --margin sets hgcd_world_desc.contact_margin (default 0; the JSON's
+ * "margin"): every pair takes the exact margin path of the narrow phase.
  * --thread-policy sets the world's hgcd_world_desc.thread_policy (default
  * adaptive, the library's default: fewer threads while the cores are busy
  * with other work; fixed: always --threads).
@@ -194,7 +196,7 @@ typedef struct options {
     int ticks, check, per_tick, mesh_per_body, fixed_threads, tasks;
     enum mode mode;
     const char *commit, *lib;
-    double min_cell, side, turn, moving_fraction;
+    double min_cell, side, turn, moving_fraction, margin;
 } options;
 
 /* 0 on success, 2 on a usage error (printed). */
@@ -231,6 +233,7 @@ static int parse_options(int argc, char **argv, options *o) {
         else if (!strcmp(a, "--commit")) o->commit = v;
         else if (!strcmp(a, "--lib")) o->lib = v;
         else if (!strcmp(a, "--min-cell-size")) o->min_cell = strtod(v, NULL);
+        else if (!strcmp(a, "--margin")) o->margin = strtod(v, NULL);
         else if (!strcmp(a, "--side")) o->side = strtod(v, NULL);
         else if (!strcmp(a, "--turn")) o->turn = strtod(v, NULL);
         else if (!strcmp(a, "--moving-fraction")) o->moving_fraction = strtod(v, NULL);
@@ -508,7 +511,7 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
     const double update_mean = mean(s[S_UPDATE], ticks), broad_mean = mean(s[S_BROAD], ticks);
     const double narrow_mean = mean(s[S_NARROW], ticks), threads_used = mean(s[S_THREADS], ticks);
     printf("{\"lib\":\"%s\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
-           "\"commit\":\"%s\",\"version\":\"%s\",\"mode\":\"%s\",\"thread_policy\":\"%s\",\"tasks\":%s,\"threads_used_mean\":%.2f,\"bounding_volume\":\"box\",\"min_cell_size\":%g,"
+           "\"commit\":\"%s\",\"version\":\"%s\",\"mode\":\"%s\",\"thread_policy\":\"%s\",\"tasks\":%s,\"threads_used_mean\":%.2f,\"bounding_volume\":\"box\",\"min_cell_size\":%g,\"margin\":%g,"
            "\"broad_ms\":%.3f,\"narrow_ms\":%.3f,\"update_ms\":%.3f,\"motion_ms\":%.3f,\"tick_ms\":%.3f,"
            "\"wall_ms\":%.3f,\"candidate_pairs\":%llu,\"narrow_tests\":%llu,\"colliding_pairs\":%llu,"
            "\"containment_pairs\":%llu,\"triangle_tests\":%llu,\"moved_bodies\":%llu,\"pairs_fnv\":\"%016llx\","
@@ -519,7 +522,7 @@ static void print_json(const options *o, const results *r, double *s[S_COUNT]) {
            "\"narrow_mean_ms\":%.3f,",
            o->lib, (unsigned long long)o->n, (unsigned long long)o->seed, r->initial.thread_count, ticks, o->commit,
            hgcd_version_string(), mode_names[o->mode], o->fixed_threads ? "fixed" : "adaptive", o->tasks ? "true" : "false", threads_used,
-           o->min_cell, median(s[S_BROAD], ticks),
+           o->min_cell, o->margin, median(s[S_BROAD], ticks),
            median(s[S_NARROW], ticks), median(s[S_UPDATE], ticks), median(s[S_MOTION], ticks),
            median(s[S_TOTAL], ticks), median(s[S_WALL], ticks), (unsigned long long)st->candidate_pairs,
            (unsigned long long)st->narrow_tests, (unsigned long long)st->colliding_pairs,
@@ -563,6 +566,7 @@ static int make_world(const options *o, const hgcd_scene_tetra_desc *sd, const c
     }
     wd.reflect_at_bounds = 1;
     wd.min_cell_size = o->min_cell;
+    wd.contact_margin = o->margin;
     for (int k = 0; k < 3; ++k) {
         wd.bounds_min[k] = 0.0;
         wd.bounds_max[k] = sd->side;

@@ -35,6 +35,7 @@ fi
 flags="-g -O1 -ffp-contract=off -fno-omit-frame-pointer $san"
 clang -std=c99 $flags -fsanitize=fuzzer-no-link -c tests/oracle.c -o "$out/oracle.o"
 clang -std=c99 $flags -fsanitize=fuzzer-no-link -c tests/oracle_query.c -o "$out/oracle_query.o"
+clang -std=c99 $flags -fsanitize=fuzzer-no-link -c tests/oracle_distance.c -o "$out/oracle_distance.o"
 clang++ -std=c++17 $flags -fsanitize=fuzzer -fopenmp -Iinclude -Itests \
-    fuzz/fuzz_api.cpp "$out/oracle.o" "$out/oracle_query.o" "$out/libhgcd.a" -lgmp -lm "${extra[@]}" -o "$out/fuzz_api"
+    fuzz/fuzz_api.cpp "$out/oracle.o" "$out/oracle_query.o" "$out/oracle_distance.o" "$out/libhgcd.a" -lgmp -lm "${extra[@]}" -o "$out/fuzz_api"
 echo "built $out/fuzz_api"

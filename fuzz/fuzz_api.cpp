@@ -225,6 +225,7 @@ struct MBody {
     int32_t type = HGCD_BODY_DYNAMIC;
     bool enabled = true;
     hgcd_filter filter = hgcd_filter_default();
+    double margin = 0;
 };
 
 struct Model {
@@ -259,6 +260,11 @@ double vertex_norm(const double *v) { return std::sqrt((v[0] * v[0] + v[1] * v[1
 bool vertex_ok(const double *v) {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) && vertex_norm(v) <= 1e15;
 }
+
+// A contact margin as hgcd.h states it: finite, >= 0, <= 1e15.
+bool margin_ok(double x) { return std::isfinite(x) && x >= 0 && x <= 1e15; }
+const double kMargins[] = {0.25, 1e-9, 1, 0.0625, kNaN, -1, 2e15, -0.0};
+double pick_margin(uint8_t k) { return kMargins[k % (sizeof kMargins / sizeof kMargins[0])]; }
 
 bool pose_ok(const double *p, const double *q) {
     if (p)
@@ -349,9 +355,18 @@ void check_pairs(Model &m) {
         std::memcpy(&q[4 * k], b.q, sizeof b.q);
         s[k] = b.s;
     }
-    const size_t ne = oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), nullptr, 0);
+    // With margins, the pairs within each pair's margin (oracle_distance.c).
+    std::vector<double> mg(n + 1, 0.0);
+    bool margins = m.desc.contact_margin > 0;
+    for (size_t k = 0; k < n; ++k) margins |= (mg[k] = m.bodies[order[k].second].margin) > 0;
+    const size_t ne = margins ? oracle_pairs_within(n, bm.data(), p.data(), q.data(), s.data(), m.desc.contact_margin,
+                                                    mg.data(), nullptr, 0)
+                              : oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), nullptr, 0);
     std::vector<uint32_t> e(2 * ne + 2);
-    oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), e.data(), ne);
+    if (margins)
+        oracle_pairs_within(n, bm.data(), p.data(), q.data(), s.data(), m.desc.contact_margin, mg.data(), e.data(), ne);
+    else
+        oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), e.data(), ne);
     std::set<std::pair<uint32_t, uint32_t>> want, have;
     for (size_t k = 0; k < ne; ++k)
         if (considered(m, m.bodies[order[e[2 * k]].second], m.bodies[order[e[2 * k + 1]].second]))
@@ -420,6 +435,9 @@ void check_state(Model &m) {
         EXPECT(hgcd_body_get_filter(m.w, b.id, &f) == HGCD_OK && f.category_bits == b.filter.category_bits &&
                    f.mask_bits == b.filter.mask_bits && f.group_index == b.filter.group_index && f.reserved == 0,
                "filter of %u", b.id.index);
+        double mg;
+        EXPECT(hgcd_body_get_margin(m.w, b.id, &mg) == HGCD_OK && !std::memcmp(&mg, &b.margin, sizeof mg),
+               "margin of %u", b.id.index);
         EXPECT(hgcd_body_get_mesh(m.w, b.id, &mid) == HGCD_OK && mid.index == m.meshes[b.mesh].id.index &&
                    mid.generation == m.meshes[b.mesh].id.generation,
                "body mesh");
@@ -662,6 +680,10 @@ void op_body_create(Input &in, Model &m, const Ctx &cx) {
         if (!std::isfinite(d.scale) || !(d.scale > 0) || d.scale * reach > 1e15) expect = HGCD_ERROR_INVALID_ARGUMENT;
     }
     const uint8_t corrupt = in.u8();
+    if (corrupt / 20 >= 8) {  // (from the corruption byte: older inputs keep their bytes' meaning)
+        d.margin = pick_margin(uint8_t(corrupt / 20 - 8));
+        if (expect == HGCD_OK && !margin_ok(d.margin)) expect = HGCD_ERROR_INVALID_ARGUMENT;
+    }
     const hgcd_body_desc *dp = &d;
     hgcd_body out{77, 77}, *outp = &out;
     switch (corrupt % 20) {
@@ -691,6 +713,7 @@ void op_body_create(Input &in, Model &m, const Ctx &cx) {
     std::memcpy(b.v, d.velocity, sizeof b.v);
     b.s = d.scale;
     b.user = d.user_data;
+    b.margin = d.margin;
     m.bodies.push_back(b);
     ++m.meshes[mk].users;
     ++m.live_bodies;
@@ -717,7 +740,14 @@ void op_filtering(Input &in, Model &m) {
     const int k = live_body_of(m, id);
     const uint8_t what = in.u8();
     hgcd_status s, expect = k < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK;
-    switch (what % 5) {
+    switch (what % 6) {
+        case 5: {  // a contact margin
+            const double mg = pick_margin(in.u8());
+            if (expect == HGCD_OK && !margin_ok(mg)) expect = HGCD_ERROR_INVALID_ARGUMENT;
+            s = hgcd_body_set_margin(m.w, id, mg);
+            if (s == HGCD_OK) m.bodies[k].margin = mg;
+            break;
+        }
         case 0: {
             const int32_t type = int32_t(in.u8() % 4) - (in.u8() % 16 == 0 ? 5 : 0);  // 3 and negatives: refused
             if (expect == HGCD_OK && (type < 0 || type > 2)) expect = HGCD_ERROR_INVALID_ARGUMENT;
@@ -750,7 +780,7 @@ void op_filtering(Input &in, Model &m) {
             const int j = live_body_of(m, other);
             if (expect == HGCD_OK && j < 0) expect = HGCD_ERROR_STALE_ID;
             if (expect == HGCD_OK && j == k) expect = HGCD_ERROR_INVALID_ARGUMENT;
-            const bool exclude = what % 5 == 3;
+            const bool exclude = what % 6 == 3;
             s = exclude ? hgcd_world_exclude_pair(m.w, id, other) : hgcd_world_include_pair(m.w, id, other);
             uint32_t got = 7;
             const hgcd_status q = hgcd_world_pair_excluded(m.w, id, other, &got);
@@ -764,7 +794,7 @@ void op_filtering(Input &in, Model &m) {
             break;
         }
     }
-    EXPECT(s == expect, "filtering call %u: %s, expected %s (%s)", what % 5, hgcd_status_string(s),
+    EXPECT(s == expect, "filtering call %u: %s, expected %s (%s)", what % 6, hgcd_status_string(s),
            hgcd_status_string(expect), hgcd_world_last_error(m.w));
 }
 
@@ -1286,6 +1316,8 @@ bool make_world(Input &in, Model &m, Ctx &cx) {
                                       {0, 1e-9}, {4, 2}, {kNaN, 0}, {0, -1}, {5e-324, 1.7976931348623157e308}};
     const int ci = b % 12;
     d.kinematic_pairs = (a ^ b ^ c) & 1;
+    const uint8_t mi = uint8_t(((b ^ c) >> 3) % 16);  // (mostly 0; from bits already read)
+    d.contact_margin = mi < 10 ? 0 : pick_margin(uint8_t(mi - 10));
     d.min_cell_size = cells[ci][0];
     d.max_cell_size = cells[ci][1];
     cx.anchor = kAnchors[(b >> 4) % 6];
@@ -1300,7 +1332,7 @@ bool make_world(Input &in, Model &m, Ctx &cx) {
         d.finish_task = finish_never;
         task_workers = d.thread_count;
     }
-    bool valid = std::isfinite(d.time_step) && d.time_step >= 0;
+    bool valid = std::isfinite(d.time_step) && d.time_step >= 0 && margin_ok(d.contact_margin);
     const double mn = d.min_cell_size, mx = d.max_cell_size;
     valid = valid && std::isfinite(mn) && std::isfinite(mx) && mn >= 0 && mx >= 0 && !(mn > 0 && mx > 0 && mn > mx);
     for (int k = 0; k < 3 && d.reflect_at_bounds; ++k)  // (bounds are read only when reflecting)

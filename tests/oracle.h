@@ -71,6 +71,25 @@ size_t oracle_last_containment_pairs(void);
 void oracle_world_vertex(const double position[3], const double orientation[4],
                          double scale, const double m[3], double out[3]);
 
+
+/* Contact margin (oracle_distance.c). 1 if the closed triangles p and q
+ * (possibly degenerate) are within Euclidean distance d >= 0, exactly: their
+ * exact squared distance, a rational, is at most d^2. */
+int oracle_tri_tri_within(const double p[9], const double q[9], double d);
+
+/* A pair's margin as hgcd.h defines it: world_margin + (margin_a + margin_b),
+ * each addition rounded to double. */
+double oracle_pair_margin(double world_margin, double margin_a, double margin_b);
+
+/* All body pairs (i < j) within their margin d = oracle_pair_margin(
+ * world_margin, margins[i], margins[j]) (margins NULL: all 0): some
+ * triangle pair within d, or the bodies collide (oracle_colliding_pairs:
+ * containment). Pairs sorted, as oracle_colliding_pairs. Brute force over
+ * every pair of bodies and triangles: small scenes only. */
+size_t oracle_pairs_within(size_t body_count, const oracle_mesh *const *body_mesh, const double *positions,
+                           const double *orientations, const double *scales, double world_margin,
+                           const double *margins, uint32_t *out_pairs, size_t out_capacity);
+
 #ifdef __cplusplus
 }
 #endif

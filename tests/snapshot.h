@@ -23,6 +23,7 @@ typedef struct {
     int32_t type;
     uint32_t enabled;
     hgcd_filter filter;
+    double margin;
 } snap_body;
 
 typedef struct {
@@ -65,6 +66,7 @@ static void snap_take(snapshot *s, const hgcd_world *w, const hgcd_body *bodies,
         hgcd_body_get_type(w, bodies[k], &b->type);
         hgcd_body_get_enabled(w, bodies[k], &b->enabled);
         hgcd_body_get_filter(w, bodies[k], &b->filter);
+        hgcd_body_get_margin(w, bodies[k], &b->margin);
     }
     for (k = 0; k < nmeshes; ++k) {
         s->meshes[k].info.struct_size = sizeof s->meshes[k].info;
@@ -116,6 +118,7 @@ static const char *snap_diff(const snapshot *a, const snapshot *b, int same_worl
         if (x->user_data != y->user_data) return "body user data";
         if (x->type != y->type || x->enabled != y->enabled) return "body type or enabling";
         if (memcmp(&x->filter, &y->filter, sizeof x->filter)) return "body filter";
+        if (memcmp(&x->margin, &y->margin, sizeof x->margin)) return "body margin";
         if (x->mesh.index != y->mesh.index) return "body mesh";
         if (same_world ? x->mesh.generation != y->mesh.generation
                        : SNAP_COUNTER(x->mesh.generation) != SNAP_COUNTER(y->mesh.generation))

@@ -335,6 +335,17 @@ typedef struct hgcd_world_desc {
      *  dropped before the narrow phase. Pairs of two static bodies are never
      *  reported. */
     uint32_t kinematic_pairs;
+    /** Contact margin of every pair: a pair of bodies a, b is reported when
+     *  their closed solids come within Euclidean distance
+     *  d = contact_margin + (margin_a + margin_b) of each other (one solid
+     *  grown by a ball of radius d meets the other), each addition rounded
+     *  to double as written (margin_*: hgcd_body_desc.margin). Decided
+     *  exactly on the world vertices, with no tolerance but d itself
+     *  (docs/semantics.md, "Contact margin"). Default 0: the closed solids
+     *  must share a point (today's exact touching, at its speed). Finite,
+     *  >= 0 and <= 1e15. A pair with d > 0 takes the exact margin path of
+     *  the narrow phase: no tetrahedron, convex or libccd shortcut. */
+    double contact_margin;
 } hgcd_world_desc;
 
 /** A world descriptor with every default filled in (see the fields).
@@ -498,7 +509,11 @@ enum hgcd_contact_kind {
     HGCD_CONTACT_B_CONTAINS_A = 3,
     /** Decided by libccd (a GJK or MPR pair): depth, normal and point are
      *  libccd's penetration estimate (EPA after GJK, or MPR's own). */
-    HGCD_CONTACT_PENETRATION = 4
+    HGCD_CONTACT_PENETRATION = 4,
+    /** The solids do not share a point but are within the pair's contact
+     *  margin (hgcd_world_desc.contact_margin): triangle triangle_a of a's
+     *  mesh and triangle_b of b's are within that distance. */
+    HGCD_CONTACT_NEAR = 5
 };
 
 /** One colliding pair and what it is made of. */
@@ -507,10 +522,11 @@ typedef struct hgcd_contact {
     hgcd_pair pair;
     /** enum hgcd_contact_kind. */
     int32_t kind;
-    /** SURFACE: the index of a triangle of a's mesh (as given to
-     *  hgcd_mesh_create) that meets triangle_b; UINT32_MAX for other kinds. */
+    /** SURFACE and NEAR: the index of a triangle of a's mesh (as given to
+     *  hgcd_mesh_create) that meets triangle_b (NEAR: that is within the
+     *  margin of triangle_b); UINT32_MAX for other kinds. */
     uint32_t triangle_a;
-    /** SURFACE: the index of that triangle's partner in b's mesh;
+    /** SURFACE and NEAR: the index of that triangle's partner in b's mesh;
      *  UINT32_MAX for other kinds. */
     uint32_t triangle_b;
     /** Always 0. */
@@ -810,6 +826,10 @@ typedef struct hgcd_body_desc {
     /** Which bodies it may collide with. Default hgcd_filter_default();
      *  reserved must be 0. */
     hgcd_filter filter;
+    /** The body's own contact margin, added to the world's and the other
+     *  body's (hgcd_world_desc.contact_margin). Finite, >= 0 and <= 1e15.
+     *  Default 0. */
+    double margin;
 } hgcd_body_desc;
 
 /** A body descriptor with the defaults of its fields. Any thread. */
@@ -967,6 +987,20 @@ HGCD_API hgcd_status hgcd_body_set_filter(hgcd_world *world, hgcd_body body,
 HGCD_API hgcd_status hgcd_body_get_filter(const hgcd_world *world,
                                           hgcd_body body,
                                           hgcd_filter *out_filter);
+
+/** Sets a body's contact margin (hgcd_body_desc.margin), from the next
+ *  step/detect. The body counts as moved (its pairs are tested again).
+ *  Changing a margin makes the next step/detect rebuild the broad phase
+ *  (O(bodies)): set margins when creating bodies where possible.
+ *  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT (not finite,
+ *  < 0 or > 1e15). Setting the same value changes nothing. O(1). */
+HGCD_API hgcd_status hgcd_body_set_margin(hgcd_world *world, hgcd_body body,
+                                          double margin);
+
+/** Sets *out_margin to the body's contact margin.
+ *  Errors: NULL_ARGUMENT (world or out_margin), STALE_ID. Read-only, O(1). */
+HGCD_API hgcd_status hgcd_body_get_margin(const hgcd_world *world,
+                                          hgcd_body body, double *out_margin);
 
 /** Excludes the pair {a, b} from detection from the next step/detect (two
  *  bodies joined by a joint, say): it is dropped before the narrow phase,

@@ -119,6 +119,7 @@ hgcd_status hgcd_world_create(const hgcd_world_desc *desc, hgcd_world **out_worl
         if (!hgcd::coordinate_ok(desc->bounds_min[k]) || !hgcd::coordinate_ok(desc->bounds_max[k]) ||
             !(desc->bounds_min[k] < desc->bounds_max[k]))
             return HGCD_ERROR_INVALID_ARGUMENT;
+    if (!hgcd::margin_ok(desc->contact_margin)) return HGCD_ERROR_INVALID_ARGUMENT;
     const double lo = desc->min_cell_size, hi = desc->max_cell_size;
     if (!std::isfinite(lo) || !std::isfinite(hi) || lo < 0 || hi < 0 || (lo > 0 && hi > 0 && lo > hi))
         return HGCD_ERROR_INVALID_ARGUMENT;
@@ -390,6 +391,16 @@ hgcd_status hgcd_body_set_filter(hgcd_world *world, hgcd_body body, const hgcd_f
 hgcd_status hgcd_body_get_filter(const hgcd_world *world, hgcd_body body, hgcd_filter *out_filter) {
     if (!world || !out_filter) return HGCD_ERROR_NULL_ARGUMENT;
     return world->impl.get_filter(body, out_filter);
+}
+
+hgcd_status hgcd_body_set_margin(hgcd_world *world, hgcd_body body, double margin) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "body_set_margin", [&] { return world->impl.set_margin(body, margin); });
+}
+
+hgcd_status hgcd_body_get_margin(const hgcd_world *world, hgcd_body body, double *out_margin) {
+    if (!world || !out_margin) return HGCD_ERROR_NULL_ARGUMENT;
+    return world->impl.get_margin(body, out_margin);
 }
 
 hgcd_status hgcd_world_exclude_pair(hgcd_world *world, hgcd_body a, hgcd_body b) {

@@ -21,6 +21,14 @@ int orient2d(const double *a, const double *b, const double *c);
 bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
                        const double *q0, const double *q1, const double *q2);
 
+// True if the closed triangles (p0,p1,p2) and (q0,q1,q2) are within
+// Euclidean distance d of each other (some point of one and some point of
+// the other at most d apart; d = 0: tri_tri_intersect). Degenerate triangles
+// count as the segment or point they are. Exact (distance.cpp) for
+// coordinates and d below 2^52 in magnitude, d >= 0.
+bool tri_tri_within(const double *p0, const double *p1, const double *p2, const double *q0,
+                    const double *q1, const double *q2, double d);
+
 // A triangle with its plane filter data and box computed once, for callers
 // that test one triangle against several others (e.g. the 16 face pairs of
 // two tetrahedra). The vertex pointers must stay valid while it is used.

@@ -18,6 +18,11 @@ void exact_contact(const BodyPose &a, const BodyPose &b, Contact hit, const Witn
             out->triangle_b = w.tri_b;
             return;
         }
+    } else if (hit == Contact::Near) {  // (collide_within always records its witness)
+        out->kind = HGCD_CONTACT_NEAR;
+        out->triangle_a = w.tri_a;
+        out->triangle_b = w.tri_b;
+        return;
     } else if (hit == Contact::Containment) {
         if (w.recorded) {
             out->kind = w.a_holds_b ? HGCD_CONTACT_A_CONTAINS_B : HGCD_CONTACT_B_CONTAINS_A;

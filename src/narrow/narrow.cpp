@@ -31,15 +31,19 @@ void world_vertices(const BodyPose &body, std::vector<double> &out, double *box)
     }
 }
 
-bool find_meeting_triangles(const Mesh &ma, const double *wa, const double *box_a, const Mesh &mb,
-                            const double *wb, const double *box_b, NearTriangles &near_b,
-                            uint64_t &triangle_tests, uint32_t *meet) {
+namespace {
+
+// find_meeting_triangles, or with kMargin a triangle pair within d.
+template <bool kMargin>
+bool meeting_triangles(const Mesh &ma, const double *wa, const double *box_a, const Mesh &mb, const double *wb,
+                       const double *box_b, NearTriangles &near_b, uint64_t &triangle_tests, uint32_t *meet,
+                       double d) {
     near_b.tri.clear();
     near_b.box.clear();
     for (uint32_t t = 0; t < mb.triangle_count; ++t) {
         double tb[6];
         triangle_box(wb, &mb.triangles[3 * size_t(t)], tb);
-        if (boxes_disjoint(tb, box_a)) continue;
+        if (kMargin ? boxes_apart(tb, box_a, d) : boxes_disjoint(tb, box_a)) continue;
         near_b.tri.push_back(t);
         near_b.box.insert(near_b.box.end(), tb, tb + 6);
     }
@@ -48,14 +52,15 @@ bool find_meeting_triangles(const Mesh &ma, const double *wa, const double *box_
         const uint32_t *fa = &ma.triangles[3 * size_t(t)];
         double ta[6];
         triangle_box(wa, fa, ta);
-        if (boxes_disjoint(ta, box_b)) continue;
+        if (kMargin ? boxes_apart(ta, box_b, d) : boxes_disjoint(ta, box_b)) continue;
         const double *p0 = &wa[3 * size_t(fa[0])], *p1 = &wa[3 * size_t(fa[1])], *p2 = &wa[3 * size_t(fa[2])];
         for (size_t k = 0; k < near_b.tri.size(); ++k) {
-            if (boxes_disjoint(ta, &near_b.box[6 * k])) continue;
+            if (kMargin ? boxes_apart(ta, &near_b.box[6 * k], d) : boxes_disjoint(ta, &near_b.box[6 * k]))
+                continue;
             const uint32_t *fb = &mb.triangles[3 * size_t(near_b.tri[k])];
             ++triangle_tests;
-            if (tri_tri_intersect(p0, p1, p2, &wb[3 * size_t(fb[0])], &wb[3 * size_t(fb[1])],
-                                  &wb[3 * size_t(fb[2])])) {
+            const double *q0 = &wb[3 * size_t(fb[0])], *q1 = &wb[3 * size_t(fb[1])], *q2 = &wb[3 * size_t(fb[2])];
+            if (kMargin ? tri_tri_within(p0, p1, p2, q0, q1, q2, d) : tri_tri_intersect(p0, p1, p2, q0, q1, q2)) {
                 meet[0] = t;
                 meet[1] = near_b.tri[k];
                 return true;
@@ -63,6 +68,14 @@ bool find_meeting_triangles(const Mesh &ma, const double *wa, const double *box_
         }
     }
     return false;
+}
+
+}  // namespace
+
+bool find_meeting_triangles(const Mesh &ma, const double *wa, const double *box_a, const Mesh &mb,
+                            const double *wb, const double *box_b, NearTriangles &near_b,
+                            uint64_t &triangle_tests, uint32_t *meet) {
+    return meeting_triangles<false>(ma, wa, box_a, mb, wb, box_b, near_b, triangle_tests, meet, 0);
 }
 
 bool holds_component(const Mesh &outer, const double *wo, const double *outer_box, const Mesh &inner,
@@ -95,7 +108,14 @@ namespace {
 // the other body's side makes the face prove nothing, an uncertain sign on
 // the own side is settled by the exact orient3d. So this test never changes
 // an answer.
-bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const double *wb) {
+// With kMargin, the other body's vertices must be certainly farther than d
+// beyond the plane: the value exceeds its bound plus d times a bound on the
+// exact normal's length (|N| <= |n| + the components' rounding, at most
+// 4 eps times their permanents; the factors 1 + 1e-12 cover the rounding of
+// these products and sums). Then every point of the other body is more than
+// d from the halfspace that holds this one.
+template <bool kMargin = false>
+bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const double *wb, double gap = 0) {
     constexpr double kBound = 1e-15;
     const double inward = ca.inward_sign;
     for (uint32_t t = 0; t < ca.triangle_count; ++t) {
@@ -115,10 +135,15 @@ bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const d
             bound = kBound * (std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz) + 0x1p-960;
             return -inward * (wx * nx + wy * ny + wz * nz);
         };
+        double need = 0;
+        if (kMargin)
+            need = gap * (std::sqrt((nx * nx + ny * ny) + nz * nz) * (1 + 1e-12) + 1e-15 * ((px + py) + pz)) *
+                   (1 + 1e-12);
         bool separating = true;
         for (uint32_t v = 0; v < mb.vertex_count && separating; ++v) {
             double bound;
-            separating = side(&wb[3 * size_t(v)], bound) < -bound;
+            const double s = side(&wb[3 * size_t(v)], bound);
+            separating = kMargin ? s < -(bound + need) * (1 + 1e-12) : s < -bound;
         }
         for (uint32_t v = 0; v < ca.vertex_count && separating; ++v) {
             if (v == f[0] || v == f[1] || v == f[2]) continue;
@@ -219,8 +244,10 @@ inline void view_triangle_box(BodyView &v, uint32_t t, const double *(&p)[3], do
 
 // Exact test of the triangles of leaf i of a against those of leaf j of b.
 // On a meeting pair, sets meet[0], meet[1] to their leaf-order indices.
+// With kMargin: a triangle pair within d (boxes grown by d).
+template <bool kMargin>
 bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uint32_t j,
-                 const double *node_b, NarrowScratch &s, uint32_t *meet) {
+                 const double *node_b, NarrowScratch &s, uint32_t *meet, double d) {
     uint32_t fa, na, fb, nb;
     leaf_range(a, i, fa, na);
     leaf_range(b, j, fb, nb);
@@ -231,7 +258,7 @@ bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uin
         const double *q[3];
         double tb[6];
         view_triangle_box(b, t, q, tb);
-        if (boxes_disjoint(tb, node_a)) continue;
+        if (kMargin ? boxes_apart(tb, node_a, d) : boxes_disjoint(tb, node_a)) continue;
         s.near_b.tri.push_back(t);
         s.near_b.box.insert(s.near_b.box.end(), tb, tb + 6);
     }
@@ -240,12 +267,15 @@ bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uin
         const double *p[3];
         double ta[6];
         view_triangle_box(a, t, p, ta);
-        if (boxes_disjoint(ta, node_b)) continue;
+        if (kMargin ? boxes_apart(ta, node_b, d) : boxes_disjoint(ta, node_b)) continue;
         for (size_t k = 0; k < s.near_b.tri.size(); ++k) {
-            if (boxes_disjoint(ta, &s.near_b.box[6 * k])) continue;
+            if (kMargin ? boxes_apart(ta, &s.near_b.box[6 * k], d) : boxes_disjoint(ta, &s.near_b.box[6 * k]))
+                continue;
             const uint32_t *f = &b.tris[3 * size_t(s.near_b.tri[k])];
             ++s.triangle_tests;
-            if (tri_tri_intersect(p[0], p[1], p[2], b.vertex(f[0]), b.vertex(f[1]), b.vertex(f[2]))) {
+            const double *q0 = b.vertex(f[0]), *q1 = b.vertex(f[1]), *q2 = b.vertex(f[2]);
+            if (kMargin ? tri_tri_within(p[0], p[1], p[2], q0, q1, q2, d)
+                        : tri_tri_intersect(p[0], p[1], p[2], q0, q1, q2)) {
                 meet[0] = t;
                 meet[1] = s.near_b.tri[k];
                 return true;
@@ -352,9 +382,12 @@ bool leaf_planes_apart(BodyView &v, uint32_t n, const double *other) {
 constexpr uint32_t kPlaneLeaf = 16;
 
 // Do the surfaces meet under the node pair (start_a, start_b)? meet: the
-// meeting triangles (leaf order), leaves: their leaves.
+// meeting triangles (leaf order), leaves: their leaves. With kMargin:
+// surfaces within d, node boxes grown by d (the oriented and plane tests,
+// which would need their own margin argument, are left out: oriented false).
+template <bool kMargin>
 bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, uint32_t start_a,
-                   uint32_t start_b, uint32_t *meet, uint32_t *leaves) {
+                   uint32_t start_b, uint32_t *meet, uint32_t *leaves, double d) {
     std::vector<uint64_t> &stack = s.pair_stack;
     stack.clear();
     stack.push_back((uint64_t(start_a) << 32) | start_b);
@@ -363,12 +396,12 @@ bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, ui
         stack.pop_back();
         const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
         const double *ba = a.box(i), *bb = b.box(j);
-        if (boxes_disjoint(ba, bb)) continue;
+        if (kMargin ? boxes_apart(ba, bb, d) : boxes_disjoint(ba, bb)) continue;
         const bool la = a.leaf(i), lb = b.leaf(j);
         // The oriented test pays off above the leaves (a leaf pair goes to
         // triangle boxes, which are cheaper).
         if (oriented && !(la && lb) && obb_separated(ba, bb)) continue;
-        if (la != lb) {
+        if (!kMargin && la != lb) {
             BodyView &lv = la ? a : b;
             const uint32_t ln = la ? i : j;
             uint32_t first, count;
@@ -376,7 +409,7 @@ bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, ui
             if (count <= kPlaneLeaf && leaf_planes_apart(lv, ln, la ? bb : ba)) continue;
         }
         if (la && lb) {
-            if (leaves_meet(a, i, ba, b, j, bb, s, meet)) {
+            if (leaves_meet<kMargin>(a, i, ba, b, j, bb, s, meet, d)) {
                 leaves[0] = i;
                 leaves[1] = j;
                 return true;
@@ -460,9 +493,12 @@ uint32_t ancestor(const Bvh &t, uint32_t n) {
 }
 
 // counted: exact_tests counts the pair once its root boxes overlap (false:
-// the caller has counted it). hint: NodeHint.
+// the caller has counted it). With kMargin: surfaces within d are Near.
+// hint: NodeHint (not with kMargin).
+template <bool kMargin = false>
 __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
-                                               Witness *witness, bool counted = true, NodeHint *hint = nullptr) {
+                                               Witness *witness, bool counted = true, double d = 0,
+                                               NodeHint *hint = nullptr) {
     if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
         for (auto &c : s.side) {
             std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
@@ -475,17 +511,18 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
     prepare_side(b, s.side[1], s.epoch, vb);
     // (The axes of the oriented test first: the node caches fill with both.)
     PairAxes axes;
-    const bool oriented = va.nodes && vb.nodes;
+    const bool oriented = !kMargin && va.nodes && vb.nodes;
     if (oriented) prepare_axes(va, vb, axes);
     // Conservative prefilter: the solids lie inside the root boxes.
-    if (boxes_disjoint(va.box(0), vb.box(0))) return Contact::None;
+    if (kMargin ? boxes_apart(va.box(0), vb.box(0), d) : boxes_disjoint(va.box(0), vb.box(0)))
+        return Contact::None;
     s.exact_tests += counted;
     // A side without a tree is one leaf of all its triangles: only those whose
     // exact boxes reach the other's root box can meet it, and the box of
     // those alone prunes the other's nodes (a body deep inside a large box
     // then costs no traversal at all).
-    if (!va.nodes) narrow_to_near(va, vb.box(0));
-    if (!vb.nodes) narrow_to_near(vb, va.box(0));
+    if (!kMargin && !va.nodes) narrow_to_near(va, vb.box(0));
+    if (!kMargin && !vb.nodes) narrow_to_near(vb, va.box(0));
     uint32_t meet[2], leaves[2];
     bool met = false;
     if (hint) {
@@ -495,14 +532,15 @@ __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose
         const uint32_t na = va.nodes ? uint32_t(a.mesh->bvh.nodes.size()) : 1;
         const uint32_t nb = vb.nodes ? uint32_t(b.mesh->bvh.nodes.size()) : 1;
         if (hint->node_a < na && hint->node_b < nb)
-            met = surfaces_meet(va, vb, oriented, s, hint->node_a, hint->node_b, meet, leaves);
+            met = surfaces_meet<kMargin>(va, vb, oriented, s, hint->node_a, hint->node_b, meet, leaves, d);
     }
-    if (met || surfaces_meet(va, vb, oriented, s, 0, 0, meet, leaves)) {
+    if (met || surfaces_meet<kMargin>(va, vb, oriented, s, 0, 0, meet, leaves, d)) {
         if (witness)
             *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
         if (hint) *hint = NodeHint{ancestor(a.mesh->bvh, leaves[0]), ancestor(b.mesh->bvh, leaves[1]), true};
-        return Contact::Surface;
+        return kMargin ? Contact::Near : Contact::Surface;
     }
+    if (kMargin) return Contact::None;  // (collide_within asked about containment first)
     if (b.mesh->closed && view_holds_component(vb, va, s)) {
         if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, false, true};
         return Contact::Containment;
@@ -582,7 +620,43 @@ __attribute__((noinline)) Contact collide_convex(const BodyPose &a, const BodyPo
     return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
 }
 
+// The margin path of small meshes whose solids do not share a point: the
+// direct path's triangle pairs with boxes grown by d and the within-d
+// triangle test, after the face planes of convex meshes.
+__attribute__((noinline)) Contact collide_within_direct(const BodyPose &a, const BodyPose &b, double d,
+                                                        NarrowScratch &s, Witness *witness) {
+    double box_a[6], box_b[6];
+    world_vertices(a, s.world_a, box_a);
+    world_vertices(b, s.world_b, box_b);
+    if (boxes_apart(box_a, box_b, d)) return Contact::None;
+    const Mesh &ma = *a.mesh, &mb = *b.mesh;
+    const double *wa = s.world_a.data(), *wb = s.world_b.data();
+    // A face plane with the other body more than d beyond it.
+    if (ma.convex && uint64_t(ma.triangle_count) * mb.vertex_count <= kFaceTestBudget &&
+        separated_by_face<true>(ma, wa, mb, wb, d))
+        return Contact::None;
+    if (mb.convex && uint64_t(mb.triangle_count) * ma.vertex_count <= kFaceTestBudget &&
+        separated_by_face<true>(mb, wb, ma, wa, d))
+        return Contact::None;
+    uint32_t meet[2];
+    if (meeting_triangles<true>(ma, wa, box_a, mb, wb, box_b, s.near_b, s.triangle_tests, meet, d)) {
+        if (witness) *witness = Witness{meet[0], meet[1], false, true};
+        return Contact::Near;
+    }
+    return Contact::None;
+}
+
 }  // namespace
+
+Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &s, Witness *witness) {
+    // Solids that share a point are within any d: the fast exact paths
+    // first (they decide containment too), the search within d only for
+    // pairs apart.
+    const Contact touching = collide(a, b, s, witness);
+    if (touching != Contact::None) return touching;
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree<true>(a, b, s, witness, false, d);
+    return collide_within_direct(a, b, d, s, witness);
+}
 
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness, NodeHint *hint) {
     // (A tetrahedron has no tree; a witness asks for the general path's
@@ -590,7 +664,7 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness 
     if (a.mesh->tetra && b.mesh->tetra && !witness) return tet::collide_tetra(a, b, s);
     if (a.mesh->sat && b.mesh->sat) return collide_convex(a, b, s, witness);
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty())
-        return collide_tree(a, b, s, witness, true, witness ? nullptr : hint);
+        return collide_tree(a, b, s, witness, true, 0, witness ? nullptr : hint);
     return collide_direct(a, b, s, witness);
 }
 

@@ -16,7 +16,9 @@ struct BodyPose {
     double scale;
 };
 
-enum class Contact { None, Surface, Containment };
+// Near: the margin path (collide_within) found the surfaces within its
+// distance (touching or not).
+enum class Contact { None, Surface, Containment, Near };
 
 // A body's pose as the world stores it, in one cache line: what the narrow
 // phase reads per body (collide_tetra_batch loads it in 32-byte halves).
@@ -116,6 +118,21 @@ struct NarrowScratch {
 // path only (pairs where a mesh has a tree and no witness is asked for).
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
                 Witness *witness = nullptr, NodeHint *hint = nullptr);
+
+// The contact margin of a pair (hgcd_world_desc.contact_margin): the
+// world's plus the sum of the two bodies', each addition rounded.
+inline double pair_margin(double world, double a, double b) { return world + (a + b); }
+
+// Exact, for a margin d > 0: true (Surface, Containment or Near) when the
+// closed solids of a and b are within Euclidean distance d: collide() first
+// (solids that share a point, by its fast paths), then, for pairs apart, a
+// triangle of each within d (tri_tri_within): the direct path with boxes
+// grown by d after a face-plane test of convex meshes with a gap of d, or
+// the trees' traversal with node boxes grown by d (without the oriented
+// node test). A witness, when asked for, is collide()'s for touching pairs,
+// else (Near) the first triangle pair within d found.
+Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &scratch,
+                       Witness *witness = nullptr);
 
 // collide() of every pair of tetrahedra pairs[0, n) into out[0, n), the
 // same verdicts and counts in scratch. With AVX2 (use_avx2) many pairs at a

@@ -77,6 +77,8 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
                     "body_create: type " + std::to_string(d.type) + " is not HGCD_BODY_DYNAMIC, KINEMATIC or STATIC");
     if (d.filter.reserved != 0) return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_create: filter.reserved is not 0");
+    if (!margin_ok(d.margin))
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_create: margin must be finite, >= 0 and <= 1e15");
     if (live_bodies_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "body_create: too many bodies");
 
     uint32_t slot;
@@ -98,6 +100,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             body_gen_.reserve(cap);
             box_off_.reserve(6 * cap);
             r_level_.reserve(cap);
+            margin_.reserve(cap);
             point_.reserve(3 * cap);
             at_.reserve(cap);
             moved_.reserve(cap);
@@ -118,6 +121,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         live_gen_.resize(n, 0);
         box_off_.resize(6 * n);
         r_level_.resize(n);
+        margin_.resize(n);
         point_.resize(3 * n);
         at_.push_back(slot);
         moved_.push_back(1);
@@ -146,10 +150,9 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     f.type = uint8_t(d.type);
     f.flags = d.enabled ? 0 : BodyFilter::kDisabled;
     set_body_filter(i, f);
-    // (Every vertex is within |centre| + radius of the mesh origin.)
-    const Mesh &m = meshes_[mesh];
-    const double centre = std::sqrt(m.center[0] * m.center[0] + m.center[1] * m.center[1] + m.center[2] * m.center[2]);
-    r_level_[i] = d.scale * (centre + m.radius) * kLevelInflation;
+    margin_[i] = d.margin;
+    margin_bodies_ += d.margin > 0;
+    r_level_[i] = level_radius(i);
     set_box_offsets(i);
     body_gen_[slot] = (tag_ << kCounterBits) | ((body_gen_[slot] + 1) & kCounterMask);
     live_gen_[slot] = body_gen_[slot];
@@ -168,6 +171,8 @@ hgcd_status World::destroy_body(hgcd_body id) {
     bury(uint32_t(slot));  // (its user data, for the ended events)
     forget_exclusions(uint32_t(slot));
     set_body_filter(at_[slot], BodyFilter());  // (out of the counts of special bodies)
+    margin_bodies_ -= margin_[at_[slot]] > 0;
+    margin_[at_[slot]] = 0;
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
     query_.stale = true;
@@ -203,6 +208,32 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     apply_pose(at_[slot], position, orientation);
     query_.stale = true;
+    return HGCD_OK;
+}
+
+hgcd_status World::set_margin(hgcd_body id, double margin) {
+    int64_t slot;
+    if (hgcd_status s = check_body(id, "body_set_margin", &slot)) return s;
+    if (!margin_ok(margin))
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "body_set_margin: margin must be finite, >= 0 and <= 1e15");
+    const size_t i = at_[slot];
+    if (std::memcmp(&margin_[i], &margin, sizeof margin) == 0) return HGCD_OK;
+    margin_bodies_ += (margin > 0) - (margin_[i] > 0);
+    margin_[i] = margin;
+    // A new level radius: the grid's cached levels no longer hold (see
+    // grid_stale_); its pairs are tested again.
+    r_level_[i] = level_radius(i);
+    set_box_offsets(i);
+    grid_stale_ = true;
+    query_.stale = true;
+    moved_[slot] = moved_at_[i] = 1;
+    return HGCD_OK;
+}
+
+hgcd_status World::get_margin(hgcd_body id, double *out) const {
+    const int64_t slot = live_body(id);
+    if (slot < 0) return HGCD_ERROR_STALE_ID;
+    *out = margin_[at_[slot]];
     return HGCD_OK;
 }
 
@@ -311,7 +342,37 @@ void World::set_box_offsets(size_t s) {
             hi[k] = std::min(hi[k], cut_hi[k]);
         }
     }
+    if (const double g = box_growth(s)) {
+        // (nextafter: the rounded sum is within an ulp of the exact one.)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::nextafter(lo[k] - g, -INFINITY);
+            hi[k] = std::nextafter(hi[k] + g, INFINITY);
+        }
+    }
     broad::round_outward(lo, hi, &box_off_[6 * s], &box_off_[6 * s + 3]);
+}
+
+// The pair margin d = fl(w + fl(m_a + m_b)) is at most (w + m_a + m_b)
+// (1 + 2^-52)^2; the growths g_a + g_b >= (w + m_a + m_b)(1 + 2^-48) (w / 2
+// is exact but for subnormal w, which the two nextafter steps cover with the
+// rounding of the sum), so boxes of a pair within d overlap once each is
+// grown by its g. 0 when both margins are 0 (the boxes of today).
+double World::box_growth(size_t s) const {
+    const double m = margin_[s];
+    if (world_margin_ == 0 && m == 0) return 0;
+    const double g = (world_margin_ * 0.5 + m) * (1 + 0x1p-48);
+    return std::nextafter(std::nextafter(g, INFINITY), INFINITY);
+}
+
+// A bound on the box offsets' magnitude in any orientation: every vertex is
+// within |centre| + radius of the mesh origin, the box grows by
+// box_growth; inflated for rounding (kLevelInflation).
+double World::level_radius(size_t s) const {
+    const Mesh &m = meshes_[body_mesh_[s]];
+    const double centre = std::sqrt(m.center[0] * m.center[0] + m.center[1] * m.center[1] + m.center[2] * m.center[2]);
+    const double g = box_growth(s);
+    const double r = place_[s].scale * (centre + m.radius);
+    return (g == 0 ? r : r + g) * kLevelInflation;
 }
 
 }  // namespace hgcd

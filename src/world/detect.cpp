@@ -110,6 +110,8 @@ struct World::NarrowPlan {
     // Every live mesh a tetrahedron: every pair goes to the batch, no mesh
     // need be looked at per pair.
     bool all_tetra = false;
+    // Some pair may have a contact margin (world or body margins > 0).
+    bool margins = false;
     std::unique_ptr<TetraPair[]> batch_pairs;
     std::unique_ptr<Contact[]> batch_verdicts;
 };
@@ -251,6 +253,13 @@ hgcd_status World::detect_with(bool renumbered, const SlotPass *motion) {
         coherent_ = true;
         return HGCD_OK;
     }
+    if (grid_stale_) {
+        // A margin changed a body's level radius, which the grid caches:
+        // rebuild it (and search everything).
+        drop_movers();
+        grid_ = Grid();
+        grid_stale_ = false;
+    }
     // (The adaptive thread policy's measure: none under the fixed policy.)
     LoadMeter meter;
     const LoadMeter::Attach attach(adaptive_threads_ ? &meter : nullptr);
@@ -367,7 +376,9 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
                                    (meshes_[m].convex ? kCcdUse : 0));
         plan.any_ccd = true;
     }
-    plan.batch = !plan.want_contacts && !plan.any_ccd;
+    // (Pairs with a margin take the exact margin path one at a time.)
+    plan.margins = world_margin_ > 0 || margin_bodies_ > 0;
+    plan.batch = !plan.want_contacts && !plan.any_ccd && !plan.margins;
     plan.all_tetra = plan.batch;
     for (size_t m = 0; m < meshes_.size() && plan.all_tetra; ++m)
         plan.all_tetra = !mesh_alive_[m] || meshes_[m].tetra;
@@ -479,7 +490,8 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
 // Returns the count queued.
 size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                            NarrowThread &t) const {
-    const bool want_contacts = plan.want_contacts, any_ccd = plan.any_ccd, batch = plan.batch;
+    const bool want_contacts = plan.want_contacts, any_ccd = plan.any_ccd, batch = plan.batch,
+               margins = plan.margins;
     const size_t end = chunk.end;
     size_t tetras = 0;
     for (size_t k = chunk.begin; k < end; ++k) {
@@ -512,8 +524,9 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
         hgcd_contact contact;
         const uint8_t ma = any_ccd ? plan.ccd_mode[body_mesh_[a]] : 0;
         const uint8_t mb = any_ccd ? plan.ccd_mode[body_mesh_[b]] : 0;
+        const double d = margins ? pair_margin(world_margin_, margin_[a], margin_[b]) : 0;
         Contact hit;
-        if ((!mesh_a->bvh.empty() || !mesh_b->bvh.empty()) && !want_contacts && !(ma & mb & kCcdUse)) {
+        if ((!mesh_a->bvh.empty() || !mesh_b->bvh.empty()) && !want_contacts && !(ma & mb & kCcdUse) && !(d > 0)) {
             // A pair with a tree: the meeting triangles of its last detect first.
             const uint32_t sa = slot_of_[a], sb = slot_of_[b];
             const uint64_t key = pair_key(sa, sb);
@@ -527,7 +540,7 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
             if (hint.found)
                 t.witnesses.push_back(NodeWitness{key, {sa < sb ? hint.node_a : hint.node_b, sa < sb ? hint.node_b : hint.node_a}});
         } else {
-            hit = collide_pair(pa, pb, ma, mb, want_contacts, t, &contact);
+            hit = collide_pair(pa, pb, ma, mb, d, want_contacts, t, &contact);
         }
         if (hit != Contact::None) {
             t.hits.push_back(pair_key(slot_of_[a], slot_of_[b]));
@@ -539,11 +552,19 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
 }
 
 // One pair by libccd (both meshes convex and set to it) or by the exact test,
-// with its contact if asked for; ma, mb: the meshes' kCcd* bits.
-Contact World::collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, bool want_contacts,
-                            NarrowThread &t, hgcd_contact *contact) {
+// with its contact if asked for; ma, mb: the meshes' kCcd* bits. A pair with
+// a margin d > 0 is decided exactly (never by libccd); its contact is the
+// exact touching one when the solids touch, else NEAR.
+Contact World::collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, double d,
+                            bool want_contacts, NarrowThread &t, hgcd_contact *contact) {
     Contact hit;
-    if (ma & mb & kCcdUse) {
+    if (d > 0) {
+        if (ma & mb & kCcdAsked) ++t.ccd_fallback;
+        if (!want_contacts) return collide_within(pa, pb, d, t.scratch);
+        Witness witness;
+        hit = collide_within(pa, pb, d, t.scratch, &witness);
+        if (hit != Contact::None) exact_contact(pa, pb, hit, witness, t.contact_scratch, contact);
+    } else if (ma & mb & kCcdUse) {
         const CcdMethod method = ((ma | mb) & kCcdGjk) ? CcdMethod::Gjk : CcdMethod::Mpr;
         CcdContact cc;
         hit = ccd_collide(pa, pb, method, t.ccd_scratch, want_contacts ? &cc : nullptr) ? Contact::Surface

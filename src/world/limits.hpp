@@ -36,6 +36,11 @@ inline bool orientation_ok(const double *q) {
            std::fabs(squared_norm4(q) - 1.0) <= kUnitTolerance;
 }
 
+// A contact margin (world or body): finite, >= 0 and <= 1e15, so a pair's
+// margin (the sum of three) stays below 2^52, where the exact distance
+// test's filter is argued (exact/distance.cpp).
+inline bool margin_ok(double m) { return std::isfinite(m) && m >= 0 && m <= kMaxCoordinate; }
+
 inline bool position_ok(const double *p) { return coordinate_ok(p[0]) && coordinate_ok(p[1]) && coordinate_ok(p[2]); }
 
 }  // namespace hgcd

@@ -191,6 +191,7 @@ bool World::renumber() {
     permute_records<3>(point_.data(), perm, n, tmp, T);
     permute_records<6>(box_off_.data(), perm, n, tmp, T);
     permute_records<1>(r_level_.data(), perm, n, tmp, T);
+    permute_records<1>(margin_.data(), perm, n, tmp, T);
     permute_records<1>(body_mesh_.data(), perm, n, tmp, T);
     permute_records<1>(body_record_.data(), perm, n, tmp, T);
     permute_records<3>(reinterpret_cast<uint64_t *>(filter_.data()), perm, n, tmp, T);

@@ -66,6 +66,7 @@ World::World(const hgcd_world_desc &d)
     narrow_phase_ = d.narrow_phase;  // checked by hgcd_world_create
     contacts_on_ = d.contacts != 0;
     kinematic_pairs_ = d.kinematic_pairs != 0;
+    world_margin_ = d.contact_margin;
 }
 
 hgcd_status World::fail(hgcd_status status, std::string message) const {

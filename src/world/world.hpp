@@ -75,6 +75,9 @@ class World {
     hgcd_status set_filter(hgcd_body id, const hgcd_filter &filter);
     hgcd_status get_filter(hgcd_body id, hgcd_filter *out) const;
     hgcd_status exclude_pair(hgcd_body a, hgcd_body b, bool exclude);
+    // Contact margins (bodies.cpp).
+    hgcd_status set_margin(hgcd_body id, double margin);
+    hgcd_status get_margin(hgcd_body id, double *out) const;
     hgcd_status pair_excluded(hgcd_body a, hgcd_body b, uint32_t *out) const;
 
     hgcd_status step();
@@ -139,6 +142,12 @@ class World {
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
+    // How far the box of the body stored at s is grown for the contact
+    // margins: at least world margin / 2 + its own margin, so that the
+    // boxes of two bodies within their pair's margin overlap (bodies.cpp).
+    double box_growth(size_t s) const;
+    // The level radius of the body stored at s (r_level_).
+    double level_radius(size_t s) const;
     Boxes boxes() const;
     void renumber_if_disordered();
     // detect(); renumbered: step() has renumbered storage already; motion:
@@ -223,8 +232,8 @@ class World {
     void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;
     size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                         NarrowThread &t) const;
-    static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, bool want_contacts,
-                                NarrowThread &t, hgcd_contact *contact);
+    static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, double d,
+                                bool want_contacts, NarrowThread &t, hgcd_contact *contact);
     // The threads' hits into pairs_ (and contacts_).
     void merge_hits(int threads, bool want_contacts, const std::vector<std::vector<hgcd_contact>> &hit_contacts);
     // Moves every body's storage to the grid's sweep order (see at_); false,
@@ -298,6 +307,14 @@ class World {
     // Live bodies whose filter_ is not plain, those disabled, and those
     // static (the motion skips them).
     uint32_t special_bodies_ = 0, disabled_bodies_ = 0, static_bodies_ = 0;
+    // Contact margins: the world's (hgcd_world_desc.contact_margin), each
+    // body's by storage index, the live bodies with one > 0, and whether a
+    // margin changed since the grid's last update (its cached levels are
+    // then stale: the next detect rebuilds it).
+    double world_margin_ = 0;
+    LargeVector<double> margin_;
+    uint32_t margin_bodies_ = 0;
+    bool grid_stale_ = false;
     bool kinematic_pairs_ = false;
     // Excluded pairs, by pair_key of their slots, and each slot's partners.
     std::unordered_set<uint64_t> excluded_;

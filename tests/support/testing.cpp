@@ -114,6 +114,10 @@ int hgcdi_tri_tri(const double p[9], const double q[9]) {
     return hgcd::tri_tri_intersect(p, p + 3, p + 6, q, q + 3, q + 6) ? 1 : 0;
 }
 
+int hgcdi_tri_tri_within(const double p[9], const double q[9], double d) {
+    return hgcd::tri_tri_within(p, p + 3, p + 6, q, q + 3, q + 6, d) ? 1 : 0;
+}
+
 int hgcdi_tri_tri_prepared(const double p[9], const double q[9]) {
     hgcd::PreparedTriangle a, b;
     hgcd::prepare_triangle(a, p, p + 3, p + 6);

@@ -17,6 +17,8 @@ int hgcdi_orient3d(const double *a, const double *b, const double *c,
 int hgcdi_orient2d(const double *a, const double *b, const double *c);
 /* 1 if the closed triangles p (p[0..8]) and q share a point, else 0. */
 int hgcdi_tri_tri(const double p[9], const double q[9]);
+/* hgcd::tri_tri_within: the closed triangles within distance d. */
+int hgcdi_tri_tri_within(const double p[9], const double q[9], double d);
 /* Same through hgcd::PreparedTriangle (prepare_triangle + tri_tri). */
 int hgcdi_tri_tri_prepared(const double p[9], const double q[9]);
 /* 1 if the closed segment [e0, e1] meets the closed triangle t[0..8]. */

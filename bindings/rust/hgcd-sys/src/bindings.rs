@@ -400,12 +400,23 @@ pub struct hgcd_world_desc {
     #[doc = "  dropped before the narrow phase. Pairs of two static bodies are never"]
     #[doc = "  reported."]
     pub kinematic_pairs: u32,
+    #[doc = " Contact margin of every pair: a pair of bodies a, b is reported when"]
+    #[doc = "  their closed solids come within Euclidean distance"]
+    #[doc = "  d = contact_margin + (margin_a + margin_b) of each other (one solid"]
+    #[doc = "  grown by a ball of radius d meets the other), each addition rounded"]
+    #[doc = "  to double as written (margin_*: hgcd_body_desc.margin). Decided"]
+    #[doc = "  exactly on the world vertices, with no tolerance but d itself"]
+    #[doc = "  (docs/semantics.md, \"Contact margin\"). Default 0: the closed solids"]
+    #[doc = "  must share a point (today's exact touching, at its speed). Finite,"]
+    #[doc = "  >= 0 and <= 1e15. A pair with d > 0 takes the exact margin path of"]
+    #[doc = "  the narrow phase: no tetrahedron, convex or libccd shortcut."]
+    pub contact_margin: f64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_world_desc() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_world_desc>(),
-        136usize,
+        144usize,
         concat!("Size of: ", stringify!(hgcd_world_desc))
     );
     assert_eq!(
@@ -685,6 +696,23 @@ fn bindgen_test_layout_hgcd_world_desc() {
         );
     }
     test_field_kinematic_pairs();
+    fn test_field_contact_margin() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_world_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).contact_margin) as usize - ptr as usize
+            },
+            136usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_world_desc),
+                "::",
+                stringify!(contact_margin)
+            )
+        );
+    }
+    test_field_contact_margin();
 }
 extern "C" {
     #[doc = " A world descriptor with every default filled in (see the fields)."]
@@ -931,6 +959,10 @@ pub const HGCD_CONTACT_B_CONTAINS_A: hgcd_contact_kind = 3;
 #[doc = " Decided by libccd (a GJK or MPR pair): depth, normal and point are"]
 #[doc = "  libccd's penetration estimate (EPA after GJK, or MPR's own)."]
 pub const HGCD_CONTACT_PENETRATION: hgcd_contact_kind = 4;
+#[doc = " The solids do not share a point but are within the pair's contact"]
+#[doc = "  margin (hgcd_world_desc.contact_margin): triangle triangle_a of a's"]
+#[doc = "  mesh and triangle_b of b's are within that distance."]
+pub const HGCD_CONTACT_NEAR: hgcd_contact_kind = 5;
 #[doc = " What a colliding pair is made of (hgcd_contact.kind)."]
 pub type hgcd_contact_kind = u32;
 #[doc = " One colliding pair and what it is made of."]
@@ -941,10 +973,11 @@ pub struct hgcd_contact {
     pub pair: hgcd_pair,
     #[doc = " enum hgcd_contact_kind."]
     pub kind: i32,
-    #[doc = " SURFACE: the index of a triangle of a's mesh (as given to"]
-    #[doc = "  hgcd_mesh_create) that meets triangle_b; UINT32_MAX for other kinds."]
+    #[doc = " SURFACE and NEAR: the index of a triangle of a's mesh (as given to"]
+    #[doc = "  hgcd_mesh_create) that meets triangle_b (NEAR: that is within the"]
+    #[doc = "  margin of triangle_b); UINT32_MAX for other kinds."]
     pub triangle_a: u32,
-    #[doc = " SURFACE: the index of that triangle's partner in b's mesh;"]
+    #[doc = " SURFACE and NEAR: the index of that triangle's partner in b's mesh;"]
     #[doc = "  UINT32_MAX for other kinds."]
     pub triangle_b: u32,
     #[doc = " Always 0."]
@@ -2203,12 +2236,16 @@ pub struct hgcd_body_desc {
     #[doc = " Which bodies it may collide with. Default hgcd_filter_default();"]
     #[doc = "  reserved must be 0."]
     pub filter: hgcd_filter,
+    #[doc = " The body's own contact margin, added to the world's and the other"]
+    #[doc = "  body's (hgcd_world_desc.contact_margin). Finite, >= 0 and <= 1e15."]
+    #[doc = "  Default 0."]
+    pub margin: f64,
 }
 #[test]
 fn bindgen_test_layout_hgcd_body_desc() {
     assert_eq!(
         ::std::mem::size_of::<hgcd_body_desc>(),
-        144usize,
+        152usize,
         concat!("Size of: ", stringify!(hgcd_body_desc))
     );
     assert_eq!(
@@ -2403,6 +2440,23 @@ fn bindgen_test_layout_hgcd_body_desc() {
         );
     }
     test_field_filter();
+    fn test_field_margin() {
+        assert_eq!(
+            unsafe {
+                let uninit = ::std::mem::MaybeUninit::<hgcd_body_desc>::uninit();
+                let ptr = uninit.as_ptr();
+                ::std::ptr::addr_of!((*ptr).margin) as usize - ptr as usize
+            },
+            144usize,
+            concat!(
+                "Offset of field: ",
+                stringify!(hgcd_body_desc),
+                "::",
+                stringify!(margin)
+            )
+        );
+    }
+    test_field_margin();
 }
 extern "C" {
     #[doc = " A body descriptor with the defaults of its fields. Any thread."]
@@ -2615,6 +2669,28 @@ extern "C" {
         world: *const hgcd_world,
         body: hgcd_body,
         out_filter: *mut hgcd_filter,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets a body's contact margin (hgcd_body_desc.margin), from the next"]
+    #[doc = "  step/detect. The body counts as moved (its pairs are tested again)."]
+    #[doc = "  Changing a margin makes the next step/detect rebuild the broad phase"]
+    #[doc = "  (O(bodies)): set margins when creating bodies where possible."]
+    #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT (not finite,"]
+    #[doc = "  < 0 or > 1e15). Setting the same value changes nothing. O(1)."]
+    pub fn hgcd_body_set_margin(
+        world: *mut hgcd_world,
+        body: hgcd_body,
+        margin: f64,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets *out_margin to the body's contact margin."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_margin), STALE_ID. Read-only, O(1)."]
+    pub fn hgcd_body_get_margin(
+        world: *const hgcd_world,
+        body: hgcd_body,
+        out_margin: *mut f64,
     ) -> hgcd_status;
 }
 extern "C" {

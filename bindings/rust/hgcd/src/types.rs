@@ -185,6 +185,11 @@ pub struct WorldDesc {
     pub thread_policy: ThreadPolicy,
     /// Report kinematic-kinematic and kinematic-static pairs ([`BodyType`]).
     pub kinematic_pairs: bool,
+    /// Contact margin of every pair: a pair is reported when the solids
+    /// come within `contact_margin + (margin_a + margin_b)` (each sum
+    /// rounded to f64), decided exactly. 0 (default): exact touching.
+    /// Finite, >= 0, <= 1e15.
+    pub contact_margin: f64,
 }
 
 impl Default for WorldDesc {
@@ -203,6 +208,7 @@ impl Default for WorldDesc {
             contacts: d.contacts != 0,
             thread_policy: ThreadPolicy::from_raw(d.thread_policy),
             kinematic_pairs: d.kinematic_pairs != 0,
+            contact_margin: d.contact_margin,
         }
     }
 }
@@ -224,6 +230,7 @@ impl WorldDesc {
         d.contacts = u32::from(self.contacts);
         d.thread_policy = self.thread_policy.to_raw();
         d.kinematic_pairs = u32::from(self.kinematic_pairs);
+        d.contact_margin = self.contact_margin;
         d
     }
 }
@@ -272,6 +279,9 @@ pub struct BodyDesc {
     pub enabled: bool,
     /// Which bodies it may collide with.
     pub filter: Filter,
+    /// The body's own contact margin, added to the world's and the other
+    /// body's ([`WorldDesc::contact_margin`]). Finite, >= 0, <= 1e15.
+    pub margin: f64,
 }
 
 impl Default for BodyDesc {
@@ -288,6 +298,7 @@ impl Default for BodyDesc {
             body_type: BodyType::from_raw(d.type_),
             enabled: d.enabled != 0,
             filter: Filter::from_raw(&d.filter),
+            margin: d.margin,
         }
     }
 }
@@ -314,6 +325,7 @@ impl BodyDesc {
         d.type_ = self.body_type.to_raw();
         d.enabled = u32::from(self.enabled);
         d.filter = self.filter.to_raw();
+        d.margin = self.margin;
         d
     }
 }
@@ -532,6 +544,9 @@ pub enum ContactKind {
         normal: [f64; 3],
         point: [f64; 3],
     },
+    /// The solids are apart but within the pair's contact margin: this
+    /// triangle of a's mesh is within the margin of this one of b's.
+    Near { triangle_a: u32, triangle_b: u32 },
     /// A kind this crate does not know (from a newer library).
     Unknown(i32),
 }
@@ -547,6 +562,10 @@ impl From<&sys::hgcd_contact> for Contact {
     fn from(c: &sys::hgcd_contact) -> Contact {
         let kind = match c.kind as u32 {
             sys::HGCD_CONTACT_SURFACE => ContactKind::Surface {
+                triangle_a: c.triangle_a,
+                triangle_b: c.triangle_b,
+            },
+            sys::HGCD_CONTACT_NEAR => ContactKind::Near {
                 triangle_a: c.triangle_a,
                 triangle_b: c.triangle_b,
             },

@@ -59,6 +59,23 @@ impl World {
         Ok(Filter::from_raw(&f))
     }
 
+    /// Sets a body's contact margin (`hgcd_body_set_margin`): finite, >= 0,
+    /// <= 1e15. The next detect rebuilds the broad phase.
+    pub fn set_body_margin(&mut self, body: BodyId, margin: f64) -> Result<()> {
+        // SAFETY: live world.
+        let s = unsafe { sys::hgcd_body_set_margin(self.as_mut_ptr(), body.to_raw(), margin) };
+        self.check(s)
+    }
+
+    /// A body's contact margin (`hgcd_body_get_margin`).
+    pub fn body_margin(&self, body: BodyId) -> Result<f64> {
+        let mut m = 0.0;
+        // SAFETY: live world; valid out pointer.
+        let s = unsafe { sys::hgcd_body_get_margin(self.as_ptr(), body.to_raw(), &mut m) };
+        Self::check_const(s, || format!("body_get_margin: {body:?}"))?;
+        Ok(m)
+    }
+
     /// Excludes the pair {a, b} from detection (`hgcd_world_exclude_pair`)
     /// until [`World::include_pair`] or either body's destruction.
     pub fn exclude_pair(&mut self, a: BodyId, b: BodyId) -> Result<()> {

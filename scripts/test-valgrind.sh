@@ -64,6 +64,8 @@ runs=(
     "ccd test_penetration"
     "ccd test_mixed_fallback"
     "bvh_ray test_degenerate_first_ray"
+    "convex test_hand_built"
+    "convex test_kernel_decides"
 )
 run_one() {
     local prog=$1 filter=$2

@@ -445,5 +445,6 @@ int main(void) {
         cmocka_unit_test(test_tip_to_tip),
         cmocka_unit_test(test_kernel_decides),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

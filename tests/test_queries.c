@@ -2,9 +2,14 @@
  * over every body and triangle in exact rationals (tests/oracle_query.c,
  * tests/oracle.c), on random scenes and on scenes snapped to integers,
  * where rays run through edges and vertices, along faces, and boxes and
- * points touch faces, edges and vertices; 1 and 2 threads give the same
- * bits; bad input is refused without changing the last results. */
+ * points touch faces, edges and vertices; with random body filters, query
+ * filters and disabled bodies; 1 and 2 threads, and a caller's task
+ * system, give the same bits; bad input is refused without changing the
+ * last results. Meshes of more than 48 triangles (SHAPE_FINE) take their
+ * own tree's paths. */
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -83,7 +88,66 @@ typedef struct {
     int shape[256];
     double pos[256][3], quat[256][4], scale[256];
     double *wv[256]; /* world vertices, hgcd.h's formula */
+    /* The query filter every query passes (NULL: none), and the bodies it
+     * or their being disabled leaves out (what the oracle skips). */
+    const hgcd_filter *qf;
+    int skip[256];
 } scene;
+
+/* ------------------------------------------------------- task system -- */
+
+/* A caller's task system of two workers: each loop's ranges are taken in
+ * turn by a thread started for the loop (worker 1) and by the thread that
+ * waits in finish_task (worker 0). */
+typedef struct {
+    hgcd_task_fn *task;
+    void *context;
+    uint32_t count, range;
+    atomic_uint next;
+    pthread_t thread;
+} task_loop;
+
+static atomic_uint task_loops; /* loops run on it */
+
+static void task_drain(task_loop *l, uint32_t worker) {
+    for (;;) {
+        const uint32_t b = atomic_fetch_add(&l->next, l->range);
+        if (b >= l->count) return;
+        l->task(b, l->count - b > l->range ? b + l->range : l->count, worker, l->context);
+    }
+}
+
+static void *task_thread(void *arg) {
+    task_drain(arg, 1);
+    return NULL;
+}
+
+static void *task_enqueue(hgcd_task_fn *task, uint32_t item_count, uint32_t min_range, void *task_context,
+                          void *user_context) {
+    task_loop *l = malloc(sizeof *l);
+    (void)user_context;
+    assert_non_null(l);
+    l->task = task;
+    l->context = task_context;
+    l->count = item_count;
+    l->range = (item_count + 7) / 8;
+    if (l->range < min_range) l->range = min_range;
+    if (l->range == 0) l->range = 1;
+    atomic_init(&l->next, 0);
+    atomic_fetch_add(&task_loops, 1);
+    assert_int_equal(pthread_create(&l->thread, NULL, task_thread, l), 0);
+    return l;
+}
+
+static void task_finish(void *handle, void *user_context) {
+    task_loop *l = handle;
+    (void)user_context;
+    task_drain(l, 0);
+    pthread_join(l->thread, NULL);
+    free(l);
+}
+
+static int use_tasks; /* scene_init gives worlds the task system */
 
 static const double exact_quats[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
 
@@ -95,6 +159,10 @@ static void scene_init(scene *sc, uint32_t threads) {
     shapes[SHAPE_FINE].triangle_count = fine_tc;
     memset(sc, 0, sizeof *sc);
     wd.thread_count = threads;
+    if (use_tasks) {
+        wd.enqueue_task = task_enqueue;
+        wd.finish_task = task_finish;
+    }
     assert_int_equal(hgcd_world_create(&wd, &sc->w), HGCD_OK);
     for (k = 0; k < SHAPE_COUNT; ++k) {
         hgcd_mesh_desc md = hgcd_mesh_desc_default();
@@ -189,6 +257,7 @@ static ray_ref oracle_ray(const scene *sc, const double *o, const double *e) {
     for (b = 0; b < sc->n; ++b) {
         const oracle_mesh *m = &shapes[sc->shape[b]];
         uint32_t f;
+        if (sc->skip[b]) continue;
         if (body_closed(sc, b) && point_in_body(sc, b, o)) {
             if (!best.hit || best.t > 0) best = (ray_ref){1, 1, b, UINT32_MAX, 0};
             continue;
@@ -218,11 +287,11 @@ static void check_rays(scene *sc, const hgcd_ray *rays, size_t count, size_t *hi
     hgcd_ray_hit *h1 = calloc(count, sizeof *h1), *h2 = calloc(count, sizeof *h2), *any = calloc(count, sizeof *any);
     size_t k, hits = 0;
     assert_int_equal(hgcd_world_set_thread_count(sc->w, 1), HGCD_OK);
-    assert_int_equal(hgcd_world_cast_rays(sc->w, rays, count, 0, HGCD_RAY_CLOSEST, NULL, h1), HGCD_OK);
+    assert_int_equal(hgcd_world_cast_rays(sc->w, rays, count, 0, HGCD_RAY_CLOSEST, sc->qf, h1), HGCD_OK);
     assert_int_equal(hgcd_world_set_thread_count(sc->w, 2), HGCD_OK);
-    assert_int_equal(hgcd_world_cast_rays(sc->w, rays, count, 0, HGCD_RAY_CLOSEST, NULL, h2), HGCD_OK);
+    assert_int_equal(hgcd_world_cast_rays(sc->w, rays, count, 0, HGCD_RAY_CLOSEST, sc->qf, h2), HGCD_OK);
     assert_memory_equal(h1, h2, count * sizeof *h1);
-    assert_int_equal(hgcd_world_cast_rays(sc->w, rays, count, 0, HGCD_RAY_ANY, NULL, any), HGCD_OK);
+    assert_int_equal(hgcd_world_cast_rays(sc->w, rays, count, 0, HGCD_RAY_ANY, sc->qf, any), HGCD_OK);
     for (k = 0; k < count; ++k) {
         double e[3];
         ray_ref ref;
@@ -275,7 +344,7 @@ static size_t check_results(const scene *sc, const hgcd_query_results *res, size
     for (q = 0; q < count; ++q) {
         size_t at = res->offsets[q];
         for (b = 0; b < sc->n; ++b) {
-            const int want = test(sc, b, q, ctx);
+            const int want = !sc->skip[b] && test(sc, b, q, ctx);
             const int got = at < res->offsets[q + 1] && res->bodies[at].index == b;
             if (want != got) {
                 fprintf(stderr, "query %zu body %zu (shape %d): hgcd %d oracle %d\n", q, b, sc->shape[b], got, want);
@@ -332,12 +401,12 @@ typedef struct {
 
 static hgcd_status run_boxes(scene *sc, const void *ctx, hgcd_query_results *out) {
     const batch *b = ctx;
-    return hgcd_world_query_box(sc->w, b->data, b->count, 0, NULL, out);
+    return hgcd_world_query_box(sc->w, b->data, b->count, 0, sc->qf, out);
 }
 
 static hgcd_status run_points(scene *sc, const void *ctx, hgcd_query_results *out) {
     const batch *b = ctx;
-    return hgcd_world_query_point(sc->w, b->data, b->count, 0, NULL, out);
+    return hgcd_world_query_point(sc->w, b->data, b->count, 0, sc->qf, out);
 }
 
 typedef struct {
@@ -348,7 +417,7 @@ typedef struct {
 
 static hgcd_status run_meshes(scene *sc, const void *ctx, hgcd_query_results *out) {
     const mesh_batch *b = ctx;
-    return hgcd_world_query_mesh(sc->w, sc->mesh[b->shape], b->poses, b->count, 0, NULL, out);
+    return hgcd_world_query_mesh(sc->w, sc->mesh[b->shape], b->poses, b->count, 0, sc->qf, out);
 }
 
 /* The mesh at each pose against every body, by the pair oracle on a scene
@@ -426,41 +495,82 @@ static void random_mesh_poses(rng *r, hgcd_mesh_pose *poses, size_t count, doubl
     }
 }
 
-static void run_scene(uint64_t seed, size_t bodies, double side, int snap) {
-    scene sc;
-    rng r = {seed};
+/* Every query kind on the scene against the oracle (hits and answers
+ * counted, so that a scene that tests nothing is seen). */
+static void check_scene(scene *sc, rng *r, double side, int snap, size_t *hits, size_t *answers) {
     enum { RAYS = 400, BOXES = 120, POINTS = 200, POSES = 24 };
     hgcd_ray rays[RAYS];
     double boxes[6 * BOXES], pts[3 * POINTS];
     hgcd_mesh_pose poses[POSES];
     hgcd_query_results res;
-    size_t hits, answers;
     int shape;
-    scene_init(&sc, 1);
-    scene_random(&sc, &r, bodies, side, snap);
-    random_rays(&r, rays, RAYS, side, snap);
-    check_rays(&sc, rays, RAYS, &hits);
-    assert_true(hits > RAYS / 10); /* (a scene that tests something) */
-    random_boxes(&r, boxes, BOXES, side, snap);
+    random_rays(r, rays, RAYS, side, snap);
+    check_rays(sc, rays, RAYS, &hits[0]);
+    random_boxes(r, boxes, BOXES, side, snap);
     {
         batch b = {boxes, BOXES};
-        same_on_two_threads(&sc, run_boxes, &b, &res);
-        answers = check_results(&sc, &res, BOXES, box_test, boxes);
-        assert_true(answers > BOXES / 4);
+        same_on_two_threads(sc, run_boxes, &b, &res);
+        answers[0] = check_results(sc, &res, BOXES, box_test, boxes);
     }
-    random_points(&r, &sc, pts, POINTS, side, snap);
+    random_points(r, sc, pts, POINTS, side, snap);
     {
         batch b = {pts, POINTS};
-        same_on_two_threads(&sc, run_points, &b, &res);
-        answers = check_results(&sc, &res, POINTS, point_test, pts);
-        assert_true(answers > POINTS / 8);
+        same_on_two_threads(sc, run_points, &b, &res);
+        answers[1] = check_results(sc, &res, POINTS, point_test, pts);
     }
     for (shape = 0; shape < SHAPE_COUNT; shape += 3) {
         mesh_batch mb = {shape, poses, POSES};
-        random_mesh_poses(&r, poses, POSES, side, snap);
-        same_on_two_threads(&sc, run_meshes, &mb, &res);
-        check_results(&sc, &res, POSES, mesh_test, &mb);
+        random_mesh_poses(r, poses, POSES, side, snap);
+        same_on_two_threads(sc, run_meshes, &mb, &res);
+        check_results(sc, &res, POSES, mesh_test, &mb);
     }
+}
+
+/* Random filters on the bodies (categories and masks of 3 bits, groups
+ * -1, 0, 1), a quarter of them disabled, and a random query filter: the
+ * oracle skips the bodies Box2D's rule (the query as a body with its
+ * filter) or their being disabled leaves out, written out here anew. */
+static void random_filters(scene *sc, rng *r, hgcd_filter *qf) {
+    hgcd_query_results res;
+    const double everywhere[6] = {-1e9, -1e9, -1e9, 1e9, 1e9, 1e9};
+    size_t b;
+    sc->qf = NULL;
+    assert_int_equal(hgcd_world_query_box(sc->w, everywhere, 1, 0, NULL, &res), HGCD_OK);
+    assert_int_equal(res.body_count, sc->n);
+    qf->category_bits = 1 + next(r) % 7;
+    qf->mask_bits = 1 + next(r) % 7;
+    qf->group_index = (int32_t)(next(r) % 3) - 1;
+    qf->reserved = 0;
+    for (b = 0; b < sc->n; ++b) {
+        const hgcd_body id = res.bodies[b];
+        hgcd_filter f = hgcd_filter_default();
+        const int enabled = next(r) % 4 != 0;
+        int accept;
+        f.category_bits = 1 + next(r) % 7;
+        f.mask_bits = 1 + next(r) % 7;
+        f.group_index = (int32_t)(next(r) % 3) - 1;
+        assert_int_equal(hgcd_body_set_filter(sc->w, id, &f), HGCD_OK);
+        assert_int_equal(hgcd_body_set_enabled(sc->w, id, enabled), HGCD_OK);
+        if (f.group_index != 0 && f.group_index == qf->group_index) accept = f.group_index > 0;
+        else accept = (f.category_bits & qf->mask_bits) != 0 && (f.mask_bits & qf->category_bits) != 0;
+        sc->skip[b] = !enabled || !accept;
+    }
+    sc->qf = qf;
+}
+
+static void run_scene(uint64_t seed, size_t bodies, double side, int snap) {
+    scene sc;
+    rng r = {seed};
+    size_t hits[1], answers[2];
+    hgcd_filter qf;
+    scene_init(&sc, 1);
+    scene_random(&sc, &r, bodies, side, snap);
+    check_scene(&sc, &r, side, snap, hits, answers);
+    assert_true(hits[0] > 400 / 10); /* (a scene that tests something) */
+    assert_true(answers[0] > 120 / 4);
+    assert_true(answers[1] > 200 / 8);
+    random_filters(&sc, &r, &qf);
+    check_scene(&sc, &r, side, snap, hits, answers);
     scene_free(&sc);
 }
 
@@ -471,6 +581,17 @@ static void test_random_scenes(void **state) {
     uint64_t seed;
     (void)state;
     for (seed = 1; seed <= scene_count(3); ++seed) run_scene(seed, 60, 8, 0);
+}
+
+/* The queries' loops on a caller's task system (2 workers): the same
+ * answers as the oracle's. */
+static void test_task_system(void **state) {
+    const unsigned before = atomic_load(&task_loops);
+    (void)state;
+    use_tasks = 1;
+    run_scene(21, 60, 8, 0);
+    use_tasks = 0;
+    assert_true(atomic_load(&task_loops) > before);
 }
 
 static void test_snapped_scenes(void **state) {
@@ -596,7 +717,7 @@ static void expect_bodies(const hgcd_query_results *res, size_t q, const uint32_
 static void test_body_filters(void **state) {
     scene sc;
     const double id[4] = {0, 0, 0, 1}, all_box[6] = {-2, -2, -2, 11, 2, 2}, pt[3] = {9, 0, 0};
-    const hgcd_query_filter mask4 = {1, 4 | 1}, cat8 = {8, UINT64_MAX}, mask2 = {1, 2};
+    const hgcd_filter mask4 = {1, 4 | 1, 0, 0}, cat8 = {8, UINT64_MAX, 0, 0}, mask2 = {1, 2, 0, 0};
     const hgcd_mesh_pose rod = {{4.5, 0, 0}, {0, 0, 0, 1}, 6}; /* a cube spanning x in [-1.5, 10.5] */
     hgcd_filter f = hgcd_filter_default();
     hgcd_query_results res;
@@ -671,7 +792,7 @@ static void test_refusals(void **state) {
     hgcd_query_results res, res2;
     hgcd_ray ray = {{-5, 0, 0}, {1, 0, 0}, 10};
     hgcd_ray_hit hit;
-    hgcd_query_filter none = {1, 0}, all = {1, UINT64_MAX};
+    hgcd_filter none = {1, 0, 0, 0}, all = {1, UINT64_MAX, 0, 0}, odd = {1, UINT64_MAX, 0, 1};
     hgcd_mesh_pose pose = {{0, 0, 0}, {0, 0, 0, 1}, 1};
     (void)state;
     scene_init(&sc, 2);
@@ -734,6 +855,18 @@ static void test_refusals(void **state) {
     assert_true(hit.distance == 4);
     assert_int_equal(hgcd_world_query_box(sc.w, good, 1, 0, &none, &res2), HGCD_OK);
     assert_int_equal(res2.body_count, 0);
+    /* A filter's reserved field must be 0. */
+    assert_int_equal(hgcd_world_query_box(sc.w, good, 1, 0, NULL, &res), HGCD_OK);
+    assert_int_equal(hgcd_world_query_box(sc.w, good, 1, 0, &odd, &res2), HGCD_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(hgcd_world_last_error(sc.w), "reserved"));
+    assert_int_equal(hgcd_world_query_point(sc.w, zero, 1, 0, &odd, &res2), HGCD_ERROR_INVALID_ARGUMENT);
+    assert_int_equal(hgcd_world_query_mesh(sc.w, sc.mesh[SHAPE_TETRA], &pose, 1, 0, &odd, &res2),
+                     HGCD_ERROR_INVALID_ARGUMENT);
+    memset(&hit, 0xAB, sizeof hit);
+    assert_int_equal(hgcd_world_cast_rays(sc.w, &ray, 1, 0, HGCD_RAY_CLOSEST, &odd, &hit), HGCD_ERROR_INVALID_ARGUMENT);
+    assert_int_equal(hit.body.index, 0xABABABABu);
+    assert_int_equal(res.body_count, 1); /* the last results kept */
+    assert_int_equal(res.bodies[0].index, 0);
     /* Empty batches. */
     assert_int_equal(hgcd_world_cast_rays(sc.w, NULL, 0, 0, HGCD_RAY_CLOSEST, NULL, NULL), HGCD_OK);
     assert_int_equal(hgcd_world_query_point(sc.w, NULL, 0, 0, NULL, &res2), HGCD_OK);
@@ -844,6 +977,7 @@ int main(void) {
         cmocka_unit_test(test_refusals),            cmocka_unit_test(test_tree_follows_world),
         cmocka_unit_test(test_engine_loop),           cmocka_unit_test(test_body_filters),
         cmocka_unit_test(test_random_scenes),       cmocka_unit_test(test_snapped_scenes),
+        cmocka_unit_test(test_task_system),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

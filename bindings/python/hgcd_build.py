@@ -184,6 +184,42 @@ hgcd_status hgcd_world_get_poses(const hgcd_world *world, const hgcd_body *bodie
                                  double *positions, size_t position_stride,
                                  double *orientations, size_t orientation_stride);
 
+typedef struct hgcd_ray {
+    double origin[3];
+    double direction[3];
+    double max_distance;
+} hgcd_ray;
+typedef struct hgcd_ray_hit {
+    hgcd_body body;
+    uint32_t triangle;
+    uint32_t inside;
+    double distance;
+} hgcd_ray_hit;
+enum hgcd_ray_mode { HGCD_RAY_CLOSEST, HGCD_RAY_ANY, ... };
+typedef struct hgcd_query_results {
+    const size_t *offsets;
+    const hgcd_body *bodies;
+    size_t query_count;
+    size_t body_count;
+} hgcd_query_results;
+typedef struct hgcd_mesh_pose {
+    double position[3];
+    double orientation[4];
+    double scale;
+} hgcd_mesh_pose;
+hgcd_status hgcd_world_cast_rays(hgcd_world *world, const hgcd_ray *rays, size_t count,
+                                 size_t ray_stride, int32_t mode, const hgcd_filter *filter,
+                                 hgcd_ray_hit *out_hits);
+hgcd_status hgcd_world_query_box(hgcd_world *world, const double *boxes, size_t count,
+                                 size_t box_stride, const hgcd_filter *filter,
+                                 hgcd_query_results *out);
+hgcd_status hgcd_world_query_point(hgcd_world *world, const double *points, size_t count,
+                                   size_t point_stride, const hgcd_filter *filter,
+                                   hgcd_query_results *out);
+hgcd_status hgcd_world_query_mesh(hgcd_world *world, hgcd_mesh mesh, const hgcd_mesh_pose *poses,
+                                  size_t count, size_t pose_stride, const hgcd_filter *filter,
+                                  hgcd_query_results *out);
+
 typedef struct hgcd_scene_tetra_desc {
     uint64_t n;
     uint64_t seed;

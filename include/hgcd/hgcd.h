@@ -315,8 +315,8 @@ typedef struct hgcd_world_desc {
      *  Never changes the pairs. */
     int32_t thread_policy;
     /** The caller's task system (both set, or both NULL: the default).
-     *  When set, step, detect and the batch calls run their parallel loops
-     *  as tasks: enqueue_task, then finish_task, each loop finished before
+     *  When set, step, detect, the batch calls and the scene queries run
+     *  their parallel loops as tasks: enqueue_task, then finish_task, each loop finished before
      *  the call goes on, from the thread calling hgcd, never from another
      *  thread; no OpenMP thread is started. thread_count (at least 1) is the
      *  number of workers, and the thread policy is not used. The pairs are
@@ -579,7 +579,8 @@ typedef struct hgcd_stats {
     uint64_t candidate_pairs;
     /** Candidate pairs that reached the exact test (not rejected by its
      *  exact prefilters: the vertex boxes, and for two tetrahedra a
-     *  separating axis along the line between their positions). */
+     *  separating axis along the line between their positions; for two
+     *  small convex meshes that axis alone). */
     uint64_t narrow_tests;
     /** Triangle-triangle tests performed. */
     uint64_t triangle_tests;
@@ -1055,24 +1056,21 @@ HGCD_API hgcd_status hgcd_mesh_validate(const hgcd_world *world,
  * Cost: the first query after bodies were created, destroyed or moved (a
  * pose set, a step) builds a tree over the bodies' boxes, O(n log n), mostly
  * on one thread (about half a second for 750,000 bodies); later queries
- * reuse it. A query
- * then costs about O(log n) plus the exact tests of the bodies its tree
- * search reaches; a mesh of more than 48 triangles is tested triangle by
- * triangle (no tree of its own yet).
+ * reuse it. A query then costs about O(log n) plus the exact tests of the
+ * bodies its tree search reaches; in a mesh of more than 48 triangles those
+ * descend the mesh's own tree (hgcd_mesh_info), so they reach the triangles
+ * near the query, not every triangle.
+ *
+ * Filters: each query takes an optional hgcd_filter and considers the
+ * enabled bodies (hgcd_body_set_enabled) that a body with that filter would
+ * collide with, by hgcd_filter's rule (group index included; body types play
+ * no part): a query can pass its own body's filter and skip that body's
+ * group. NULL stands for every enabled body. filter->reserved must be 0.
  *
  * Threading: a query call changes the world's query cache and result arrays,
  * so it needs exclusive use of the world like every hgcd_world * call.
  * Refusals: every input is checked before any work; a refused call changes
  * nothing (the previous query's results stay valid). */
-
-/** Which bodies a query considers: enabled bodies (hgcd_body_set_enabled)
- *  whose filter's category_bits meet the query's mask_bits and whose
- *  mask_bits meet the query's category_bits (hgcd_filter; group indices and
- *  body types play no part). NULL stands for "every enabled body". */
-typedef struct hgcd_query_filter {
-    uint64_t category_bits;
-    uint64_t mask_bits;
-} hgcd_query_filter;
 
 /** A ray: the closed segment from origin to end = origin + max_distance *
  *  direction, end computed in double as written (per component, one product
@@ -1127,13 +1125,13 @@ enum hgcd_ray_mode {
  *  solid through a neighbouring face; it misses an open sheet it lies in.
  *  Errors (nothing written): NULL_ARGUMENT (world; rays or out_hits with
  *  count > 0), INVALID_ARGUMENT (mode, stride not a multiple of 8 or below
- *  sizeof(hgcd_ray) when not 0, a ray out of range: the message names ray
- *  k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see
+ *  sizeof(hgcd_ray) when not 0, filter->reserved not 0, a ray out of range:
+ *  the message names ray k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see
  *  above; count = 0 is a no-op. */
 HGCD_API hgcd_status hgcd_world_cast_rays(hgcd_world *world,
                                           const hgcd_ray *rays, size_t count,
                                           size_t ray_stride, int32_t mode,
-                                          const hgcd_query_filter *filter,
+                                          const hgcd_filter *filter,
                                           hgcd_ray_hit *out_hits);
 
 /** Results of a batch of box, point or mesh queries, in world-owned arrays:
@@ -1155,12 +1153,12 @@ typedef struct hgcd_query_results {
  *  boxes (0 = packed); each component within the coordinate range, min <=
  *  max per axis (a flat box or a point is allowed).
  *  Errors (nothing changes): NULL_ARGUMENT (world, out; boxes with count >
- *  0), INVALID_ARGUMENT (stride, a bad box: the message names it),
- *  OUT_OF_MEMORY. */
+ *  0), INVALID_ARGUMENT (stride, filter->reserved not 0, a bad box: the
+ *  message names it), OUT_OF_MEMORY. */
 HGCD_API hgcd_status hgcd_world_query_box(hgcd_world *world,
                                           const double *boxes, size_t count,
                                           size_t box_stride,
-                                          const hgcd_query_filter *filter,
+                                          const hgcd_filter *filter,
                                           hgcd_query_results *out);
 
 /** The bodies whose closed solid contains each point: on a triangle (edges
@@ -1170,7 +1168,7 @@ HGCD_API hgcd_status hgcd_world_query_box(hgcd_world *world,
 HGCD_API hgcd_status hgcd_world_query_point(hgcd_world *world,
                                             const double *points, size_t count,
                                             size_t point_stride,
-                                            const hgcd_query_filter *filter,
+                                            const hgcd_filter *filter,
                                             hgcd_query_results *out);
 
 /** A pose of a query mesh: position, orientation (x, y, z, w) and scale,
@@ -1190,7 +1188,7 @@ typedef struct hgcd_mesh_pose {
 HGCD_API hgcd_status hgcd_world_query_mesh(hgcd_world *world, hgcd_mesh mesh,
                                            const hgcd_mesh_pose *poses,
                                            size_t count, size_t pose_stride,
-                                           const hgcd_query_filter *filter,
+                                           const hgcd_filter *filter,
                                            hgcd_query_results *out);
 
 #ifdef __cplusplus

@@ -454,7 +454,7 @@ hgcd_status hgcd_world_contacts(const hgcd_world *world, const hgcd_contact **ou
 // --------------------------------------------------------------- queries --
 
 hgcd_status hgcd_world_cast_rays(hgcd_world *world, const hgcd_ray *rays, size_t count, size_t ray_stride,
-                                 int32_t mode, const hgcd_query_filter *filter, hgcd_ray_hit *out_hits) {
+                                 int32_t mode, const hgcd_filter *filter, hgcd_ray_hit *out_hits) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     if (count > 0 && (!rays || !out_hits))
         return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_cast_rays", "rays or out_hits is NULL");
@@ -463,7 +463,7 @@ hgcd_status hgcd_world_cast_rays(hgcd_world *world, const hgcd_ray *rays, size_t
 }
 
 hgcd_status hgcd_world_query_box(hgcd_world *world, const double *boxes, size_t count, size_t box_stride,
-                                 const hgcd_query_filter *filter, hgcd_query_results *out) {
+                                 const hgcd_filter *filter, hgcd_query_results *out) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     if (!out || (count > 0 && !boxes))
         return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_query_box", "boxes or out is NULL");
@@ -472,7 +472,7 @@ hgcd_status hgcd_world_query_box(hgcd_world *world, const double *boxes, size_t 
 }
 
 hgcd_status hgcd_world_query_point(hgcd_world *world, const double *points, size_t count, size_t point_stride,
-                                   const hgcd_query_filter *filter, hgcd_query_results *out) {
+                                   const hgcd_filter *filter, hgcd_query_results *out) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     if (!out || (count > 0 && !points))
         return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_query_point", "points or out is NULL");
@@ -481,7 +481,7 @@ hgcd_status hgcd_world_query_point(hgcd_world *world, const double *points, size
 }
 
 hgcd_status hgcd_world_query_mesh(hgcd_world *world, hgcd_mesh mesh, const hgcd_mesh_pose *poses, size_t count,
-                                  size_t pose_stride, const hgcd_query_filter *filter, hgcd_query_results *out) {
+                                  size_t pose_stride, const hgcd_filter *filter, hgcd_query_results *out) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     if (!out || (count > 0 && !poses))
         return refuse(world, HGCD_ERROR_NULL_ARGUMENT, "world_query_mesh", "poses or out is NULL");

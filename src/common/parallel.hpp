@@ -1,14 +1,12 @@
 // How hgcd runs parallel work: OpenMP by default, or the caller's task
 // system (hgcd_world_desc.enqueue_task). parallel_for runs a loop's ranges,
-// with no barrier inside, on either; parallel_region (OpenMP worksharing
-// with barriers) is for code not yet written as parallel_for loops, and runs
-// on the calling thread alone under a task system.
+// with no barrier inside, on either.
 //
 // An exception must not leave an OpenMP region (the runtime would call
 // std::terminate, turning an out-of-memory into an abort) nor a task (the
-// caller's task system is C). Loop and region bodies run through
-// RegionGuard::run, which keeps the first exception; the caller rethrows it
-// once the loop or region has ended. Once one body has failed, the rest are
+// caller's task system is C). Loop bodies run through RegionGuard::run,
+// which keeps the first exception; the caller rethrows it once the loop has
+// ended. Once one body has failed, the rest are
 // skipped: the result is discarded anyway, and a thread's scratch state may
 // be half updated by the failure.
 #pragma once
@@ -123,33 +121,6 @@ class LoadMeter {
   private:
     std::atomic<int64_t> busy_{0}, off_{0};
 };
-
-// One OpenMP region on `threads` threads: each runs body(guard) under the
-// IEEE mode (ieee.hpp); the first exception is rethrown after the region.
-// The body may hold worksharing loops; each iteration that can throw runs
-// through guard.run, so that a failing thread still reaches the loops'
-// barriers and the region ends. A region of 2 or more threads reports to
-// the calling thread's LoadMeter, if one is attached.
-template <class Body>
-void parallel_region(int threads, Body &&body) {
-    RegionGuard guard;
-    if (TaskSystem::current()) threads = 1;  // (its barriers need threads that run at once)
-    LoadMeter *const meter = threads > 1 ? LoadMeter::current() : nullptr;
-    const int64_t start = meter ? clock_ns(CLOCK_MONOTONIC) : 0;
-#pragma omp parallel num_threads(threads)
-    {
-        const IeeeMode ieee;
-        const int64_t cpu0 = meter ? clock_ns(CLOCK_THREAD_CPUTIME_ID) : 0;
-        const int64_t wall0 = meter ? clock_ns(CLOCK_MONOTONIC) : 0;
-        body(guard);
-        if (meter) {
-            const int64_t wall1 = clock_ns(CLOCK_MONOTONIC);
-            const int64_t cpu = clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0;
-            meter->add(wall1 - start, (wall0 - start) + std::max<int64_t>(0, (wall1 - wall0) - cpu));
-        }
-    }
-    guard.rethrow();
-}
 
 // How a parallel_for hands its items out on OpenMP: Static, one contiguous
 // range per thread (the partition of schedule(static)); Dynamic, ranges of

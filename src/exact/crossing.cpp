@@ -57,9 +57,14 @@ constexpr double kU = 0x1p-53;
 }  // namespace
 
 bool segment_crosses(const double *o, const double *e, const double *const *v, RayCrossing *c) {
+    // A = orient3d(v0, v1, v2, o) = -orient3d(o, v1, v2, v0) (a and d
+    // swapped): computed from the differences to v0, so that the error bound
+    // grows with the triangle's size times o's distance, not with the cube of
+    // that distance (o3d_value's differences to its fourth point): a far
+    // origin keeps the filters certain and the parameters narrow.
     double ea, ee;
-    const double A = o3d_value(v[0], v[1], v[2], o, &ea);
-    const double E = o3d_value(v[0], v[1], v[2], e, &ee);
+    const double A = -o3d_value(o, v[1], v[2], v[0], &ea);
+    const double E = -o3d_value(e, v[1], v[2], v[0], &ee);
     // Strictly on one side: no crossing (the common case, two filters).
     if ((A > ea && E > ee) || (A < -ea && E < -ee)) return false;
     const int sa = certified_sign(A, ea, v[0], v[1], v[2], o);

@@ -201,8 +201,6 @@ void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t trian
     *out = std::move(bvh);
 }
 
-namespace {
-
 // Does the closed segment [p, q] certainly miss the box b? Tests the
 // segment's box, then the three axes d x e_k (d = q - p as rounded; any axis
 // proves separation when both endpoints project beyond the box's range). The
@@ -239,6 +237,8 @@ bool segment_misses_box(const double *p, const double *q, const double *smin, co
     }
     return false;
 }
+
+namespace {
 
 // Deterministic small offsets in [-1/8, 1/8) for the ray directions.
 double offset(uint32_t i) {

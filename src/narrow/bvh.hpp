@@ -189,6 +189,12 @@ struct BodyView {
     }
 };
 
+// Does the closed segment [p, q] certainly miss the box b (min xyz, max
+// xyz)? smin, smax: the segment's box; d = q - p as rounded. False when
+// unsure (conservative: never true for a box the segment meets).
+bool segment_misses_box(const double *p, const double *q, const double *smin, const double *smax,
+                        const double *d, const double *b);
+
 // Exact parity test of point p against the closed mesh of `outer` (which has
 // a tree), with the same answer as point_in_closed_mesh on outer's world
 // vertices: rays from p leave the root box, nodes the ray segment provably

@@ -53,12 +53,22 @@ HGCD_CK_INLINE void range(const SatData &m, double s, const double *d, double &l
     hi = hmax4(mx);
 }
 
-// The first vertex whose projection (range's expression, same bits) is p.
-HGCD_CK_INLINE uint32_t vertex_at(const Mesh &mesh, double s, const double *d, double p) {
-    const double *v = mesh.vertices.data();
-    for (uint32_t i = 0; i < mesh.vertex_count; ++i, v += 3)
-        if (((s * v[0]) * d[0] + (s * v[1]) * d[1]) + (s * v[2]) * d[2] == p) return i;
-    return 0;  // (not reached: p is one of these values)
+// range, and a vertex where the largest is reached.
+HGCD_CK_INLINE void range_arg(const SatData &m, double s, const double *d, double &lo, double &hi, uint32_t &arg) {
+    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
+    const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s), step = splat(SatData::kLanes);
+    f64x4 mx = splat(-INFINITY), mn = splat(INFINITY), at = {0, 1, 2, 3}, best = at;
+    for (uint32_t i = 0; i < m.padded; i += SatData::kLanes, at += step) {
+        const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
+        best = p > mx ? at : best;
+        mx = vmax4(mx, p);
+        mn = vmin4(mn, p);
+    }
+    lo = hmin4(mn);
+    hi = hmax4(mx);
+    // (Lanes by constant index: a variable one sends the vectors through the
+    // stack.)
+    arg = uint32_t(mx[0] == hi ? best[0] : mx[1] == hi ? best[1] : mx[2] == hi ? best[2] : best[3]);
 }
 
 HGCD_CK_INLINE void rotate_t(const Rotation &r, const double *v, double *out) {  // R^T v
@@ -97,8 +107,54 @@ struct PairView {
     const SatData &sa, &sb;
     Rotation ra, rb;
     double u[3];
-    double scale;  // P + L_a + L_b
+    double scale;   // P + L_a + L_b
+    double c[9];    // fl(R_b^T R_a), row-major
+    double dq[2];   // |1 - fl(|q|^2)| + 2^-50 of a and b
 };
+
+// A face axis n of mesh a (frame a), for the real world axis N = R_a n
+// (any real vector separates as well as a double one). Computed: a's range
+// fl(s fl(v . n)) from the mesh's face_range, b's range of fl(l . fl(C n))
+// with C = fl(R_b^T R_a), and o = fl(da . n) for da = fl(R_a^T u), u =
+// fl(c_b - c_a). Against the exact projections of the world vertices on N
+// relative to c_a, to first order, with P, L as for apart_on:
+//  - a: (w - c_a) . N = l . (R_a^T R_a n) + e . N; R_a^T R_a is within
+//    5 |delta_a| + 40 eps of I entrywise (strictly_inside), |N|_1 <= 3 |n|_1,
+//    and s fl(v . n) is within 5 eps L |n|_1 of l . n: at most
+//    (5 |delta_a| + 70 eps) L_a |n|_1 + 3 eps P |n|_1;
+//  - b: o misses (c_b - c_a) . N by 20 eps P |n|_1, fl(C n) misses
+//    R_b^T R_a n by 20 eps |n|_1 (C's entries by 12 eps), so with the
+//    range's rounding and e_b . N at most 60 eps L_b |n|_1 + 25 eps P |n|_1;
+//  - the final sums, 20 eps (P + L_a + L_b) |n|_1.
+// kFaceMargin = 2^-42 = 2048 eps of (P + L_a + L_b) |n|_1 and 8 dq_a L_a |n|_1
+// (dq >= |delta| + 24 eps) cover that many times over.
+constexpr double kFaceMargin = 0x1p-42;
+
+HGCD_CK_INLINE void mul3(const double *m, const double *v, double *out) {  // m v
+    for (int j = 0; j < 3; ++j) out[j] = (m[3 * j] * v[0] + m[3 * j + 1] * v[1]) + m[3 * j + 2] * v[2];
+}
+HGCD_CK_INLINE void mul3_t(const double *m, const double *v, double *out) {  // m^T v
+    for (int j = 0; j < 3; ++j) out[j] = (m[j] * v[0] + m[3 + j] * v[1]) + m[6 + j] * v[2];
+}
+
+// Face axis k of `own` (body index side: 0 a, 1 b) against the other body.
+// For b's faces the roles swap: N = R_b n, the other's direction C^T n, o =
+// fl(ub . n) with ub = fl(R_b^T u) seen from c_b (so the signs flip), the
+// same bound with a and b exchanged.
+HGCD_CK_INLINE bool face_apart(const PairView &p, int side, uint32_t k, const double *toward) {
+    const SatData &own = side ? p.sb : p.sa, &other = side ? p.sa : p.sb;
+    const double s_own = side ? p.b.scale : p.a.scale, s_other = side ? p.a.scale : p.b.scale;
+    const double *n = &own.axes[3 * k];
+    double d[3], olo, ohi;
+    if (side) mul3_t(p.c, n, d);
+    else mul3(p.c, n, d);
+    range(other, s_other, d, olo, ohi);
+    const double alo = s_own * own.face_range[2 * k], ahi = s_own * own.face_range[2 * k + 1];
+    const double o = (toward[0] * n[0] + toward[1] * n[1]) + toward[2] * n[2];
+    const double margin =
+        (kFaceMargin * p.scale + 8 * p.dq[side] * (s_own * own.reach)) * norm1(n) + tet::kUnderflowFloor;
+    return ((o + olo) - ahi > margin) | (alo - (o + ohi) > margin);
+}
 
 HGCD_CK_INLINE bool apart_on(const PairView &p, const double *N) {
     double da[3], db[3], alo, ahi, blo, bhi;
@@ -140,20 +196,17 @@ HGCD_CK_INLINE int pick_faces(const SatData &m, const double *d, uint32_t *out) 
 // Separating axes after the line of centres: face normals of both meshes
 // (those nearest that line first), then edge against edge when the meshes
 // have at most kEdgeAxisPairs pairs of edge directions.
-HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double *db) {
+HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double *ub) {
     uint32_t fa[kFaceAxes], fb[kFaceAxes];
-    const int na = pick_faces(p.sa, da, fa), nb = pick_faces(p.sb, db, fb);
-    double N[3];
+    const int na = pick_faces(p.sa, da, fa), nb = pick_faces(p.sb, ub, fb);
+    // (ub = R_b^T u points from b's position away from a: b's faces take
+    // a's offset along -ub.)
+    const double to_a[3] = {-ub[0], -ub[1], -ub[2]};
     for (int k = 0; k < std::max(na, nb); ++k) {
-        if (k < na) {
-            rotate(p.ra, &p.sa.axes[3 * fa[k]], N);
-            if (apart_on(p, N)) return true;
-        }
-        if (k < nb) {
-            rotate(p.rb, &p.sb.axes[3 * fb[k]], N);
-            if (apart_on(p, N)) return true;
-        }
+        if (k < na && face_apart(p, 0, fa[k], da)) return true;
+        if (k < nb && face_apart(p, 1, fb[k], to_a)) return true;
     }
+    double N[3];
     const uint64_t pairs = uint64_t(p.sa.edges) * p.sb.edges;
     if (pairs == 0 || pairs > kEdgeAxisPairs) return false;
     double ea[kEdgeAxisPairs][3];
@@ -208,15 +261,25 @@ HGCD_CK_INLINE bool strictly_inside(const BodyPose &in, const SatData &m, const 
     const double L = in.scale * m.reach, z1 = norm1(z);
     const double margin = 0x1p-40 * (((norm_inf(c) + L) + z1) + dz) + 12 * dq * L + 2 * m.theta * (z1 + L) +
                           tet::kUnderflowFloor;
+    // Inside the ball that every plane leaves on its inner side, compared in
+    // squares (no square root, whose libm fallback valgrind cannot follow in
+    // the AVX2 build): with t = fl(fl(s inner) (1 - 2^-48)) - m > 0 and
+    // fl(z . z) (1 + 2^-46) < fl(t t) (1 - 2^-48), |z|_2 < t (the roundings
+    // are below 4 eps), so for each plane n . z - s k <= (1 + 4 eps) |z|_2 -
+    // s inner < (1 + 6 eps) (fl(s inner) (1 - 2^-48) - m) - s inner < -m:
+    // the planes' test holds, without the evaluation error m also covers.
+    const double t = (in.scale * m.inner) * (1 - 0x1p-48) - margin;
+    const double zz2 = (z[0] * z[0] + z[1] * z[1]) + z[2] * z[2];
+    if (t > 0 && zz2 * (1 + 0x1p-46) < (t * t) * (1 - 0x1p-48)) return true;
     const uint32_t n = m.planes_padded;
     const double *nx = m.planes.data(), *ny = nx + n, *nz = ny + n, *k = nz + n;
-    const f64x4 zx = splat(z[0]), zy = splat(z[1]), zz = splat(z[2]), s = splat(in.scale);
-    f64x4 worst = splat(-INFINITY);
+    const f64x4 zx = splat(z[0]), zy = splat(z[1]), zz = splat(z[2]), s = splat(in.scale), lim = splat(-margin);
     for (uint32_t i = 0; i < n; i += SatData::kLanes) {
         const f64x4 g = ((load4(nx + i) * zx + load4(ny + i) * zy) + load4(nz + i) * zz) - s * load4(k + i);
-        worst = vmax4(worst, g);
+        const i64x4 out = g >= lim;
+        if ((out[0] | out[1]) | (out[2] | out[3])) return false;
     }
-    return hmax4(worst) < -margin;
+    return true;
 }
 
 // Is the world vertex w of another body strictly inside body `in`? Its
@@ -230,15 +293,13 @@ HGCD_CK_INLINE bool vertex_inside(const BodyPose &in, const Rotation &r, const S
     return strictly_inside(in, m, z, norm1(D));
 }
 
-// Does the vertex of `b` reaching furthest towards `a` (along db, b's frame,
-// reaching b_toward) lie strictly inside a, while some vertex of b lies
+// Does vertex v of `b` lie strictly inside a, while some vertex of b lies
 // strictly outside a (found on the line of centres)? Then b's surface,
 // connected (inside_test: one component), has a path of edges from a point
 // inside a's solid to one outside, which crosses a's surface: the surfaces
 // meet.
 HGCD_CK_INLINE bool vertex_poke(const BodyPose &a, const Rotation &ra, const SatData &sa, const BodyPose &b,
-                                const Rotation &rb, const double *db, double b_toward) {
-    const uint32_t v = vertex_at(*b.mesh, b.scale, db, b_toward);
+                                const Rotation &rb, uint32_t v) {
     double w[3];
     transform_point(rb, b.position, b.scale, &b.mesh->vertices[3 * size_t(v)], w);
     return vertex_inside(a, ra, sa, w);
@@ -300,7 +361,7 @@ HGCD_CK_INLINE bool holds_all(const BodyPose &out, const Rotation &ro, const Sat
 
 HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
     const SatData &sa = *a.mesh->sat, &sb = *b.mesh->sat;
-    PairView p{a, b, sa, sb, rotation_of(a.orientation), rotation_of(b.orientation), {}, 0};
+    PairView p{a, b, sa, sb, rotation_of(a.orientation), rotation_of(b.orientation), {}, 0, {}, {}};
     const double *ca = a.position, *cb = b.position;
     for (int k = 0; k < 3; ++k) p.u[k] = cb[k] - ca[k];
     // The line of centres: tet_axis_separates's test and margin (tetra.hpp),
@@ -313,8 +374,9 @@ HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
     rotate_t(p.rb, p.u, ub);
     for (int j = 0; j < 3; ++j) db[j] = -1.0 * ub[j];
     double alo, ahi, blo, bhi;
-    range(sa, a.scale, da, alo, ahi);
-    range(sb, b.scale, db, blo, bhi);
+    uint32_t a_toward, b_toward;  // the vertices reaching furthest towards the other body
+    range_arg(sa, a.scale, da, alo, ahi, a_toward);
+    range_arg(sb, b.scale, db, blo, bhi, b_toward);
     const double uu = (p.u[0] * p.u[0] + p.u[1] * p.u[1]) + p.u[2] * p.u[2];
     const double reach_ab = ahi + bhi;
     const double gap = uu - reach_ab;
@@ -331,19 +393,27 @@ HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
     const bool b_out = (uu - blo) - ahi > cmargin;  // a vertex of b beyond a's far end
     const bool a_out = (uu - bhi) - alo > cmargin;  // a vertex of a before b's near end
     const bool deep = reach_ab > kDeep * uu;
-    auto poke = [&] {
-        if (!sa.inside_test || !sb.inside_test) return false;
-        return (b_out && vertex_poke(a, p.ra, sa, b, p.rb, db, bhi)) ||
-               (a_out && vertex_poke(b, p.rb, sb, a, p.ra, da, ahi)) ||
-               (a_out && b_out && point_inside_both(a, sa, b, sb, p.u, da, db));
-    };
-    if (deep && poke()) return ConvexVerdict::Surface;
+    // The certificates that the surfaces cross: a vertex poking into the
+    // other body (cheap, and it fails fast on pairs apart) first, the point
+    // inside both first only for deep pairs.
+    const bool inside = sa.inside_test && sb.inside_test;
+    if (inside && ((b_out && vertex_poke(a, p.ra, sa, b, p.rb, b_toward)) ||
+                   (a_out && vertex_poke(b, p.rb, sb, a, p.ra, a_toward))))
+        return ConvexVerdict::Surface;
+    const bool both_out = inside && a_out && b_out;
+    if (deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
     p.scale = ((norm_inf(ca) + norm_inf(cb)) + a.scale * sa.reach) + b.scale * sb.reach;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            p.c[3 * i + j] = (p.rb.m[i] * p.ra.m[j] + p.rb.m[3 + i] * p.ra.m[3 + j]) + p.rb.m[6 + i] * p.ra.m[6 + j];
+    const double *qa = a.orientation, *qb = b.orientation;
+    p.dq[0] = std::fabs(1.0 - (((qa[0] * qa[0] + qa[1] * qa[1]) + qa[2] * qa[2]) + qa[3] * qa[3])) + 0x1p-50;
+    p.dq[1] = std::fabs(1.0 - (((qb[0] * qb[0] + qb[1] * qb[1]) + qb[2] * qb[2]) + qb[3] * qb[3])) + 0x1p-50;
     if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
-    if (!deep && poke()) return ConvexVerdict::Surface;
+    if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
     // One body's stretch of the line of centres inside the other's: try
     // whether it holds the whole body.
-    if (sa.inside_test && sb.inside_test) {
+    if (inside) {
         if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb)) return ConvexVerdict::AHoldsB;
         if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra)) return ConvexVerdict::BHoldsA;
     }

@@ -178,6 +178,16 @@ constexpr uint64_t kFaceTestBudget = 4096;
 // get exact triangle boxes from the world vertices and the exact triangle
 // test, exactly as the direct path.
 
+void next_epoch(NarrowScratch &s) {
+    if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
+        for (auto &c : s.side) {
+            std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
+            std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
+        }
+        s.epoch = 1;
+    }
+}
+
 void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, BodyView &v) {
     const Mesh &m = *pose.mesh;
     v.mesh = &m;
@@ -499,13 +509,7 @@ template <bool kMargin = false>
 __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
                                                Witness *witness, bool counted = true, double d = 0,
                                                NodeHint *hint = nullptr) {
-    if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
-        for (auto &c : s.side) {
-            std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
-            std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
-        }
-        s.epoch = 1;
-    }
+    next_epoch(s);
     BodyView va, vb;
     prepare_side(a, s.side[0], s.epoch, va);
     prepare_side(b, s.side[1], s.epoch, vb);
@@ -666,6 +670,11 @@ Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness 
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty())
         return collide_tree(a, b, s, witness, true, 0, witness ? nullptr : hint);
     return collide_direct(a, b, s, witness);
+}
+
+void prepare_query_view(const BodyPose &pose, NarrowScratch &s, BodyView &v) {
+    next_epoch(s);
+    prepare_side(pose, s.side[0], s.epoch, v);
 }
 
 }  // namespace hgcd

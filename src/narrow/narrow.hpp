@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "narrow/bvh.hpp"
 #include "world/mesh.hpp"
 
 namespace hgcd {
@@ -142,6 +143,11 @@ Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScr
 // other's face planes (certified in float); a lane those leave open goes on
 // with the one-pair test's later steps. Elsewhere one pair at a time.
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
+
+// A view of one posed mesh with a tree (Mesh::bvh) for the scene queries:
+// its world vertices and node boxes computed on first use into side 0 of
+// the scratch, under a new epoch (so valid until the scratch's next use).
+void prepare_query_view(const BodyPose &pose, NarrowScratch &scratch, BodyView &v);
 
 // World-space vertices of a body into out (3 per vertex) and their box.
 void world_vertices(const BodyPose &body, std::vector<double> &out, double *box);

@@ -19,10 +19,11 @@ struct QueryCache {
 };
 
 // Whether a query with this filter considers a body with this filter
-// (hgcd.h, hgcd_query_filter): never a disabled body; NULL: every enabled one.
-inline bool filter_accepts(const hgcd_query_filter *f, const BodyFilter &body) {
+// (hgcd.h, "Scene queries"): never a disabled body; NULL: every enabled one;
+// else the pairs' rule, the query standing for a body with filter f.
+inline bool filter_accepts(const hgcd_filter *f, const BodyFilter &body) {
     if (body.flags & BodyFilter::kDisabled) return false;
-    return !f || ((f->mask_bits & body.category) != 0 && (f->category_bits & body.mask) != 0);
+    return !f || filters_accept(f->category_bits, f->mask_bits, f->group_index, body.category, body.mask, body.group);
 }
 
 }  // namespace hgcd

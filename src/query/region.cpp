@@ -1,8 +1,6 @@
 // Box, point and mesh queries: each query's box against the query tree,
 // the bodies reached decided exactly, the answers gathered per query in
 // index order into the world's result arrays. Also the tree's upkeep.
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -52,9 +50,8 @@ void World::ensure_query_tree() {
     tree.build(std::move(items), threads());
     constexpr size_t kCache = 3 * QueryTree::kCachedVertices;
     tree.world.resize(kCache * tree.items.size());
-    parallel_region(threads(), [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t i = 0; i < int64_t(tree.items.size()); ++i) {
+    parallel_for(threads(), int64_t(tree.items.size()), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        for (int64_t i = b; i < e; ++i) {
             const QueryItem &it = tree.items[size_t(i)];
             const Mesh &m = meshes_[it.mesh];
             if (m.vertex_count > QueryTree::kCachedVertices) continue;
@@ -67,7 +64,7 @@ void World::ensure_query_tree() {
     query_.stale = false;
 }
 
-SolidView World::query_view(size_t i, std::vector<double> &w, double *box) const {
+SolidView World::query_view(size_t i, QueryScratch &s, double *box) const {
     const QueryTree &tree = query_.tree;
     const QueryItem &it = tree.items[i];
     const Mesh &m = meshes_[it.mesh];
@@ -83,83 +80,104 @@ SolidView World::query_view(size_t i, std::vector<double> &w, double *box) const
                 box[k] = std::min(box[k], wv[3 * v + k]);
                 box[3 + k] = std::max(box[3 + k], wv[3 * v + k]);
             }
-    } else {
+    } else if (!m.bvh.empty()) {
         // (By slot: storage may have been renumbered since the build.)
-        world_vertices(pose_of(&m, place_[at_[it.slot]]), w, box);
-        wv = w.data();
+        prepare_query_view(pose_of(&m, place_[at_[it.slot]]), s.narrow, s.view);
+        std::copy(s.view.box(0), s.view.box(0) + 6, box);
+        return SolidView{&m, nullptr, box, &s.view, &s.narrow};
+    } else {
+        world_vertices(pose_of(&m, place_[at_[it.slot]]), s.world, box);
+        wv = s.world.data();
     }
     return SolidView{&m, wv, box};
 }
 
 template <class Box, class Accept>
-void World::run_region_queries(size_t count, const hgcd_query_filter *filter, Box &&box, Accept &&accept) {
+void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&box, Accept &&accept) {
     ensure_query_tree();
     // Only a query filter or a disabled body makes the per-body test needed.
     const bool every = !filter && disabled_bodies_ == 0;
     const auto considers = [&](uint32_t slot) { return every || filter_accepts(filter, filter_[at_[slot]]); };
     const QueryTree &tree = query_.tree;
     const size_t chunks = (count + kChunk - 1) / kChunk;
-    std::vector<std::vector<uint32_t>> found(chunks);  // per chunk, its queries' slots in order
+    // Queries are answered in spatial order (QueryTree::spatial_order), in
+    // chunks of that order; each chunk keeps its queries' bodies, and each
+    // query where they start (the chunk is that of its place in the order).
+    const std::vector<uint32_t> order = tree.spatial_order(count, [&](size_t q, double *p) {
+        double lo[3], hi[3];
+        box(q, lo, hi);
+        for (int a = 0; a < 3; ++a) p[a] = 0.5 * lo[a] + 0.5 * hi[a];
+    });
+    std::vector<std::vector<uint32_t>> found(chunks);
+    std::vector<size_t> start(count);
     std::vector<size_t> sizes(count + 1, 0);
-    parallel_region(threads(), [&](RegionGuard &guard) {
-        std::vector<double> scratch;
-        NarrowScratch narrow;
-        std::vector<uint32_t> mine;
-        uint32_t stack[kQueryStack];
-#pragma omp for schedule(dynamic, 1)
-        for (int64_t c = 0; c < int64_t(chunks); ++c) {
-            guard.run([&] {
-                std::vector<uint32_t> &out = found[size_t(c)];
-                const size_t end = std::min(count, size_t(c + 1) * kChunk);
-                for (size_t q = size_t(c) * kChunk; q < end; ++q) {
-                    mine.clear();
-                    double lo[3], hi[3];
-                    box(q, lo, hi);
-                    const auto meets = [&](const float *nlo, const float *nhi) {
-                        bool apart = false;
-                        for (int k = 0; k < 3; ++k) apart |= double(nlo[k]) > hi[k] || double(nhi[k]) < lo[k];
-                        return !apart;
-                    };
-                    int top = 0;
-                    if (!tree.nodes.empty() && meets(tree.nodes[0].lo, tree.nodes[0].hi))
-                        stack[top++] = 0;
-                    while (top > 0) {  // (the stack holds nodes whose box meets the query's)
-                        const QueryNode &n = tree.nodes[stack[--top]];
-                        if (n.count == 0) {
-                            // Both children (one cache line) tested here; what
-                            // the visit of one reads next is asked for now.
-                            for (uint32_t c = n.first + 2; c-- > n.first;) {
-                                const QueryNode &child = tree.nodes[c];
-                                if (!meets(child.lo, child.hi)) continue;
-                                if (child.count == 0) __builtin_prefetch(&tree.nodes[child.first]);
-                                else __builtin_prefetch(&tree.items[child.first]);
-                                stack[top++] = c;
-                            }
-                            continue;
-                        }
-                        for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-                            const QueryItem &it = tree.items[i];
-                            bool away = false;
+    const int T = threads();
+    std::vector<QueryScratch> scratches(static_cast<size_t>(T));  // per worker
+    std::vector<std::vector<uint32_t>> mines(static_cast<size_t>(T));
+    parallel_for(T, int64_t(chunks), 1, Schedule::Dynamic, [&](int64_t c0, int64_t c1, int me) {
+        QueryScratch &sc = scratches[size_t(me)];
+        std::vector<uint32_t> &mine = mines[size_t(me)];
+        std::pair<uint32_t, uint32_t> stack[kQueryStack];  // (wide node, 0) or (items, count)
+        for (int64_t c = c0; c < c1; ++c) {
+            std::vector<uint32_t> &out = found[size_t(c)];
+            const size_t end = std::min(count, size_t(c + 1) * kChunk);
+            for (size_t j = size_t(c) * kChunk; j < end; ++j) {
+                const size_t q = order.empty() ? j : order[j];
+                mine.clear();
+                double lo[3], hi[3];
+                box(q, lo, hi);
+                int top = 0;
+                if (!tree.wide.empty()) stack[top++] = {0, 0};
+                while (top > 0) {
+                    const auto [ref, cnt] = stack[--top];
+                    if (cnt == 0) {
+                        // The children whose box meets the query's; what the
+                        // visit of one reads first is asked for now.
+                        const QueryWide &w = tree.wide[ref];
+                        for (uint32_t c = w.n; c-- > 0;) {
+                            bool apart = false;
                             for (int k = 0; k < 3; ++k)
-                                away |= double(it.lo[k]) > hi[k] || double(it.hi[k]) < lo[k];
-                            if (!away && considers(it.slot) && accept(q, size_t(i), scratch, narrow)) mine.push_back(it.slot);
+                                apart |= double(w.lo[k][c]) > hi[k] || double(w.hi[k][c]) < lo[k];
+                            if (apart) continue;
+                            if (w.count[c] == 0) {
+                                const char *p = reinterpret_cast<const char *>(&tree.wide[w.ref[c]]);
+                                __builtin_prefetch(p);
+                                __builtin_prefetch(p + 64);
+                            } else {
+                                __builtin_prefetch(&tree.items[w.ref[c]]);
+                            }
+                            stack[top++] = {w.ref[c], w.count[c]};
                         }
+                        continue;
                     }
-                    std::sort(mine.begin(), mine.end());
-                    sizes[q + 1] = mine.size();
-                    out.insert(out.end(), mine.begin(), mine.end());
+                    for (uint32_t i = ref; i < ref + cnt; ++i) {
+                        const QueryItem &it = tree.items[i];
+                        bool away = false;
+                        for (int k = 0; k < 3; ++k)
+                            away |= double(it.lo[k]) > hi[k] || double(it.hi[k]) < lo[k];
+                        if (!away && considers(it.slot) && accept(q, size_t(i), sc)) mine.push_back(it.slot);
+                    }
                 }
-            });
+                std::sort(mine.begin(), mine.end());
+                sizes[q + 1] = mine.size();
+                start[q] = out.size();
+                out.insert(out.end(), mine.begin(), mine.end());
+            }
         }
     });
     for (size_t q = 0; q < count; ++q) sizes[q + 1] += sizes[q];
     std::vector<hgcd_body> bodies(sizes[count]);
-    parallel_region(threads(), [&](RegionGuard &) {
-#pragma omp for schedule(static)
-        for (int64_t c = 0; c < int64_t(chunks); ++c) {
-            const size_t at = sizes[size_t(c) * kChunk];
+    parallel_for(T, int64_t(chunks), 16, Schedule::Static, [&](int64_t c0, int64_t c1, int) {
+        for (int64_t c = c0; c < c1; ++c) {
             const std::vector<uint32_t> &f = found[size_t(c)];
-            for (size_t i = 0; i < f.size(); ++i) bodies[at + i] = hgcd_body{f[i], live_gen_[f[i]]};
+            const size_t end = std::min(count, size_t(c + 1) * kChunk);
+            for (size_t j = size_t(c) * kChunk; j < end; ++j) {
+                const size_t q = order.empty() ? j : order[j];
+                for (size_t i = 0; i < sizes[q + 1] - sizes[q]; ++i) {
+                    const uint32_t slot = f[start[q] + i];
+                    bodies[sizes[q] + i] = hgcd_body{slot, live_gen_[slot]};
+                }
+            }
         }
     });
     query_.offsets.swap(sizes);
@@ -173,10 +191,12 @@ void World::publish(hgcd_query_results *out) {
     out->body_count = query_.bodies.size();
 }
 
-hgcd_status World::query_boxes(const double *boxes, size_t count, size_t stride, const hgcd_query_filter *filter,
+hgcd_status World::query_boxes(const double *boxes, size_t count, size_t stride, const hgcd_filter *filter,
                                hgcd_query_results *out) {
     if (!stride_ok(stride, 6 * sizeof(double)))
         return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_query_box: box_stride must be 0 or a multiple of 8 of at least 48");
+    if (filter && filter->reserved != 0)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_query_box: filter.reserved is not 0");
     if (stride == 0) stride = 6 * sizeof(double);
     for (size_t k = 0; k < count; ++k) {
         const double *b = reinterpret_cast<const double *>(entry(boxes, stride, k));
@@ -195,20 +215,22 @@ hgcd_status World::query_boxes(const double *boxes, size_t count, size_t stride,
                 hi[a] = b[3 + a];
             }
         },
-        [&](size_t q, size_t i, std::vector<double> &w, NarrowScratch &) {
+        [&](size_t q, size_t i, QueryScratch &s) {
             const double *b = reinterpret_cast<const double *>(entry(boxes, stride, q));
             double box[6];
-            return box_meets_solid(query_view(i, w, box), b, b + 3);
+            return box_meets_solid(query_view(i, s, box), b, b + 3);
         });
     publish(out);
     return HGCD_OK;
 }
 
-hgcd_status World::query_points(const double *points, size_t count, size_t stride, const hgcd_query_filter *filter,
+hgcd_status World::query_points(const double *points, size_t count, size_t stride, const hgcd_filter *filter,
                                 hgcd_query_results *out) {
     if (!stride_ok(stride, 3 * sizeof(double)))
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
                     "world_query_point: point_stride must be 0 or a multiple of 8 of at least 24");
+    if (filter && filter->reserved != 0)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_query_point: filter.reserved is not 0");
     if (stride == 0) stride = 3 * sizeof(double);
     for (size_t k = 0; k < count; ++k)
         if (!position_ok(reinterpret_cast<const double *>(entry(points, stride, k))))
@@ -220,22 +242,24 @@ hgcd_status World::query_points(const double *points, size_t count, size_t strid
             const double *p = reinterpret_cast<const double *>(entry(points, stride, q));
             for (int a = 0; a < 3; ++a) lo[a] = hi[a] = p[a];
         },
-        [&](size_t q, size_t i, std::vector<double> &w, NarrowScratch &) {
+        [&](size_t q, size_t i, QueryScratch &s) {
             const double *p = reinterpret_cast<const double *>(entry(points, stride, q));
             double box[6];
-            return point_in_solid(query_view(i, w, box), p);
+            return point_in_solid(query_view(i, s, box), p);
         });
     publish(out);
     return HGCD_OK;
 }
 
 hgcd_status World::query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, size_t count, size_t stride,
-                                const hgcd_query_filter *filter, hgcd_query_results *out) {
+                                const hgcd_filter *filter, hgcd_query_results *out) {
     const int64_t ms = live_mesh(mesh);
     if (ms < 0) return fail(HGCD_ERROR_STALE_ID, "world_query_mesh: mesh is not a live mesh of this world");
     if (!stride_ok(stride, sizeof(hgcd_mesh_pose)))
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
                     "world_query_mesh: pose_stride must be 0 or a multiple of 8 of at least sizeof(hgcd_mesh_pose)");
+    if (filter && filter->reserved != 0)
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_query_mesh: filter.reserved is not 0");
     if (stride == 0) stride = sizeof(hgcd_mesh_pose);
     const Mesh &qm = meshes_[size_t(ms)];
     const auto pose = [&](size_t k) { return reinterpret_cast<const hgcd_mesh_pose *>(entry(poses, stride, k)); };
@@ -249,14 +273,11 @@ hgcd_status World::query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, siz
     }
     // Each pose's exact world box, computed once (the tree search reads it).
     std::vector<double> qbox(6 * count);
-    parallel_region(threads(), [&](RegionGuard &guard) {
+    parallel_for(threads(), int64_t(count), 64, Schedule::Dynamic, [&](int64_t k0, int64_t k1, int) {
         std::vector<double> w;
-#pragma omp for schedule(dynamic, 64)
-        for (int64_t k = 0; k < int64_t(count); ++k) {
-            guard.run([&] {
-                const hgcd_mesh_pose &p = *pose(size_t(k));
-                world_vertices(BodyPose{&qm, p.position, p.orientation, p.scale}, w, &qbox[6 * size_t(k)]);
-            });
+        for (int64_t k = k0; k < k1; ++k) {
+            const hgcd_mesh_pose &p = *pose(size_t(k));
+            world_vertices(BodyPose{&qm, p.position, p.orientation, p.scale}, w, &qbox[6 * size_t(k)]);
         }
     });
     run_region_queries(
@@ -267,11 +288,11 @@ hgcd_status World::query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, siz
                 hi[a] = qbox[6 * q + 3 + a];
             }
         },
-        [&](size_t q, size_t i, std::vector<double> &, NarrowScratch &narrow) {
+        [&](size_t q, size_t i, QueryScratch &s) {
             const hgcd_mesh_pose &p = *pose(q);
-            const size_t s = at_[query_.tree.items[i].slot];
+            const size_t at = at_[query_.tree.items[i].slot];
             const BodyPose a{&qm, p.position, p.orientation, p.scale};
-            return collide(a, pose_of(&meshes_[body_mesh_[s]], place_[s]), narrow) != Contact::None;
+            return collide(a, pose_of(&meshes_[body_mesh_[at]], place_[at]), s.narrow) != Contact::None;
         });
     publish(out);
     return HGCD_OK;

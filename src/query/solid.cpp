@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "narrow/bvh.hpp"
+
 namespace hgcd {
 
 namespace {
@@ -12,27 +14,71 @@ bool outside(const double *p, const double *lo, const double *hi) {
     return p[0] < lo[0] || p[1] < lo[1] || p[2] < lo[2] || p[0] > hi[0] || p[1] > hi[1] || p[2] > hi[2];
 }
 
-void triangle_box(const SolidView &b, uint32_t t, double *lo, double *hi) {
-    const double *v0 = b.vertex(t, 0), *v1 = b.vertex(t, 1), *v2 = b.vertex(t, 2);
-    for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(v0[k], std::min(v1[k], v2[k]));
-        hi[k] = std::max(v0[k], std::max(v1[k], v2[k]));
-    }
-}
-
 bool boxes_apart(const double *alo, const double *ahi, const double *blo, const double *bhi) {
     return alo[0] > bhi[0] || alo[1] > bhi[1] || alo[2] > bhi[2] || blo[0] > ahi[0] || blo[1] > ahi[1] ||
            blo[2] > ahi[2];
 }
 
-bool on_surface(const SolidView &b, const double *p) {
-    for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
-        double lo[3], hi[3];
-        triangle_box(b, t, lo, hi);
-        if (outside(p, lo, hi)) continue;
-        if (segment_triangle_intersect(p, p, b.vertex(t, 0), b.vertex(t, 1), b.vertex(t, 2))) return true;
+// Calls visit(id, v) on the triangles (mesh index id, world vertices v[3])
+// until one returns true, and returns whether one did: every triangle of a
+// mesh without a tree, in index order; with a tree, the triangles of the
+// leaves reached through nodes whose box near(box) accepts (near must accept
+// every box that holds a triangle visit could return true for: node boxes
+// hold their triangles' world vertices, bvh.hpp).
+template <class Near, class Visit>
+bool any_triangle(const SolidView &b, Near &&near, Visit &&visit) {
+    if (!b.tree) {
+        const uint32_t *tri = b.mesh->triangles.data();
+        for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
+            const double *v[3] = {b.w + 3 * size_t(tri[3 * t]), b.w + 3 * size_t(tri[3 * t + 1]),
+                                  b.w + 3 * size_t(tri[3 * t + 2])};
+            if (visit(t, v)) return true;
+        }
+        return false;
+    }
+    BodyView &view = *b.tree;
+    uint32_t stack[2 * 80 + 2];  // (depth below 80, bvh.hpp; one sibling waits per level)
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const uint32_t n = stack[--top];
+        if (!near(view.box(n))) continue;
+        const BvhNode &node = view.nodes[n];
+        if (node.count == 0) {
+            stack[top++] = node.first + 1;
+            stack[top++] = node.first;
+            continue;
+        }
+        for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+            const uint32_t *t = &view.tris[3 * size_t(i)];
+            const double *v[3] = {view.vertex(t[0]), view.vertex(t[1]), view.vertex(t[2])};
+            if (visit(view.tri_ids[i], v)) return true;
+        }
     }
     return false;
+}
+
+void triangle_box(const double *const *v, double *lo, double *hi) {
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(v[0][k], std::min(v[1][k], v[2][k]));
+        hi[k] = std::max(v[0][k], std::max(v[1][k], v[2][k]));
+    }
+}
+
+bool on_surface(const SolidView &b, const double *p) {
+    return any_triangle(
+        b, [&](const double *box) { return !outside(p, box, box + 3); },
+        [&](uint32_t, const double *const *v) {
+            double lo[3], hi[3];
+            triangle_box(v, lo, hi);
+            return !outside(p, lo, hi) && segment_triangle_intersect(p, p, v[0], v[1], v[2]);
+        });
+}
+
+// Parity of a point not on the surface of a closed mesh.
+bool inside_closed(const SolidView &b, const double *p) {
+    if (b.tree) return point_in_closed_mesh_bvh(p, *b.tree, b.scratch->node_stack);
+    return point_in_closed_mesh(p, b.w, b.mesh->triangles.data(), b.mesh->triangle_count, b.box, b.box + 3);
 }
 
 // A tetrahedron's closed solid is the hull of its 4 world vertices: p is in
@@ -95,7 +141,7 @@ bool point_in_solid(const SolidView &b, const double *p) {
     if (on_surface(b, p)) return true;
     if (!b.mesh->closed) return false;
     // Not on the surface: parity decides (its precondition).
-    return point_in_closed_mesh(p, b.w, b.mesh->triangles.data(), b.mesh->triangle_count, b.box, b.box + 3);
+    return inside_closed(b, p);
 }
 
 bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
@@ -108,27 +154,37 @@ bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
     double c[8][3];
     for (int i = 0; i < 8; ++i)
         for (int k = 0; k < 3; ++k) c[i][k] = (i >> k) & 1 ? hi[k] : lo[k];
+    // A triangle's vertex in the box: they meet (comparisons only, before
+    // any sign is taken).
+    if (!b.tree) {
+        const uint32_t *tri = b.mesh->triangles.data();
+        for (size_t i = 0; i < 3 * size_t(b.mesh->triangle_count); ++i)
+            if (!outside(b.w + 3 * size_t(tri[i]), lo, hi)) return true;
+    }
     // A tetrahedron's solid is the hull of its vertices: a face plane with
     // every corner strictly on the side away from the fourth vertex
     // separates it from the box (exact signs).
     if (b.mesh->tetra && tetra_separates(b, c)) return false;
     static const int kFace[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
-    for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
-        double tlo[3], thi[3];
-        triangle_box(b, t, tlo, thi);
-        if (boxes_apart(tlo, thi, lo, hi)) continue;
-        const double *v0 = b.vertex(t, 0), *v1 = b.vertex(t, 1), *v2 = b.vertex(t, 2);
-        // A vertex in the box; else the triangle meets the box only through
-        // the box's surface.
-        if (!outside(v0, lo, hi) || !outside(v1, lo, hi) || !outside(v2, lo, hi)) return true;
-        // Every corner strictly on one side of the triangle's plane: apart.
-        if (corners_on_one_side(v0, v1, v2, c)) continue;
-        for (const auto &f : kFace) {
-            if (tri_tri_intersect(v0, v1, v2, c[f[0]], c[f[1]], c[f[2]]) ||
-                tri_tri_intersect(v0, v1, v2, c[f[0]], c[f[2]], c[f[3]]))
-                return true;
-        }
-    }
+    const bool meets = any_triangle(
+        b, [&](const double *box) { return !boxes_apart(box, box + 3, lo, hi); },
+        [&](uint32_t, const double *const *v) {
+            double tlo[3], thi[3];
+            triangle_box(v, tlo, thi);
+            if (boxes_apart(tlo, thi, lo, hi)) return false;
+            // A vertex in the box; else the triangle meets the box only
+            // through the box's surface.
+            if (!outside(v[0], lo, hi) || !outside(v[1], lo, hi) || !outside(v[2], lo, hi)) return true;
+            // Every corner strictly on one side of the triangle's plane: apart.
+            if (corners_on_one_side(v[0], v[1], v[2], c)) return false;
+            for (const auto &f : kFace) {
+                if (tri_tri_intersect(v[0], v[1], v[2], c[f[0]], c[f[1]], c[f[2]]) ||
+                    tri_tri_intersect(v[0], v[1], v[2], c[f[0]], c[f[2]], c[f[3]]))
+                    return true;
+            }
+            return false;
+        });
+    if (meets) return true;
     // The surfaces are apart: the box lies wholly inside or outside a closed
     // solid, and its corner (not on the surface) tells which.
     if (!b.mesh->closed) return false;
@@ -137,26 +193,34 @@ bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
         if (r >= 0) return r == 1;
     }
     if (outside(lo, b.box, b.box + 3)) return false;
-    return point_in_closed_mesh(lo, b.w, b.mesh->triangles.data(), b.mesh->triangle_count, b.box, b.box + 3);
+    return inside_closed(b, lo);
 }
 
 uint32_t first_crossing(const SolidView &b, const double *o, const double *e, const double *smin,
-                        const double *smax, bool any, RayCrossing *out) {
+                        const double *smax, bool any, RayCrossing *out, double *hv) {
     uint32_t best = UINT32_MAX;
     const double *bv[3] = {nullptr, nullptr, nullptr};
-    for (uint32_t t = 0; t < b.mesh->triangle_count; ++t) {
-        double tlo[3], thi[3];
-        triangle_box(b, t, tlo, thi);
-        if (boxes_apart(tlo, thi, smin, smax)) continue;
-        const double *v[3] = {b.vertex(t, 0), b.vertex(t, 1), b.vertex(t, 2)};
-        RayCrossing c;
-        if (!segment_crosses(o, e, v, &c)) continue;
-        if (best != UINT32_MAX && compare_crossings(o, e, v, c, bv, *out) >= 0) continue;
-        best = t;
-        *out = c;
-        for (int i = 0; i < 3; ++i) bv[i] = v[i];
-        if (any) break;
-    }
+    const double d[3] = {e[0] - o[0], e[1] - o[1], e[2] - o[2]};
+    any_triangle(
+        b, [&](const double *box) { return !segment_misses_box(o, e, smin, smax, d, box); },
+        [&](uint32_t t, const double *const *v) {
+            double tlo[3], thi[3];
+            triangle_box(v, tlo, thi);
+            if (boxes_apart(tlo, thi, smin, smax)) return false;
+            RayCrossing c;
+            if (!segment_crosses(o, e, v, &c)) return false;
+            if (best != UINT32_MAX) {
+                const int s = compare_crossings(o, e, v, c, bv, *out);
+                if (s > 0 || (s == 0 && t > best)) return false;
+            }
+            best = t;
+            *out = c;
+            for (int i = 0; i < 3; ++i) bv[i] = v[i];
+            return any;
+        });
+    if (best != UINT32_MAX)
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) hv[3 * i + k] = bv[i][k];
     return best;
 }
 

@@ -3,19 +3,34 @@
 // Every answer is decided with exact predicates.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "exact/geometry.hpp"
+#include "narrow/narrow.hpp"
 #include "world/mesh.hpp"
 
 namespace hgcd {
 
-// A body as the queries see it: its mesh, world vertices (3 per vertex) and
-// the exact box of those vertices (min xyz, max xyz).
+// A body as the queries see it. A mesh without a tree: its world vertices
+// w (3 per vertex) and their exact box. A mesh with a tree (Mesh::bvh):
+// tree, the posed view whose world vertices and node boxes are computed on
+// first use (w null), box a box that holds every world vertex (the root
+// node's), and the scratch the view lives in.
 struct SolidView {
     const Mesh *mesh;
     const double *w;
     const double *box;
-    const double *vertex(uint32_t t, int i) const { return w + 3 * size_t(mesh->triangles[3 * size_t(t) + i]); }
+    BodyView *tree = nullptr;
+    NarrowScratch *scratch = nullptr;
+};
+
+// A query thread's buffers: world vertices of a mesh without a tree, the
+// narrow phase's scratch (mesh queries; the tree views live in it) and the
+// view of a mesh with a tree.
+struct QueryScratch {
+    std::vector<double> world;
+    NarrowScratch narrow;
+    BodyView view;
 };
 
 // p lies in the body's closed solid: on a triangle, or, for a closed mesh,
@@ -27,9 +42,10 @@ bool point_in_solid(const SolidView &b, const double *p);
 bool box_meets_solid(const SolidView &b, const double *lo, const double *hi);
 
 // The first transversal crossing of [o, e] with the body's triangles: its
-// triangle (the lowest index among those crossed at the same point) and
-// crossing, or UINT32_MAX. With `any`, the first crossing found.
+// triangle (the lowest index among those crossed at the same point), its
+// crossing and the triangle's world vertices (9 doubles into v), or
+// UINT32_MAX. With `any`, the first crossing found.
 uint32_t first_crossing(const SolidView &b, const double *o, const double *e, const double *smin,
-                        const double *smax, bool any, RayCrossing *out);
+                        const double *smax, bool any, RayCrossing *out, double *v);
 
 }  // namespace hgcd

@@ -12,7 +12,7 @@ namespace {
 
 struct Builder {
     std::vector<QueryItem> &items;
-    std::vector<QueryNode, CacheLineAllocator<QueryNode>> &nodes;
+    std::vector<QueryNode> &nodes;
 
     static float centre(const QueryItem &it, int k) { return it.lo[k] + it.hi[k]; }  // (twice; order only)
 
@@ -152,18 +152,81 @@ struct Builder {
     }
 };
 
+// The wide node for binary node b (internal): its children, each internal
+// one replaced by its two children, the largest first, while there is room
+// for 4; then each internal child's wide node, depth first.
+uint32_t collapse(const std::vector<QueryNode> &nodes, uint32_t b,
+                  std::vector<QueryWide, CacheLineAllocator<QueryWide>> &wide) {
+    uint32_t kids[4] = {nodes[b].first, nodes[b].first + 1, 0, 0};
+    uint32_t n = 2;
+    const auto area = [&](uint32_t k) {
+        const QueryNode &x = nodes[k];
+        const float dx = x.hi[0] - x.lo[0], dy = x.hi[1] - x.lo[1], dz = x.hi[2] - x.lo[2];
+        return dx * dy + dy * dz + dz * dx;
+    };
+    while (n < 4) {
+        int pick = -1;
+        for (uint32_t k = 0; k < n; ++k)
+            if (nodes[kids[k]].count == 0 && (pick < 0 || area(kids[k]) > area(kids[pick]))) pick = int(k);
+        if (pick < 0) break;
+        const uint32_t first = nodes[kids[pick]].first;
+        kids[pick] = first;
+        kids[n++] = first + 1;
+    }
+    const uint32_t at = uint32_t(wide.size());
+    wide.emplace_back();
+    QueryWide &w0 = wide[at];
+    for (int a = 0; a < 3; ++a)
+        for (int k = 0; k < 4; ++k) {
+            w0.lo[a][k] = INFINITY;
+            w0.hi[a][k] = -INFINITY;
+        }
+    w0.n = n;
+    for (uint32_t k = 0; k < n; ++k) {
+        const QueryNode &c = nodes[kids[k]];
+        for (int a = 0; a < 3; ++a) {
+            wide[at].lo[a][k] = c.lo[a];
+            wide[at].hi[a][k] = c.hi[a];
+        }
+        wide[at].count[k] = uint8_t(c.count);
+        wide[at].ref[k] = c.first;  // (leaves: their items)
+    }
+    for (uint32_t k = 0; k < n; ++k)
+        if (nodes[kids[k]].count == 0) {
+            const uint32_t child = collapse(nodes, kids[k], wide);  // (may move wide's storage)
+            wide[at].ref[k] = child;
+        }
+    return at;
+}
+
 }  // namespace
 
 void QueryTree::build(std::vector<QueryItem> &&in, int) {
     items = std::move(in);
-    nodes.clear();
+    wide.clear();
     if (items.empty()) return;
     std::sort(items.begin(), items.end(), [](const QueryItem &x, const QueryItem &y) { return x.slot < y.slot; });
+    std::vector<QueryNode> nodes;
     nodes.reserve(2 * items.size() + 2);
     nodes.emplace_back();
     nodes.emplace_back();  // (unused: pairs start at even indices)
     Builder b{items, nodes};
     b.build(0, 0, uint32_t(items.size()), 0);
+    wide.reserve(items.size() / 2 + 2);
+    if (nodes[0].count != 0) {  // one leaf: a root with it as its one child
+        wide.emplace_back();
+        QueryWide &w = wide[0];
+        for (int a = 0; a < 3; ++a)
+            for (int k = 0; k < 4; ++k) {
+                w.lo[a][k] = k == 0 ? nodes[0].lo[a] : INFINITY;
+                w.hi[a][k] = k == 0 ? nodes[0].hi[a] : -INFINITY;
+            }
+        w.n = 1;
+        w.ref[0] = nodes[0].first;
+        w.count[0] = uint8_t(nodes[0].count);
+        return;
+    }
+    collapse(nodes, 0, wide);
 }
 
 void SegmentProbe::set(const double *origin, const double *end) {
@@ -208,6 +271,47 @@ bool segment_meets_box(const SegmentProbe &s, const float *lo, const float *hi, 
     }
     *enter = t0;
     return t0 <= t1 + 0x1p-40;
+}
+
+uint32_t morton_code(const double *p, const float *lo, const float *hi) {
+    uint32_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double extent = double(hi[a]) - double(lo[a]);
+        double x = extent > 0 ? (p[a] - double(lo[a])) / extent * 1024.0 : 0.0;
+        x = std::min(std::max(x, 0.0), 1023.0);  // (outside the box: its face)
+        uint32_t v = uint32_t(x);
+        // Spread the 10 bits three apart.
+        v = (v | (v << 16)) & 0x030000FFu;
+        v = (v | (v << 8)) & 0x0300F00Fu;
+        v = (v | (v << 4)) & 0x030C30C3u;
+        v = (v | (v << 2)) & 0x09249249u;
+        code |= v << a;
+    }
+    return code;
+}
+
+unsigned segment_meets_children(const SegmentProbe &s, const QueryWide &w, double limit, double *enter) {
+    // Per child, the arithmetic of segment_meets_box, axis by axis.
+    double t0[4] = {0, 0, 0, 0}, t1[4] = {limit, limit, limit, limit};
+    bool out[4] = {false, false, false, false};
+    for (int k = 0; k < 3; ++k) {
+        if (s.flat[k]) {
+            for (int c = 0; c < 4; ++c) out[c] |= s.smax[k] < double(w.lo[k][c]) || s.smin[k] > double(w.hi[k][c]);
+            continue;
+        }
+        for (int c = 0; c < 4; ++c) {
+            double a = (double(w.lo[k][c]) - s.o[k]) * s.inv[k], b = (double(w.hi[k][c]) - s.o[k]) * s.inv[k];
+            const double lo = std::min(a, b), hi = std::max(a, b);
+            t0[c] = std::max(t0[c], lo);
+            t1[c] = std::min(t1[c], hi);
+        }
+    }
+    unsigned mask = 0;
+    for (uint32_t c = 0; c < w.n; ++c) {
+        enter[c] = t0[c];
+        if (!out[c] && t0[c] <= t1[c] + 0x1p-40) mask |= 1u << c;
+    }
+    return mask;
 }
 
 }  // namespace hgcd

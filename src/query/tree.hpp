@@ -6,12 +6,16 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <algorithm>
 #include <cstdlib>
 #include <new>
 #include <vector>
 
 namespace hgcd {
 
+constexpr uint32_t kQueryLeafSize = 4;
+
+// A node of the binary tree the build makes (then collapsed, below).
 struct QueryNode {
     float lo[3], hi[3];  // holds every box under the node
     // Internal node (count == 0): children first and first + 1. Leaf: items
@@ -19,16 +23,28 @@ struct QueryNode {
     uint32_t first, count;
 };
 
+// A node of the tree the queries walk: up to 4 children, their boxes side
+// by side per axis (two cache lines, read together: half the levels of the
+// binary tree, so half the dependent memory loads of a walk). Child k < n:
+// an inner node (count[k] == 0, wide node ref[k]) or a leaf (items ref[k] ..
+// ref[k] + count[k] - 1). Boxes of children k >= n are empty (+inf, -inf).
+struct alignas(64) QueryWide {
+    float lo[3][4], hi[3][4];
+    uint32_t ref[4];
+    uint8_t count[4];  // (a leaf holds at most kQueryLeafSize items)
+    uint32_t n;
+    uint32_t pad[2];
+};
+static_assert(sizeof(QueryWide) == 128, "two cache lines");
+
 struct QueryItem {
     float lo[3], hi[3];  // the body's box, rounded outward
     uint32_t slot;
     uint32_t mesh;  // mesh slot (storage indices change when the world renumbers)
 };
 
-constexpr uint32_t kQueryLeafSize = 4;
-
-// Storage aligned to 64 bytes: a node's two children (2 x 32 bytes, at an
-// even index) then share one cache line, the one line a traversal step reads.
+// Storage aligned to 64 bytes: a wide node then fills two whole cache
+// lines, the two lines a walk's step reads.
 template <class T>
 struct CacheLineAllocator {
     using value_type = T;
@@ -47,12 +63,14 @@ struct CacheLineAllocator {
     bool operator!=(const CacheLineAllocator<U> &) const noexcept { return false; }
 };
 static_assert(sizeof(QueryNode) == 32, "two nodes a cache line");
-constexpr int kQueryStack = 128;  // above the tree's depth bound (tree.cpp, kSahDepth)
+// Walks keep at most 3 waiting siblings a level, and the depth stays below
+// kSahDepth + log2(n) + 2 < 80 (tree.cpp): 256 entries hold any walk.
+constexpr int kQueryStack = 256;
 
 struct QueryTree {
-    // nodes[0] is the root, nodes[1] unused, children pairs at even
-    // indices; empty: no bodies.
-    std::vector<QueryNode, CacheLineAllocator<QueryNode>> nodes;
+    // wide[0] is the root (its children: the root's, or the root alone when
+    // it is a leaf); empty: no bodies. The binary tree is the build's.
+    std::vector<QueryWide, CacheLineAllocator<QueryWide>> wide;
     std::vector<QueryItem> items;  // in leaf order
     // World vertices of the items whose mesh has at most kCachedVertices
     // vertices (tetrahedra), kCachedVertices * 3 doubles an item in leaf
@@ -63,7 +81,42 @@ struct QueryTree {
     // Builds over the items (any order; the result depends only on the
     // items, sorted by slot first, so not on storage order).
     void build(std::vector<QueryItem> &&in, int threads);
+    // An order in which to answer a batch of queries, point(k, xyz) giving
+    // query k's place: along a Morton curve over the tree's root box (ties
+    // by index), so that queries answered one after the other walk the same
+    // nodes and find them in cache. Each answer is independent of it.
+    // Empty (the given order) for 2^32 queries or more.
+    template <class Point>
+    std::vector<uint32_t> spatial_order(size_t count, Point &&point) const;
 };
+
+// The Morton code (10 bits an axis) of p in the box [lo, hi].
+uint32_t morton_code(const double *p, const float *lo, const float *hi);
+
+template <class Point>
+std::vector<uint32_t> QueryTree::spatial_order(size_t count, Point &&point) const {
+    if (count > UINT32_MAX) return {};
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    if (!wide.empty())
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = wide[0].lo[a][0];
+            hi[a] = wide[0].hi[a][0];
+            for (uint32_t c = 1; c < wide[0].n; ++c) {
+                lo[a] = lo[a] < wide[0].lo[a][c] ? lo[a] : wide[0].lo[a][c];
+                hi[a] = hi[a] > wide[0].hi[a][c] ? hi[a] : wide[0].hi[a][c];
+            }
+        }
+    std::vector<uint64_t> keys(count);
+    for (size_t k = 0; k < count; ++k) {
+        double p[3];
+        point(k, p);
+        keys[k] = uint64_t(morton_code(p, lo, hi)) << 32 | k;
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<uint32_t> order(count);
+    for (size_t k = 0; k < count; ++k) order[k] = uint32_t(keys[k]);
+    return order;
+}
 
 // The closed segment from o to e as the slab test reads it; see
 // segment_meets_box for why the test never drops a box the segment meets.
@@ -78,5 +131,10 @@ struct SegmentProbe {
 // False only when the closed segment provably misses the closed box
 // [lo, hi] (or meets it only beyond parameter limit, limit in [0, 1]).
 bool segment_meets_box(const SegmentProbe &s, const float *lo, const float *hi, double limit, double *enter);
+
+// segment_meets_box for the 4 children of a wide node at once (the same
+// arithmetic, so the same guarantee): bit k of the result for child k < n,
+// enter[k] its entry parameter.
+unsigned segment_meets_children(const SegmentProbe &s, const QueryWide &w, double limit, double *enter);
 
 }  // namespace hgcd

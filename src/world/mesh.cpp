@@ -297,7 +297,9 @@ void set_planes(const Mesh &m, SatData &d) {
     d.plane_count = count;
     d.planes_padded = p;
     d.theta = theta;
-    d.inside_test = true;
+    d.inner = INFINITY;
+    for (uint32_t i = 0; i < count; ++i) d.inner = std::min(d.inner, planes[4 * size_t(i) + 3]);
+    d.inside_test = d.inner > 0;
 }
 
 // The convex path's data (Mesh::sat): face normals, then edge directions,
@@ -345,6 +347,16 @@ void set_sat(Mesh &m, const std::vector<char> &used) {
     set_adjacency(m, *d);
     d->axes = std::move(axes);
     d->faces = faces;
+    for (uint32_t k = 0; k < faces; ++k) {
+        const double *n = &d->axes[3 * k];
+        double lo = INFINITY, hi = -INFINITY;
+        for (uint32_t v = 0; v < m.vertex_count; ++v) {
+            const double p = (x[3 * v] * n[0] + x[3 * v + 1] * n[1]) + x[3 * v + 2] * n[2];
+            lo = std::min(lo, p);
+            hi = std::max(hi, p);
+        }
+        d->face_range.insert(d->face_range.end(), {lo, hi});
+    }
     d->edges = edges;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
         d->reach = std::max(d->reach, std::fabs(x[3 * v]) + std::fabs(x[3 * v + 1]) + std::fabs(x[3 * v + 2]));

@@ -21,6 +21,9 @@ struct SatData {
     // on these.
     std::vector<double> axes;
     uint32_t faces = 0, edges = 0;
+    // Per face axis n, the smallest and largest fl(v . n) over the vertices
+    // (x y z summed in that order).
+    std::vector<double> face_range;
     double reach = 0;  // max over the vertices of |x| + |y| + |z| (mesh frame)
     // The vertices as the batched kernel reads them (narrow/convex_kernel.cpp):
     // x of every vertex, then y, then z, each run padded to `padded` (a
@@ -37,6 +40,7 @@ struct SatData {
     uint32_t plane_count = 0, planes_padded = 0;
     std::vector<double> planes;
     double theta = 0;
+    double inner = 0;  // the smallest plane offset k: the origin's distance to the nearest plane, within theta
     // For the search of an edge that crosses a triangle: the edges (other
     // end vertices) and the triangles at each vertex, as offsets
     // (vertex_count + 1) into lists.

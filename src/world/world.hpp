@@ -109,13 +109,13 @@ class World {
     // Scene queries (src/query): the calls of hgcd.h, arguments checked by
     // the shim for NULL only.
     hgcd_status cast_rays(const hgcd_ray *rays, size_t count, size_t stride, int32_t mode,
-                          const hgcd_query_filter *filter, hgcd_ray_hit *out);
-    hgcd_status query_boxes(const double *boxes, size_t count, size_t stride, const hgcd_query_filter *filter,
+                          const hgcd_filter *filter, hgcd_ray_hit *out);
+    hgcd_status query_boxes(const double *boxes, size_t count, size_t stride, const hgcd_filter *filter,
                             hgcd_query_results *out);
-    hgcd_status query_points(const double *points, size_t count, size_t stride, const hgcd_query_filter *filter,
+    hgcd_status query_points(const double *points, size_t count, size_t stride, const hgcd_filter *filter,
                              hgcd_query_results *out);
     hgcd_status query_meshes(hgcd_mesh mesh, const hgcd_mesh_pose *poses, size_t count, size_t stride,
-                             const hgcd_query_filter *filter, hgcd_query_results *out);
+                             const hgcd_filter *filter, hgcd_query_results *out);
 
     // Records a message and returns status, for the shim's argument checks too.
     hgcd_status fail(hgcd_status status, std::string message) const;
@@ -339,14 +339,15 @@ class World {
     QueryCache query_;
     void ensure_query_tree();
     // Fills query_'s offsets and bodies with each query's bodies: box(q,
-    // lo, hi) gives query q's box; accept(q, i, scratch, narrow) decides the
-    // tree item i whose box meets it (region.cpp).
+    // lo, hi) gives query q's box; accept(q, i, scratch) decides the tree
+    // item i whose box meets it (region.cpp).
     template <class Box, class Accept>
-    void run_region_queries(size_t count, const hgcd_query_filter *filter, Box &&box, Accept &&accept);
+    void run_region_queries(size_t count, const hgcd_filter *filter, Box &&box, Accept &&accept);
     void publish(hgcd_query_results *out);
     // The body of tree item i as the exact tests read it: its cached world
-    // vertices, or w filled with them; box receives their exact box.
-    SolidView query_view(size_t i, std::vector<double> &w, double *box) const;
+    // vertices, or the scratch's world vertices or tree view; box receives
+    // the box of SolidView::box.
+    SolidView query_view(size_t i, QueryScratch &s, double *box) const;
 
     // Incremental detection. The movers: bodies created or moved since the
     // grid's last update (which still holds their old boxes), marked by

@@ -19,11 +19,13 @@ from ._errors import Error, Status
 from ._hgcd import ffi as _ffi
 from ._hgcd import lib as _lib
 from ._features import make_filter
+from ._queries import RAY_HIT
 from ._types import CONTACT, FILTER, PAIR_EVENT, BodyType, ContactKind, MeshInfo, NarrowPhase, Stats, ThreadPolicy
 from ._world import Mesh, World
 
 __all__ = ["World", "Mesh", "Error", "Status", "NarrowPhase", "ThreadPolicy", "ContactKind", "Stats", "MeshInfo",
-           "BodyType", "make_filter", "BODY_ID", "MESH_ID", "CONTACT", "FILTER", "PAIR_EVENT", "scene", "version", "libccd_precision"]
+           "BodyType", "make_filter", "BODY_ID", "MESH_ID", "CONTACT", "FILTER", "PAIR_EVENT", "RAY_HIT", "scene",
+           "version", "libccd_precision"]
 
 
 def version():

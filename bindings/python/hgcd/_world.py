@@ -8,6 +8,7 @@ from ._arrays import BODY_ID, MESH_ID
 from ._errors import Error, Status, argument_error
 from ._features import EngineFeatures, per_body, type_values
 from ._hgcd import ffi, lib
+from ._queries import QueryMixin
 from ._types import CONTACT, FILTER, NarrowPhase, ThreadPolicy, mesh_info_from_c, stats_from_c
 
 
@@ -86,7 +87,7 @@ class Mesh:
         return f"hgcd.Mesh(index={self.index}, generation={self.generation})"
 
 
-class World(EngineFeatures):
+class World(EngineFeatures, QueryMixin):
     """A world of meshes and bodies (hgcd_world). Frees its C world on close(),
     at the end of a `with` block, or when garbage-collected; after close()
     every call raises hgcd.Error (status NULL_ARGUMENT).

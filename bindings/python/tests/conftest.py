@@ -29,14 +29,34 @@ def _library():
     return includes, archives, ["-l" + d for d in deps]
 
 
+def _build(tmp_path_factory, name):
+    """The C program tests/<name>.c linked against the library: its path."""
+    includes, archives, deps = _library()
+    exe = str(tmp_path_factory.mktemp("ref") / name)
+    cc = os.environ.get("CC", "cc")
+    subprocess.run([cc, "-std=c99", "-O2", *("-I" + i for i in includes), os.path.join(HERE, name + ".c"),
+                    "-o", exe, *archives, *deps, "-fopenmp", "-lstdc++", "-lm"], check=True)
+    return exe
+
+
+@pytest.fixture(scope="session")
+def ref_queries(tmp_path_factory):
+    """run(n, seed, side, threads, count) -> the path of ref_queries.c's output."""
+    exe = _build(tmp_path_factory, "ref_queries")
+    out_dir = tmp_path_factory.mktemp("ref_queries_out")
+
+    def run(*args):
+        out = str(out_dir / "queries.bin")
+        subprocess.run([exe, *map(str, args), out], check=True)
+        return out
+
+    return run
+
+
 @pytest.fixture(scope="session")
 def ref_pairs(tmp_path_factory):
     """run(*args) -> list of (N, 2) uint32 pair arrays, one per detect."""
-    includes, archives, deps = _library()
-    exe = str(tmp_path_factory.mktemp("ref") / "ref_pairs")
-    cc = os.environ.get("CC", "cc")
-    subprocess.run([cc, "-std=c99", "-O2", *("-I" + i for i in includes), os.path.join(HERE, "ref_pairs.c"),
-                    "-o", exe, *archives, *deps, "-fopenmp", "-lstdc++", "-lm"], check=True)
+    exe = _build(tmp_path_factory, "ref_pairs")
     out_dir = tmp_path_factory.mktemp("ref_out")
 
     def run(*args):

@@ -380,8 +380,8 @@ pub struct hgcd_world_desc {
     #[doc = "  Never changes the pairs."]
     pub thread_policy: i32,
     #[doc = " The caller's task system (both set, or both NULL: the default)."]
-    #[doc = "  When set, step, detect and the batch calls run their parallel loops"]
-    #[doc = "  as tasks: enqueue_task, then finish_task, each loop finished before"]
+    #[doc = "  When set, step, detect, the batch calls and the scene queries run"]
+    #[doc = "  their parallel loops as tasks: enqueue_task, then finish_task, each loop finished before"]
     #[doc = "  the call goes on, from the thread calling hgcd, never from another"]
     #[doc = "  thread; no OpenMP thread is started. thread_count (at least 1) is the"]
     #[doc = "  number of workers, and the thread policy is not used. The pairs are"]
@@ -1183,7 +1183,8 @@ pub struct hgcd_stats {
     pub candidate_pairs: u64,
     #[doc = " Candidate pairs that reached the exact test (not rejected by its"]
     #[doc = "  exact prefilters: the vertex boxes, and for two tetrahedra a"]
-    #[doc = "  separating axis along the line between their positions)."]
+    #[doc = "  separating axis along the line between their positions; for two"]
+    #[doc = "  small convex meshes that axis alone)."]
     pub narrow_tests: u64,
     #[doc = " Triangle-triangle tests performed."]
     pub triangle_tests: u64,
@@ -2745,63 +2746,6 @@ extern "C" {
     #[doc = "  message (the world is const). Read-only, O(1)."]
     pub fn hgcd_mesh_validate(world: *const hgcd_world, mesh: hgcd_mesh) -> hgcd_status;
 }
-#[doc = " Which bodies a query considers: enabled bodies (hgcd_body_set_enabled)"]
-#[doc = "  whose filter's category_bits meet the query's mask_bits and whose"]
-#[doc = "  mask_bits meet the query's category_bits (hgcd_filter; group indices and"]
-#[doc = "  body types play no part). NULL stands for \"every enabled body\"."]
-#[repr(C)]
-#[derive(Debug, Copy, Clone, Hash, PartialEq, Eq)]
-pub struct hgcd_query_filter {
-    pub category_bits: u64,
-    pub mask_bits: u64,
-}
-#[test]
-fn bindgen_test_layout_hgcd_query_filter() {
-    assert_eq!(
-        ::std::mem::size_of::<hgcd_query_filter>(),
-        16usize,
-        concat!("Size of: ", stringify!(hgcd_query_filter))
-    );
-    assert_eq!(
-        ::std::mem::align_of::<hgcd_query_filter>(),
-        8usize,
-        concat!("Alignment of ", stringify!(hgcd_query_filter))
-    );
-    fn test_field_category_bits() {
-        assert_eq!(
-            unsafe {
-                let uninit = ::std::mem::MaybeUninit::<hgcd_query_filter>::uninit();
-                let ptr = uninit.as_ptr();
-                ::std::ptr::addr_of!((*ptr).category_bits) as usize - ptr as usize
-            },
-            0usize,
-            concat!(
-                "Offset of field: ",
-                stringify!(hgcd_query_filter),
-                "::",
-                stringify!(category_bits)
-            )
-        );
-    }
-    test_field_category_bits();
-    fn test_field_mask_bits() {
-        assert_eq!(
-            unsafe {
-                let uninit = ::std::mem::MaybeUninit::<hgcd_query_filter>::uninit();
-                let ptr = uninit.as_ptr();
-                ::std::ptr::addr_of!((*ptr).mask_bits) as usize - ptr as usize
-            },
-            8usize,
-            concat!(
-                "Offset of field: ",
-                stringify!(hgcd_query_filter),
-                "::",
-                stringify!(mask_bits)
-            )
-        );
-    }
-    test_field_mask_bits();
-}
 #[doc = " A ray: the closed segment from origin to end = origin + max_distance *"]
 #[doc = "  direction, end computed in double as written (per component, one product"]
 #[doc = "  and one sum, no FMA). origin and end must be within the coordinate range"]
@@ -3001,8 +2945,8 @@ extern "C" {
     #[doc = "  solid through a neighbouring face; it misses an open sheet it lies in."]
     #[doc = "  Errors (nothing written): NULL_ARGUMENT (world; rays or out_hits with"]
     #[doc = "  count > 0), INVALID_ARGUMENT (mode, stride not a multiple of 8 or below"]
-    #[doc = "  sizeof(hgcd_ray) when not 0, a ray out of range: the message names ray"]
-    #[doc = "  k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see"]
+    #[doc = "  sizeof(hgcd_ray) when not 0, filter->reserved not 0, a ray out of range:"]
+    #[doc = "  the message names ray k); OUT_OF_MEMORY (out_hits may then be partly written). Cost: see"]
     #[doc = "  above; count = 0 is a no-op."]
     pub fn hgcd_world_cast_rays(
         world: *mut hgcd_world,
@@ -3010,7 +2954,7 @@ extern "C" {
         count: usize,
         ray_stride: usize,
         mode: i32,
-        filter: *const hgcd_query_filter,
+        filter: *const hgcd_filter,
         out_hits: *mut hgcd_ray_hit,
     ) -> hgcd_status;
 }
@@ -3116,14 +3060,14 @@ extern "C" {
     #[doc = "  boxes (0 = packed); each component within the coordinate range, min <="]
     #[doc = "  max per axis (a flat box or a point is allowed)."]
     #[doc = "  Errors (nothing changes): NULL_ARGUMENT (world, out; boxes with count >"]
-    #[doc = "  0), INVALID_ARGUMENT (stride, a bad box: the message names it),"]
-    #[doc = "  OUT_OF_MEMORY."]
+    #[doc = "  0), INVALID_ARGUMENT (stride, filter->reserved not 0, a bad box: the"]
+    #[doc = "  message names it), OUT_OF_MEMORY."]
     pub fn hgcd_world_query_box(
         world: *mut hgcd_world,
         boxes: *const f64,
         count: usize,
         box_stride: usize,
-        filter: *const hgcd_query_filter,
+        filter: *const hgcd_filter,
         out: *mut hgcd_query_results,
     ) -> hgcd_status;
 }
@@ -3137,7 +3081,7 @@ extern "C" {
         points: *const f64,
         count: usize,
         point_stride: usize,
-        filter: *const hgcd_query_filter,
+        filter: *const hgcd_filter,
         out: *mut hgcd_query_results,
     ) -> hgcd_status;
 }
@@ -3227,7 +3171,7 @@ extern "C" {
         poses: *const hgcd_mesh_pose,
         count: usize,
         pose_stride: usize,
-        filter: *const hgcd_query_filter,
+        filter: *const hgcd_filter,
         out: *mut hgcd_query_results,
     ) -> hgcd_status;
 }

@@ -40,7 +40,7 @@ pub use types::{
     BodyDesc, BodyId, Contact, ContactKind, MeshDesc, MeshId, MeshInfo, NarrowPhase, Pair, Pose,
     Stats, ThreadPolicy, WorldDesc,
 };
-pub use world::{MeshPose, PairEvent, QueryFilter, QueryResults, Ray, RayHit, RayMode, World};
+pub use world::{MeshPose, PairEvent, QueryResults, Ray, RayHit, RayMode, World};
 
 /// The run-time library version (major, minor, patch) (`hgcd_version`).
 pub fn version() -> (u32, u32, u32) {

@@ -6,7 +6,7 @@ mod filter;
 mod query;
 
 pub use events::PairEvent;
-pub use query::{MeshPose, QueryFilter, QueryResults, Ray, RayHit, RayMode};
+pub use query::{MeshPose, QueryResults, Ray, RayHit, RayMode};
 
 use std::ffi::CStr;
 use std::fmt;

@@ -5,7 +5,7 @@
 //! answers on 1 and 2 threads, and refusals.
 
 use hgcd::scene::TetraDesc;
-use hgcd::{BodyDesc, ErrorKind, MeshDesc, MeshPose, QueryFilter, Ray, RayMode, World, WorldDesc};
+use hgcd::{BodyDesc, ErrorKind, Filter, MeshDesc, MeshPose, Ray, RayMode, World, WorldDesc};
 
 fn unit_world() -> (World, hgcd::MeshId, hgcd::BodyId) {
     let mut world = World::new(&WorldDesc::default()).unwrap();
@@ -92,8 +92,22 @@ fn queries_on_a_scene_agree_with_the_bodies_and_across_threads() {
     assert_eq!(one, two);
     assert!(one.iter().filter(|h| h.is_hit()).count() > 100);
     // A filter that takes no category finds nothing.
-    let none = QueryFilter { category_bits: 1, mask_bits: 0 };
+    let none = Filter { category_bits: 1, mask_bits: 0, group_index: 0 };
     assert!(world.cast_rays(&rays, RayMode::Closest, Some(&none)).unwrap().iter().all(|h| !h.is_hit()));
+    // The group decides before the bits, as between bodies: with every body
+    // in group -3, a query of group -3 whose bits accept them all hits
+    // nothing; in group 3, one whose bits accept none hits all it did.
+    let first = world.query_boxes(&[[-1e9, -1e9, -1e9, 1e9, 1e9, 1e9]], None).unwrap().get(0).to_vec();
+    let grouped = Filter { category_bits: 1, mask_bits: u64::MAX, group_index: -3 };
+    for &b in &first {
+        world.set_body_filter(b, &grouped).unwrap();
+    }
+    assert!(world.cast_rays(&rays, RayMode::Closest, Some(&grouped)).unwrap().iter().all(|h| !h.is_hit()));
+    let friends = Filter { category_bits: 1, mask_bits: 0, group_index: 3 };
+    for &b in &first {
+        world.set_body_filter(b, &friends).unwrap();
+    }
+    assert_eq!(world.cast_rays(&rays, RayMode::Closest, Some(&friends)).unwrap(), two);
 }
 
 #[test]

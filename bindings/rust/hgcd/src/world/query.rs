@@ -8,6 +8,7 @@ use std::slice;
 use hgcd_sys as sys;
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::filter::Filter;
 use crate::types::{BodyId, MeshId};
 use crate::World;
 
@@ -54,14 +55,6 @@ pub struct MeshPose {
     pub scale: f64,
 }
 
-/// Which bodies a query considers (`hgcd_query_filter`): see hgcd.h.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(C)]
-pub struct QueryFilter {
-    pub category_bits: u64,
-    pub mask_bits: u64,
-}
-
 /// Closest hit or any hit (`enum hgcd_ray_mode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RayMode {
@@ -77,7 +70,6 @@ const _: () = {
     assert!(size_of::<RayHit>() == size_of::<sys::hgcd_ray_hit>());
     assert!(align_of::<RayHit>() == align_of::<sys::hgcd_ray_hit>());
     assert!(size_of::<MeshPose>() == size_of::<sys::hgcd_mesh_pose>());
-    assert!(size_of::<QueryFilter>() == size_of::<sys::hgcd_query_filter>());
 };
 
 /// The results of a batch of box, point or mesh queries, borrowed from the
@@ -121,8 +113,14 @@ impl<'a> QueryResults<'a> {
     }
 }
 
-fn filter_ptr(filter: Option<&QueryFilter>) -> *const sys::hgcd_query_filter {
-    filter.map_or(ptr::null(), |f| (f as *const QueryFilter).cast())
+/// A query's filter as the C call takes it: the query stands for a body
+/// with that filter (hgcd.h, "Scene queries"); `None`, every enabled body.
+fn raw_filter(filter: Option<&Filter>) -> Option<sys::hgcd_filter> {
+    filter.map(Filter::to_raw)
+}
+
+fn filter_ptr(raw: &Option<sys::hgcd_filter>) -> *const sys::hgcd_filter {
+    raw.as_ref().map_or(ptr::null(), |f| f as *const sys::hgcd_filter)
 }
 
 impl World {
@@ -146,7 +144,7 @@ impl World {
         &mut self,
         rays: &[Ray],
         mode: RayMode,
-        filter: Option<&QueryFilter>,
+        filter: Option<&Filter>,
         hits: &mut [RayHit],
     ) -> Result<()> {
         if hits.len() != rays.len() {
@@ -159,6 +157,7 @@ impl World {
             RayMode::Closest => sys::HGCD_RAY_CLOSEST,
             RayMode::Any => sys::HGCD_RAY_ANY,
         } as i32;
+        let raw = raw_filter(filter);
         // SAFETY: live world, exclusively borrowed; `Ray` and `RayHit` are
         // layout-identical to the C structs (checked above); the library
         // reads `rays.len()` rays and writes as many hits during the call.
@@ -169,7 +168,7 @@ impl World {
                 rays.len(),
                 0,
                 mode,
-                filter_ptr(filter),
+                filter_ptr(&raw),
                 hits.as_mut_ptr().cast(),
             )
         };
@@ -177,7 +176,7 @@ impl World {
     }
 
     /// [`World::cast_rays_into`] into a new vector.
-    pub fn cast_rays(&mut self, rays: &[Ray], mode: RayMode, filter: Option<&QueryFilter>) -> Result<Vec<RayHit>> {
+    pub fn cast_rays(&mut self, rays: &[Ray], mode: RayMode, filter: Option<&Filter>) -> Result<Vec<RayHit>> {
         let none = RayHit { body: BodyId::NULL, triangle: u32::MAX, inside: 0, distance: 0.0 };
         let mut hits = vec![none; rays.len()];
         self.cast_rays_into(rays, mode, filter, &mut hits)?;
@@ -186,8 +185,9 @@ impl World {
 
     /// The bodies whose closed solid meets each closed box `[min x y z, max
     /// x y z]` (`hgcd_world_query_box`).
-    pub fn query_boxes(&mut self, boxes: &[[f64; 6]], filter: Option<&QueryFilter>) -> Result<QueryResults<'_>> {
+    pub fn query_boxes(&mut self, boxes: &[[f64; 6]], filter: Option<&Filter>) -> Result<QueryResults<'_>> {
         let mut out = empty_results();
+        let raw = raw_filter(filter);
         // SAFETY: live world, exclusively borrowed; `boxes` is 6 packed
         // doubles per box, read during the call.
         let s = unsafe {
@@ -196,7 +196,7 @@ impl World {
                 boxes.as_ptr().cast(),
                 boxes.len(),
                 0,
-                filter_ptr(filter),
+                filter_ptr(&raw),
                 &mut out,
             )
         };
@@ -206,8 +206,9 @@ impl World {
 
     /// The bodies whose closed solid contains each point
     /// (`hgcd_world_query_point`).
-    pub fn query_points(&mut self, points: &[[f64; 3]], filter: Option<&QueryFilter>) -> Result<QueryResults<'_>> {
+    pub fn query_points(&mut self, points: &[[f64; 3]], filter: Option<&Filter>) -> Result<QueryResults<'_>> {
         let mut out = empty_results();
+        let raw = raw_filter(filter);
         // SAFETY: as query_boxes, 3 doubles per point.
         let s = unsafe {
             sys::hgcd_world_query_point(
@@ -215,7 +216,7 @@ impl World {
                 points.as_ptr().cast(),
                 points.len(),
                 0,
-                filter_ptr(filter),
+                filter_ptr(&raw),
                 &mut out,
             )
         };
@@ -229,9 +230,10 @@ impl World {
         &mut self,
         mesh: MeshId,
         poses: &[MeshPose],
-        filter: Option<&QueryFilter>,
+        filter: Option<&Filter>,
     ) -> Result<QueryResults<'_>> {
         let mut out = empty_results();
+        let raw = raw_filter(filter);
         // SAFETY: as query_boxes; `MeshPose` is layout-identical to
         // `hgcd_mesh_pose`.
         let s = unsafe {
@@ -241,7 +243,7 @@ impl World {
                 poses.as_ptr().cast(),
                 poses.len(),
                 0,
-                filter_ptr(filter),
+                filter_ptr(&raw),
                 &mut out,
             )
         };

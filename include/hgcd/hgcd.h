@@ -842,7 +842,8 @@ HGCD_API hgcd_body_desc hgcd_body_desc_default(void);
  *  (desc->mesh), INVALID_ARGUMENT (a field out of range; the message names
  *  it), CAPACITY, OUT_OF_MEMORY.
  *  Cost: amortised O(1), plus one transform of each vertex for meshes of at
- *  most 128 triangles (their exact bounding box). */
+ *  most 128 triangles (their exact bounding box); larger meshes, up to 8
+ *  box transforms (the box of a few nodes of their tree). */
 HGCD_API hgcd_status hgcd_body_create(hgcd_world *world,
                                       const hgcd_body_desc *desc,
                                       hgcd_body *out_body);
@@ -858,7 +859,8 @@ HGCD_API hgcd_status hgcd_body_destroy(hgcd_world *world, hgcd_body body);
  *  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT (nothing is
  *  changed, not even the valid half).
  *  Cost: O(1), plus with a new orientation one transform of each vertex
- *  for meshes of at most 128 triangles (a 2-core AMD EPYC: about 13 ns with
+ *  for meshes of at most 128 triangles, up to 8 box transforms for larger
+ *  ones (a 2-core AMD EPYC: about 13 ns with
  *  an unchanged orientation, 35 ns with a new one for a tetrahedron, 100 to
  *  160 ns for a 12-triangle box; bench/bench_pose.c). For many bodies
  *  hgcd_world_set_poses costs less per body. */

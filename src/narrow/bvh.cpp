@@ -191,6 +191,9 @@ void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t trian
     Bvh bvh;
     bvh.nodes = std::move(b.nodes);
     bvh.depth = b.depth;
+    bvh.parent.assign(bvh.nodes.size(), 0);
+    for (size_t k = 0; k < bvh.nodes.size(); ++k)
+        if (bvh.nodes[k].count == 0) bvh.parent[bvh.nodes[k].first] = bvh.parent[bvh.nodes[k].first + 1] = uint32_t(k);
     bvh.tris.resize(3 * n);
     bvh.tri_ids = b.order;
     for (size_t i = 0; i < n; ++i)

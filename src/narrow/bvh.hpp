@@ -41,6 +41,7 @@ struct Bvh {
     std::vector<BvhNode> nodes;     // nodes[0] is the root; empty: no tree
     std::vector<uint32_t> tris;     // 3 vertex indices per triangle, leaf order
     std::vector<uint32_t> tri_ids;  // the mesh's index of each of those triangles
+    std::vector<uint32_t> parent;   // per node (the root's: 0)
     uint32_t depth = 0;             // longest root-to-leaf path (root alone: 1)
     bool empty() const { return nodes.empty(); }
 };
@@ -52,7 +53,15 @@ void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t trian
 
 struct Mesh;
 
-constexpr size_t kNodeData = 16;  // doubles cached per node (15 used)
+// The oriented test's axes for one pair (narrow.cpp, prepare_axes): lane k
+// of 8 (6 used: the rows are 64-byte aligned) is axis k, the columns of a's rotation matrix then
+// b's, exactly as rounded; component m of axis k is axis[m][k].
+struct PairAxes {
+    alignas(64) double axis[3][8];
+    alignas(64) double abs_axis[3][8];
+};
+
+constexpr size_t kNodeData = 24;  // doubles cached per node (22 used)
 // A posed mesh as the narrow phase sees it during one pair test: world
 // vertices computed on first use, conservative world boxes (and the data of
 // the oriented test) of tree nodes computed on first use. The caches belong
@@ -76,6 +85,13 @@ struct BodyView {
     uint32_t *box_stamp = nullptr;
     uint32_t epoch = 0;
     double root_box[6];  // without a tree: the exact box of all world vertices
+    // Without a tree, what box() gives: the exact box of the triangles that
+    // may meet the other body (root_box until collide_tree narrows it).
+    double near_box[6];
+    // The pair's axes (null: the caches hold boxes alone) and, per lane, an
+    // upper bound on |axis . column l| of this body's rotation (gram[l][k]).
+    const PairAxes *axes = nullptr;
+    alignas(64) double gram[3][8];
 
     // World vertex v, computed with transform_point on first use.
     const double *vertex(uint32_t v) {
@@ -88,11 +104,10 @@ struct BodyView {
     }
     // Cached world data of node n (kNodeData doubles): the box (min xyz, max
     // xyz) that holds every rounded world vertex of the triangles under it,
-    // then the computed world centre wc (3), the tolerance margin + 1e-13 *
-    // extent per axis (3) and the scaled half widths scale * half (3); see
-    // node_box.
+    // then 2 unused, then with axes, from 8 on, 8 lanes of projected centres
+    // p, then from 16 on their radii r (see node_box).
     const double *box(uint32_t n) {
-        if (!nodes) return root_box;
+        if (!nodes) return near_box;
         double *b = boxes + kNodeData * size_t(n);
         if (box_stamp[n] != epoch) {
             node_box(nodes[n], b);
@@ -113,18 +128,19 @@ struct BodyView {
     }
 
     // World box of a node: the image of its mesh-frame box, inflated by a
-    // rounding margin. out: box (6), centre wc (3), tolerance (3), scaled
-    // half widths (3).
+    // rounding margin, and with axes its projections on them. out: box (6),
+    // 2 unused, projected centres p (8), radii r (8).
     //
-    // Why it holds every rounded world vertex w~ = fl(T(m)) of a point m of
-    // the node's box [c - h, c + h] (T(m) = pos + R (s m), R the rounded
-    // matrix hgcd uses, computed exactly), with u = 2^-53, g_k = k u/(1-k u):
+    // Why the box holds every rounded world vertex w~ = fl(T(m)) of a point
+    // m of the node's box [c - h, c + h] (T(m) = pos + R (s m), R the
+    // rounded matrix hgcd uses, computed exactly), with u = 2^-53, g_k =
+    // k u/(1-k u):
     //  - transform_point makes 5 roundings on the way to component a (s*m_j,
     //    the three products, two sums, the final add of pos_a), so
     //    |w~_a - T(m)_a| <= g_5 M_a with M_a = |pos_a| + sum_j |R_aj| s |m_j|
     //    <= |pos_a| + sum_j |R_aj| s (|c_j| + h_j), the `reach` below;
     //  - exactly, |T(m)_a - T(c)_a| <= sum_j |R_aj| s h_j = E_a;
-    //  - the computed centre fl(T(c)) is within g_5 M_a of T(c) (same
+    //  - the computed centre wc = fl(T(c)) is within g_5 M_a of T(c) (same
     //    formula), the computed extent within g_5 E_a <= g_5 M_a of E_a, and
     //    the computed reach within g_5 of M_a relatively;
     //  - the last add/subtract rounds by at most u (|wc_a| + d) <= 3u M_a.
@@ -132,15 +148,25 @@ struct BodyView {
     // five covers the rounding of the margin itself). Underflow adds at most a
     // few 2^-1074 per operation: the 1e-300 term. No overflow: coordinates
     // are below 1e15 and |R_aj| <= 1 + 1e-6.
+    //
+    // Why, for each axis x (any vector), every w~ under the node projects
+    // into [p - r, p + r]: by the above, w~ - wc = R (s (m - c)) + e with
+    // |e_a| <= 2 margin_a, so x . w~ lies within sum_l s h_l |x . col_l| +
+    // 2 sum_a |x_a| margin_a of x . wc (col_l the columns of R; gram holds
+    // upper bounds on |x . col_l|); and p = fl(x . wc) is within g_3 sum_a
+    // |x_a| |wc_a| <= 1e-15 sum_a |x_a| |wc_a| of x . wc. r is that sum of
+    // bounds, evaluated in a few roundings (relative error under 1e-15) and
+    // times 1 + 1e-11: above the exact bound by a factor 1 + 9e-12, the slack
+    // obb_separated's comparison uses. 1e-300 covers underflow.
     void node_box(const BvhNode &node, double *out) const {
         double wc[3];
         transform_point(r, position, scale, node.center, wc);
-        // (wc also stays within the margin of the exact image of the centre.)
         const double sh0 = scale * node.half[0], sh1 = scale * node.half[1],
                      sh2 = scale * node.half[2];
         const double sm0 = scale * (std::fabs(node.center[0]) + node.half[0]);
         const double sm1 = scale * (std::fabs(node.center[1]) + node.half[1]);
         const double sm2 = scale * (std::fabs(node.center[2]) + node.half[2]);
+        double t[3];
         for (int a = 0; a < 3; ++a) {
             const double *ar = &abs_r[3 * a];
             const double extent = ar[0] * sh0 + ar[1] * sh1 + ar[2] * sh2;
@@ -149,12 +175,17 @@ struct BodyView {
             const double d = extent + margin;
             out[a] = wc[a] - d;
             out[3 + a] = wc[a] + d;
-            out[6 + a] = wc[a];
-            out[9 + a] = margin + 1e-13 * extent;
+            t[a] = 2 * margin + 1e-15 * std::fabs(wc[a]);
         }
-        out[12] = sh0;
-        out[13] = sh1;
-        out[14] = sh2;
+        if (!axes) return;
+        const PairAxes &x = *axes;
+        double *p = out + 8, *rad = out + 16;
+        for (int k = 0; k < 6; ++k) {  // (lanes 6 and 7 stay unused)
+            p[k] = (x.axis[0][k] * wc[0] + x.axis[1][k] * wc[1]) + x.axis[2][k] * wc[2];
+            const double spread = (gram[0][k] * sh0 + gram[1][k] * sh1) + gram[2][k] * sh2;
+            const double slack = (x.abs_axis[0][k] * t[0] + x.abs_axis[1][k] * t[1]) + x.abs_axis[2][k] * t[2];
+            rad[k] = (spread + slack) * (1 + 1e-11) + 1e-300;
+        }
     }
 };
 

@@ -263,6 +263,7 @@ void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, 
                 b[3 + k] = std::max(b[3 + k], w[k]);
             }
         }
+        std::copy(b, b + 6, v.near_box);
         return;
     }
     const size_t nn = m.bvh.nodes.size();
@@ -350,78 +351,103 @@ inline double dist2(const double *x, const double *y) {
 
 inline double box_size(const double *b) { return (b[3] - b[0]) + (b[4] - b[1]) + (b[5] - b[2]); }
 
-// The two bodies' rotation columns and their dot products, for the oriented
-// box test of node pairs.
-struct PairFrame {
-    double col_a[3][3], col_b[3][3];      // col_a[j][k] = R_a[k][j]
-    double abs_col_a[3][3], abs_col_b[3][3];
-    double gram_a[3][3], gram_b[3][3];    // |col_a[j] . col_a[l]|, |col_b[i] . col_b[m]|
-    double cross[3][3], cross_t[3][3];    // |col_a[j] . col_b[i]| and transposed
-};
-
-void prepare_frame(const BodyView &a, const BodyView &b, PairFrame &f) {
+// The oriented test's axes (PairAxes: the columns of both rotation
+// matrices) and each body's gram: gram[l][k] >= |axis_k . col_l| exactly,
+// col_l its own columns: the computed dot product is within g_3 sum_m
+// |axis_km col_lm| of the exact one, and 2e-15 times that sum covers it
+// with the rounding of the bound itself.
+void prepare_axes(BodyView &a, BodyView &b, PairAxes &x) {
+    for (int m = 0; m < 3; ++m)
+        for (int k = 0; k < 8; ++k) x.axis[m][k] = 0;
     for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) {
-            f.col_a[j][k] = a.r.m[3 * k + j];
-            f.col_b[j][k] = b.r.m[3 * k + j];
-            f.abs_col_a[j][k] = a.abs_r[3 * k + j];
-            f.abs_col_b[j][k] = b.abs_r[3 * k + j];
+        for (int m = 0; m < 3; ++m) {
+            x.axis[m][j] = a.r.m[3 * m + j];
+            x.axis[m][3 + j] = b.r.m[3 * m + j];
         }
-    auto dot = [](const double *x, const double *y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-    for (int j = 0; j < 3; ++j)
-        for (int l = 0; l < 3; ++l) {
-            f.gram_a[j][l] = std::fabs(dot(f.col_a[j], f.col_a[l]));
-            f.gram_b[j][l] = std::fabs(dot(f.col_b[j], f.col_b[l]));
-            f.cross[j][l] = std::fabs(dot(f.col_a[j], f.col_b[l]));
-            f.cross_t[l][j] = f.cross[j][l];
-        }
+    for (int m = 0; m < 3; ++m)
+        for (int k = 0; k < 8; ++k) x.abs_axis[m][k] = std::fabs(x.axis[m][k]);
+    for (BodyView *v : {&a, &b}) {
+        for (int l = 0; l < 3; ++l)
+            for (int k = 0; k < 8; ++k) {
+                const double c0 = v->r.m[l], c1 = v->r.m[3 + l], c2 = v->r.m[6 + l];
+                const double dot = (x.axis[0][k] * c0 + x.axis[1][k] * c1) + x.axis[2][k] * c2;
+                const double mag = (std::fabs(x.axis[0][k] * c0) + std::fabs(x.axis[1][k] * c1)) +
+                                   std::fabs(x.axis[2][k] * c2);
+                v->gram[l][k] = std::fabs(dot) + 2e-15 * mag;
+            }
+        v->axes = &x;
+    }
 }
 
-inline double dot3(const double *x, const double *y) { return (x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]; }
-
-// Separating-axis test of two nodes' world images along the six face
-// directions (the columns of both rotation matrices). The exact image of a
-// node box is the parallelepiped wc +- sum_l s h_l col_l (col_l the columns
-// of the rounded matrix, exactly; they need not be orthogonal, hence the
-// Gram terms), and every rounded world vertex, as well as the computed wc,
-// lies within the node's per-axis margin of it (node_box). On an axis a
-// (any double vector) the two sets are apart when
-//   |a . (wc_b - wc_a)| > r_a + r_b + sum_k |a_k| (margin_a,k + margin_b,k),
-// r the exact projected radii, r_a = sum_l s h_l |a . col_l|. Every rounding
-// made in evaluating that here is below 12u times
-// mag = sum_k |a_k| (|D_k| + extent_a,k + extent_b,k) (each radius term
-// s h_l |a . col_l| sums to at most sum_k |a_k| extent_k), so the tolerance
-// margin + 1e-13 * extent cached per node, plus 1e-13 |D_k| here and 1e-300
-// for underflow, makes a rejection certain.
-bool obb_separated(const double *na, const double *nb, const PairFrame &f) {
-    const double d[3] = {nb[6] - na[6], nb[7] - na[7], nb[8] - na[8]};
-    const double tol[3] = {(na[9] + nb[9]) + 1e-13 * std::fabs(d[0]),
-                           (na[10] + nb[10]) + 1e-13 * std::fabs(d[1]),
-                           (na[11] + nb[11]) + 1e-13 * std::fabs(d[2])};
-    const double *ha = na + 12, *hb = nb + 12;
-    for (int j = 0; j < 3; ++j) {
-        const double proj = std::fabs(dot3(f.col_a[j], d));
-        const double lim = (dot3(f.gram_a[j], ha) + dot3(f.cross[j], hb)) + dot3(f.abs_col_a[j], tol);
-        if (proj > lim + 1e-300) return true;
-    }
-    for (int i = 0; i < 3; ++i) {
-        const double proj = std::fabs(dot3(f.col_b[i], d));
-        const double lim = (dot3(f.cross_t[i], ha) + dot3(f.gram_b[i], hb)) + dot3(f.abs_col_b[i], tol);
-        if (proj > lim + 1e-300) return true;
-    }
-    return false;
+// Separating-axis test of two nodes' world images along the six axes
+// (PairAxes): every rounded world vertex under node a projects into
+// [p_a - r_a, p_a + r_a] exactly (node_box), likewise under b, so the two
+// sets (and the triangles they span) are apart when on some axis
+// |p_b - p_a| > r_a + r_b exactly. Computed, |fl(p_b - p_a)| is within u of
+// the exact difference and fl(r_a + r_b) within u of the exact sum, both
+// far inside the slack 1 + 9e-12 that the radii carry, so a computed `>`
+// is certain.
+inline bool obb_separated(const double *na, const double *nb) {
+    const double *pa = na + 8, *pb = nb + 8, *ra = na + 16, *rb = nb + 16;
+    bool apart = false;
+    for (int k = 0; k < 6; ++k) apart |= std::fabs(pb[k] - pa[k]) > ra[k] + rb[k];
+    return apart;
 }
 
-// With kMargin: surfaces within d, node boxes grown by d (the oriented test,
-// which would need its own margin argument, is left out).
+// Is the box `other` (which holds every rounded world vertex under a node of
+// the other body) strictly on one side of the plane of each triangle of leaf
+// n of v? Then no triangle under that node meets the leaf. The axis is the
+// computed normal (any vector is a valid axis); a triangle projects within
+// its vertices' projections, each computed within g_3 sum_k |n_k v_k| of
+// exact, the box within its corners' extremes sum_k max(n_k lo_k, n_k hi_k)
+// (and min), computed within g_4 sum_k |n_k| max(|lo_k|, |hi_k|): margins of
+// 2e-15 times those sums (+ 1e-300 for underflow) cover them and the
+// rounding of the margins and comparisons. A zero normal proves nothing.
+bool leaf_planes_apart(BodyView &v, uint32_t n, const double *other) {
+    uint32_t first, count;
+    leaf_range(v, n, first, count);
+    for (uint32_t t = first; t < first + count; ++t) {
+        const uint32_t *f = &v.tris[3 * size_t(t)];
+        const double *p0 = v.vertex(f[0]), *p1 = v.vertex(f[1]), *p2 = v.vertex(f[2]);
+        const double u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        const double w[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        const double nx = u[1] * w[2] - u[2] * w[1], ny = u[2] * w[0] - u[0] * w[2], nz = u[0] * w[1] - u[1] * w[0];
+        const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
+        double tmin = INFINITY, tmax = -INFINITY, tmag = 0;
+        for (const double *p : {p0, p1, p2}) {
+            const double d = (nx * p[0] + ny * p[1]) + nz * p[2];
+            tmin = std::min(tmin, d);
+            tmax = std::max(tmax, d);
+            tmag = std::max(tmag, (ax * std::fabs(p[0]) + ay * std::fabs(p[1])) + az * std::fabs(p[2]));
+        }
+        const double bmax = (std::max(nx * other[0], nx * other[3]) + std::max(ny * other[1], ny * other[4])) +
+                            std::max(nz * other[2], nz * other[5]);
+        const double bmin = (std::min(nx * other[0], nx * other[3]) + std::min(ny * other[1], ny * other[4])) +
+                            std::min(nz * other[2], nz * other[5]);
+        const double bmag = (ax * std::max(std::fabs(other[0]), std::fabs(other[3])) +
+                             ay * std::max(std::fabs(other[1]), std::fabs(other[4]))) +
+                            az * std::max(std::fabs(other[2]), std::fabs(other[5]));
+        const double slack = 2e-15 * (tmag + bmag) + 1e-300;
+        if (!(bmin - slack > tmax || bmax + slack < tmin)) return false;
+    }
+    return true;
+}
+
+// A leaf of at most this many triangles is tried against the planes of its
+// triangles (leaf_planes_apart) before the other node is descended: a body
+// deep inside a large mesh, or near its flat faces, stops there.
+constexpr uint32_t kPlaneLeaf = 16;
+
+// Do the surfaces meet under the node pair (start_a, start_b)? meet: the
+// meeting triangles (leaf order), leaves: their leaves. With kMargin:
+// surfaces within d, node boxes grown by d (the oriented and plane tests,
+// which would need their own margin argument, are left out: oriented false).
 template <bool kMargin>
-bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t *meet, double d) {
-    PairFrame frame;
-    const bool oriented = !kMargin && a.nodes && b.nodes;
-    if (oriented) prepare_frame(a, b, frame);
+bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, uint32_t start_a,
+                   uint32_t start_b, uint32_t *meet, uint32_t *leaves, double d) {
     std::vector<uint64_t> &stack = s.pair_stack;
     stack.clear();
-    stack.push_back(0);
+    stack.push_back((uint64_t(start_a) << 32) | start_b);
     while (!stack.empty()) {
         const uint64_t top = stack.back();
         stack.pop_back();
@@ -431,11 +457,20 @@ bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t *meet, d
         const bool la = a.leaf(i), lb = b.leaf(j);
         // The oriented test pays off above the leaves (a leaf pair goes to
         // triangle boxes, which are cheaper).
-        if (oriented && !(la && lb) &&
-            obb_separated(ba, bb, frame))
-            continue;
+        if (oriented && !(la && lb) && obb_separated(ba, bb)) continue;
+        if (!kMargin && la != lb) {
+            BodyView &lv = la ? a : b;
+            const uint32_t ln = la ? i : j;
+            uint32_t first, count;
+            leaf_range(lv, ln, first, count);
+            if (count <= kPlaneLeaf && leaf_planes_apart(lv, ln, la ? bb : ba)) continue;
+        }
         if (la && lb) {
-            if (leaves_meet<kMargin>(a, i, ba, b, j, bb, s, meet, d)) return true;
+            if (leaves_meet<kMargin>(a, i, ba, b, j, bb, s, meet, d)) {
+                leaves[0] = i;
+                leaves[1] = j;
+                return true;
+            }
             continue;
         }
         // Descend the larger node (or the one that is not a leaf).
@@ -465,7 +500,7 @@ bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
     const Mesh &mo = *outer.mesh;
     for (uint32_t v : inner.mesh->component_vertices) {
         const double *p = inner.vertex(v);
-        const double *rb = outer.box(0);
+        const double *rb = outer.nodes ? outer.box(0) : outer.root_box;
         if (!point_in_box(p, rb)) continue;
         bool inside;
         if (outer.nodes) {
@@ -478,23 +513,82 @@ bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
     return false;
 }
 
+// v (without a tree): near_box becomes the box of the triangles whose exact
+// boxes meet `other` (inverted, so meeting nothing, when there are none).
+void narrow_to_near(BodyView &v, const double *other) {
+    double *nb = v.near_box;
+    nb[0] = nb[1] = nb[2] = INFINITY;
+    nb[3] = nb[4] = nb[5] = -INFINITY;
+    const Mesh &m = *v.mesh;
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
+        const uint32_t *f = &m.triangles[3 * size_t(t)];
+        const double *p0 = v.world + 3 * size_t(f[0]), *p1 = v.world + 3 * size_t(f[1]),
+                     *p2 = v.world + 3 * size_t(f[2]);
+        double tb[6];
+        for (int k = 0; k < 3; ++k) {
+            tb[k] = std::min(std::min(p0[k], p1[k]), p2[k]);
+            tb[3 + k] = std::max(std::max(p0[k], p1[k]), p2[k]);
+        }
+        if (boxes_disjoint(tb, other)) continue;
+        for (int k = 0; k < 3; ++k) {
+            nb[k] = std::min(nb[k], tb[k]);
+            nb[3 + k] = std::max(nb[3 + k], tb[3 + k]);
+        }
+    }
+}
+
+// How far above the meeting leaves a hint points (NodeHint): its subtrees
+// hold up to 2^kHintLevels leaves, wide enough that a tick of motion mostly
+// leaves the meeting point inside (on scene `scanned` the meeting leaf pair
+// itself met again in one pair of seven).
+constexpr int kHintLevels = 3;
+
+uint32_t ancestor(const Bvh &t, uint32_t n) {
+    if (t.empty()) return 0;
+    for (int k = 0; k < kHintLevels; ++k) n = t.parent[n];
+    return n;
+}
+
 // counted: exact_tests counts the pair once its root boxes overlap (false:
 // the caller has counted it). With kMargin: surfaces within d are Near.
+// hint: NodeHint (not with kMargin).
 template <bool kMargin = false>
 __attribute__((noinline)) Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
-                                               Witness *witness, bool counted = true, double d = 0) {
+                                               Witness *witness, bool counted = true, double d = 0,
+                                               NodeHint *hint = nullptr) {
     next_epoch(s);
     BodyView va, vb;
     prepare_side(a, s.side[0], s.epoch, va);
     prepare_side(b, s.side[1], s.epoch, vb);
+    // (The axes of the oriented test first: the node caches fill with both.)
+    PairAxes axes;
+    const bool oriented = !kMargin && va.nodes && vb.nodes;
+    if (oriented) prepare_axes(va, vb, axes);
     // Conservative prefilter: the solids lie inside the root boxes.
     if (kMargin ? boxes_apart(va.box(0), vb.box(0), d) : boxes_disjoint(va.box(0), vb.box(0)))
         return Contact::None;
     s.exact_tests += counted;
-    uint32_t meet[2];
-    if (surfaces_meet<kMargin>(va, vb, s, meet, d)) {
+    // A side without a tree is one leaf of all its triangles: only those whose
+    // exact boxes reach the other's root box can meet it, and the box of
+    // those alone prunes the other's nodes (a body deep inside a large box
+    // then costs no traversal at all).
+    if (!kMargin && !va.nodes) narrow_to_near(va, vb.box(0));
+    if (!kMargin && !vb.nodes) narrow_to_near(vb, va.box(0));
+    uint32_t meet[2], leaves[2];
+    bool met = false;
+    if (hint) {
+        // The subtrees near where the surfaces met at the last detect,
+        // searched first: after a tick of motion they mostly still meet there.
+        hint->found = false;
+        const uint32_t na = va.nodes ? uint32_t(a.mesh->bvh.nodes.size()) : 1;
+        const uint32_t nb = vb.nodes ? uint32_t(b.mesh->bvh.nodes.size()) : 1;
+        if (hint->node_a < na && hint->node_b < nb)
+            met = surfaces_meet<kMargin>(va, vb, oriented, s, hint->node_a, hint->node_b, meet, leaves, d);
+    }
+    if (met || surfaces_meet<kMargin>(va, vb, oriented, s, 0, 0, meet, leaves, d)) {
         if (witness)
             *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
+        if (hint) *hint = NodeHint{ancestor(a.mesh->bvh, leaves[0]), ancestor(b.mesh->bvh, leaves[1]), true};
         return kMargin ? Contact::Near : Contact::Surface;
     }
     if (kMargin) return Contact::None;  // (collide_within asked about containment first)
@@ -619,12 +713,13 @@ Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScr
     return collide_within_direct(a, b, d, s, witness);
 }
 
-Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
+Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness, NodeHint *hint) {
     // (A tetrahedron has no tree; a witness asks for the general path's
     // triangle order.)
     if (a.mesh->tetra && b.mesh->tetra && !witness) return tet::collide_tetra(a, b, s);
     if (a.mesh->sat && b.mesh->sat) return collide_convex(a, b, s, witness);
-    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness);
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty())
+        return collide_tree(a, b, s, witness, true, 0, witness ? nullptr : hint);
     return collide_direct(a, b, s, witness);
 }
 

@@ -59,6 +59,18 @@ struct Witness {
     bool recorded = false;
 };
 
+// The first-tried witness of a pair with a tree (a mesh above
+// kBvhMinTriangles): in, a pair of tree nodes (of a's tree and of b's; 0 for
+// a mesh without one) near where the surfaces met at this pair's last
+// detect, whose subtrees are searched before the whole trees (out of range:
+// none); out, found tells whether the surfaces met, then node_a, node_b are
+// the ancestors kHintLevels above the meeting leaves. Only a hint: any value
+// leaves the verdict exact (the same exact triangle tests decide).
+struct NodeHint {
+    uint32_t node_a = UINT32_MAX, node_b = UINT32_MAX;
+    bool found = false;
+};
+
 // Triangles of one body that reach the other's box, with their exact boxes
 // (6 doubles each): the candidates of the triangle-pair loops.
 struct NearTriangles {
@@ -103,8 +115,10 @@ struct NarrowScratch {
 // has a tree, a simultaneous traversal of the two trees (a mesh without one
 // is a single leaf) reaches the same exact triangle test; exact_tests then
 // counts pairs whose conservative root boxes overlap.
+// hint: the first-tried witness (NodeHint), read and written by the tree
+// path only (pairs where a mesh has a tree and no witness is asked for).
 Contact collide(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch,
-                Witness *witness = nullptr);
+                Witness *witness = nullptr, NodeHint *hint = nullptr);
 
 // The contact margin of a pair (hgcd_world_desc.contact_margin): the
 // world's plus the sum of the two bodies', each addition rounded.

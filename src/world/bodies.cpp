@@ -285,9 +285,10 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 // path computes it, and fl(c + min d) <= fl(c + d): rounding is monotone),
 // rounded outward to float, over the vertices the triangles use (those the
 // mesh's bounding sphere, and so r_level, bounds). Meshes of more triangles
-// than Mesh::kExactBoxTriangles take the cube around their bounding sphere instead
-// (a pose set costs no more than a few hundred vertex transforms), widened
-// past the rounding of R.
+// than Mesh::kExactBoxTriangles take the cube around their bounding sphere
+// instead (a pose set costs no more than a few hundred vertex transforms),
+// widened past the rounding of R, cut down to the rotated boxes of a few
+// tree nodes where those are tighter.
 void World::set_box_offsets(size_t s) {
     const Placement &pl = place_[s];
     const Mesh &m = meshes_[body_mesh_[s]];
@@ -306,6 +307,39 @@ void World::set_box_offsets(size_t s) {
         for (int k = 0; k < 3; ++k) {
             lo[k] = c[k] - reach * (1 + 1e-12);
             hi[k] = c[k] + reach * (1 + 1e-12);
+        }
+        // Where tighter, the union of the rotated boxes of the tree's node
+        // cut (Mesh::box_cut). For a node [c - h, c + h] and any vertex v under
+        // it, the computed offset d_v (transform_point, zero position) is
+        // within g_5 M_a of the exact R (s v), M_a = sum_j |R_aj| s |v_j| <=
+        // sum_j |R_aj| s (|c_j| + h_j) = `far`, and R (s v) within E_a =
+        // sum_j |R_aj| s h_j of R (s c); the computed centre offset o is
+        // within g_5 M_a of R (s c), the computed E_a and far within g_5
+        // relatively, the final add/subtract within u (|o_a| + E_a + margin)
+        // <= 3u far: all under 2e-15 far, far below the margin 1e-14 far
+        // (+ 1e-300 for underflow).
+        double cut_lo[3] = {INFINITY, INFINITY, INFINITY}, cut_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        double abs_r[9];
+        for (int k = 0; k < 9; ++k) abs_r[k] = std::fabs(r.m[k]);
+        for (size_t n = 0; n < m.box_cut.size(); n += 6) {
+            const double *nc = &m.box_cut[n], *nh = &m.box_cut[n + 3];
+            double o[3];
+            transform_point(r, zero, pl.scale, nc, o);
+            const double sh[3] = {pl.scale * nh[0], pl.scale * nh[1], pl.scale * nh[2]};
+            const double sm[3] = {pl.scale * (std::fabs(nc[0]) + nh[0]), pl.scale * (std::fabs(nc[1]) + nh[1]),
+                                  pl.scale * (std::fabs(nc[2]) + nh[2])};
+            for (int a = 0; a < 3; ++a) {
+                const double *ra = abs_r + 3 * a;
+                const double extent = (ra[0] * sh[0] + ra[1] * sh[1]) + ra[2] * sh[2];
+                const double far = (ra[0] * sm[0] + ra[1] * sm[1]) + ra[2] * sm[2];
+                const double d = extent + (1e-14 * far + 1e-300);
+                cut_lo[a] = std::min(cut_lo[a], o[a] - d);
+                cut_hi[a] = std::max(cut_hi[a], o[a] + d);
+            }
+        }
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::max(lo[k], cut_lo[k]);
+            hi[k] = std::min(hi[k], cut_hi[k]);
         }
     }
     if (const double g = box_growth(s)) {

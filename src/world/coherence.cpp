@@ -4,6 +4,7 @@
 // and a world where nothing moved costs a pass over its bodies and pairs.
 #include <algorithm>
 #include <cstring>
+#include <new>
 
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
@@ -86,6 +87,39 @@ uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) 
     uint64_t total = 0;
     for (uint64_t k : kept) total += k;
     return total;
+}
+
+const World::NodeWitness *World::find_witness(uint64_t key) const {
+    const auto it = std::lower_bound(witness_.begin(), witness_.end(), key,
+                                     [](const NodeWitness &w, uint64_t k) { return w.key < k; });
+    return it != witness_.end() && it->key == key ? &*it : nullptr;
+}
+
+// A merge of three sorted lists: the new witnesses, the last ones (for pairs
+// kept untested: a new one replaces its pair's), and pairs_, whose pairs
+// alone keep theirs. Without memory for it the witnesses are dropped: they
+// only save time.
+void World::keep_witnesses(std::vector<NodeWitness> &fresh) {
+    if (fresh.empty() && witness_.empty()) return;
+    try {
+        const auto by_key = [](const NodeWitness &x, const NodeWitness &y) { return x.key < y.key; };
+        std::sort(fresh.begin(), fresh.end(), by_key);
+        std::vector<NodeWitness> out;
+        out.reserve(fresh.size() + std::min(witness_.size(), pairs_.size()));
+        size_t f = 0, o = 0;
+        for (const hgcd_pair &p : pairs_) {
+            const uint64_t key = (uint64_t(p.a.index) << 32) | p.b.index;
+            while (f < fresh.size() && fresh[f].key < key) ++f;
+            while (o < witness_.size() && witness_[o].key < key) ++o;
+            if (f < fresh.size() && fresh[f].key == key)
+                out.push_back(fresh[f]);
+            else if (o < witness_.size() && witness_[o].key == key)
+                out.push_back(witness_[o]);
+        }
+        witness_.swap(out);
+    } catch (const std::bad_alloc &) {
+        witness_.clear();
+    }
 }
 
 }  // namespace hgcd

@@ -126,6 +126,7 @@ struct World::NarrowThread {
     ContactScratch contact_scratch;
     std::vector<uint64_t> hits;          // pair keys, slot a << 32 | slot b
     std::vector<hgcd_contact> contacts;  // parallel to hits (contacts on)
+    std::vector<NodeWitness> witnesses;   // of this detect's tree pairs that met
     uint64_t containment = 0, ccd_fallback = 0;
     TetraPair *tetra = nullptr;  // this thread's batch (plan.batch)
     Contact *verdict = nullptr;
@@ -357,8 +358,10 @@ void World::test_candidates(int threads) {
     }
     plan_narrow(threads, plan);
     std::vector<std::vector<hgcd_contact>> hit_contacts(static_cast<size_t>(threads));  // per thread, parallel to hits_
-    narrow_phase(threads, plan, hit_contacts);
+    std::vector<NodeWitness> fresh;
+    narrow_phase(threads, plan, hit_contacts, fresh);
     merge_hits(threads, plan.want_contacts, hit_contacts);
+    keep_witnesses(fresh);
     find_events(threads);
 }
 
@@ -386,7 +389,7 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
 }
 
 void World::narrow_phase(int threads, const NarrowPlan &plan,
-                         std::vector<std::vector<hgcd_contact>> &hit_contacts) {
+                         std::vector<std::vector<hgcd_contact>> &hit_contacts, std::vector<NodeWitness> &fresh) {
     // Kept across detects, as the candidates: fresh buffers would grow (and
     // fault in pages) every tick. (hits_ holds the pairs temporal coherence
     // kept: find_candidates.)
@@ -428,6 +431,8 @@ void World::narrow_phase(int threads, const NarrowPlan &plan,
             hit_contacts[size_t(me)].swap(t->contacts);
         }
     });
+    for (const auto &t : worker)
+        if (t) fresh.insert(fresh.end(), t->witnesses.begin(), t->witnesses.end());
     for (const Counts &c : counts) {
         stats_.narrow_tests += c.narrow_tests;
         stats_.triangle_tests += c.triangle_tests;
@@ -520,7 +525,23 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
         const uint8_t ma = any_ccd ? plan.ccd_mode[body_mesh_[a]] : 0;
         const uint8_t mb = any_ccd ? plan.ccd_mode[body_mesh_[b]] : 0;
         const double d = margins ? pair_margin(world_margin_, margin_[a], margin_[b]) : 0;
-        const Contact hit = collide_pair(pa, pb, ma, mb, d, want_contacts, t, &contact);
+        Contact hit;
+        if ((!mesh_a->bvh.empty() || !mesh_b->bvh.empty()) && !want_contacts && !(ma & mb & kCcdUse) && !(d > 0)) {
+            // A pair with a tree: the meeting triangles of its last detect first.
+            const uint32_t sa = slot_of_[a], sb = slot_of_[b];
+            const uint64_t key = pair_key(sa, sb);
+            NodeHint hint;
+            if (const NodeWitness *w = find_witness(key)) {
+                hint.node_a = w->node[sa > sb];
+                hint.node_b = w->node[sa < sb];
+            }
+            if (ma & mb & kCcdAsked) ++t.ccd_fallback;
+            hit = collide(pa, pb, t.scratch, nullptr, &hint);
+            if (hint.found)
+                t.witnesses.push_back(NodeWitness{key, {sa < sb ? hint.node_a : hint.node_b, sa < sb ? hint.node_b : hint.node_a}});
+        } else {
+            hit = collide_pair(pa, pb, ma, mb, d, want_contacts, t, &contact);
+        }
         if (hit != Contact::None) {
             t.hits.push_back(pair_key(slot_of_[a], slot_of_[b]));
             if (want_contacts) t.contacts.push_back(contact);

@@ -88,6 +88,25 @@ void set_bounding_sphere(Mesh &m, const std::vector<char> &used) {
     m.radius = std::sqrt(r2) * (1 + 1e-12);
 }
 
+// Mesh::box_cut: the nodes kBoxCutDepth levels below the root, or leaves
+// above that (every triangle lies under exactly one of them).
+void set_box_cut(Mesh &m) {
+    const std::vector<BvhNode> &nodes = m.bvh.nodes;
+    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};  // (node, depth)
+    while (!stack.empty()) {
+        const auto top = stack.back();
+        stack.pop_back();
+        const BvhNode &n = nodes[top.first];
+        if (n.count == 0 && top.second < Mesh::kBoxCutDepth) {
+            stack.push_back({n.first + 1, top.second + 1});
+            stack.push_back({n.first, top.second + 1});
+            continue;
+        }
+        m.box_cut.insert(m.box_cut.end(), n.center, n.center + 3);
+        m.box_cut.insert(m.box_cut.end(), n.half, n.half + 3);
+    }
+}
+
 // Degenerate triangles and connected components (union-find on vertices).
 void set_components(Mesh &m, const std::vector<char> &used) {
     const double *vertices = m.vertices.data();
@@ -370,6 +389,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     set_sat(m, used);
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
+    if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
     *out = std::move(m);
     return true;
 }

@@ -75,6 +75,13 @@ struct Mesh {
     // bounding sphere's. A copy, so a pose reads one buffer.
     static constexpr uint32_t kExactBoxTriangles = 128;
     std::vector<double> box_points;
+    // For larger meshes: the boxes (centre xyz, half widths xyz, mesh frame)
+    // of the tree's nodes kBoxCutDepth below the root (and of shallower
+    // leaves), which hold every triangle: a body's box is the union of their
+    // rotated boxes where tighter than the bounding sphere's (an elongated
+    // mesh's by far), at ~2^kBoxCutDepth small transforms per new orientation.
+    static constexpr uint32_t kBoxCutDepth = 3;
+    std::vector<double> box_cut;
     // What the convex path of the narrow phase (narrow/convex.cpp) needs
     // about a small convex mesh (SatData), behind one pointer so that other
     // meshes (tetrahedra included: they have a path of their own) carry 8

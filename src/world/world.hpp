@@ -213,7 +213,22 @@ class World {
     void drop_movers() noexcept;
     void plan_narrow(int threads, NarrowPlan &plan) const;
     // Each thread's colliding pairs, sorted, into hits_ (and hit_contacts).
-    void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts);
+    // The first-tried witnesses (coherence.cpp): for each colliding pair of
+    // the last detect with a mesh that has a tree, the meeting triangles it
+    // found (mesh indices, the lower slot's first), sorted by pair_key; a
+    // hint that the next detect tests first (any entry leaves verdicts
+    // exact: a stale one costs one triangle test).
+    struct NodeWitness {
+        uint64_t key;
+        uint32_t node[2];
+    };
+    std::vector<NodeWitness> witness_;
+    const NodeWitness *find_witness(uint64_t key) const;
+    // witness_ from this detect's new witnesses (any order) and the last
+    // ones of the pairs kept untested, for the pairs in pairs_.
+    void keep_witnesses(std::vector<NodeWitness> &fresh);
+    void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts,
+                      std::vector<NodeWitness> &fresh);
     void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;
     size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                         NarrowThread &t) const;

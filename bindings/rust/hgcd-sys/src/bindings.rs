@@ -2470,7 +2470,8 @@ extern "C" {
     #[doc = "  (desc->mesh), INVALID_ARGUMENT (a field out of range; the message names"]
     #[doc = "  it), CAPACITY, OUT_OF_MEMORY."]
     #[doc = "  Cost: amortised O(1), plus one transform of each vertex for meshes of at"]
-    #[doc = "  most 128 triangles (their exact bounding box)."]
+    #[doc = "  most 128 triangles (their exact bounding box); larger meshes, up to 8"]
+    #[doc = "  box transforms (the box of a few nodes of their tree)."]
     pub fn hgcd_body_create(
         world: *mut hgcd_world,
         desc: *const hgcd_body_desc,
@@ -2490,7 +2491,8 @@ extern "C" {
     #[doc = "  Errors: NULL_ARGUMENT (world), STALE_ID, INVALID_ARGUMENT (nothing is"]
     #[doc = "  changed, not even the valid half)."]
     #[doc = "  Cost: O(1), plus with a new orientation one transform of each vertex"]
-    #[doc = "  for meshes of at most 128 triangles (a 2-core AMD EPYC: about 13 ns with"]
+    #[doc = "  for meshes of at most 128 triangles, up to 8 box transforms for larger"]
+    #[doc = "  ones (a 2-core AMD EPYC: about 13 ns with"]
     #[doc = "  an unchanged orientation, 35 ns with a new one for a tetrahedron, 100 to"]
     #[doc = "  160 ns for a 12-triangle box; bench/bench_pose.c). For many bodies"]
     #[doc = "  hgcd_world_set_poses costs less per body."]

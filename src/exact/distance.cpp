@@ -43,6 +43,8 @@
 // contract; margins are at most 1e15 each), an underflowed product adds at
 // most 2^-1075, multiplied afterwards by at most 2^(53 * 5) over fewer than
 // 2^8 terms: below 2^-800, which the slack 2^-700 covers.
+#include "common/ieee.hpp"
+
 #include <cmath>
 
 #include "exact/big.hpp"

@@ -1,6 +1,7 @@
 // The convex path's first kernel (narrow/convex.hpp): a pair of small convex
 // meshes decided from the meshes' vertex runs and planes (SatData) and the
 // two poses alone, without world vertices, four vertices per vector.
+#include "common/ieee.hpp"
 #include "narrow/convex.hpp"
 
 #include <algorithm>

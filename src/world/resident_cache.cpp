@@ -17,6 +17,8 @@
 // has. Residents that became movers (or died) since are dropped from the
 // list as it is read (their pairs come from the movers' own grid); that
 // check is skipped while no body has become a mover since the list was made.
+#include "common/ieee.hpp"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>

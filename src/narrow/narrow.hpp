@@ -144,6 +144,16 @@ Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScr
 // with the one-pair test's later steps. Elsewhere one pair at a time.
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
 
+// The tree path (tree_path.cpp), for pairs where at least one mesh has a
+// BVH. counted: exact_tests counts the pair once its root boxes overlap
+// (false: the caller has counted it). With kMargin: surfaces within d are
+// Near, and containment is left to the caller (collide_within asks collide()
+// first). hint: where the surfaces met last time, searched first and updated
+// (NodeHint; not with kMargin).
+template <bool kMargin = false>
+Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &scratch, Witness *witness,
+                     bool counted = true, double d = 0, NodeHint *hint = nullptr);
+
 // A view of one posed mesh with a tree (Mesh::bvh) for the scene queries:
 // its world vertices and node boxes computed on first use into side 0 of
 // the scratch, under a new epoch (so valid until the scratch's next use).

@@ -1,0 +1,415 @@
+// The narrow phase's tree path: pairs where at least one mesh has a BVH.
+//
+// World vertices are computed lazily, per pair, for the triangles the
+// traversal reaches (BodyView::vertex), instead of all vertices of both
+// bodies: for two large meshes in shallow contact, transforming them all
+// costs more than the whole test. (Caching them per body per tick would need
+// storage owned by the world, for little: a body takes part in few pairs.)
+// Node boxes are conservative world boxes of the
+// mesh-frame node boxes (BodyView::node_box argues the margin), refined above
+// the leaves by a separating-axis test on both rotations' face directions
+// with the same margins (obb_separated), so a node pair is skipped only when
+// no rounded world vertex under one can share a point with the other; leaves
+// get exact triangle boxes from the world vertices and the exact triangle
+// test, exactly as the direct path.
+#include "common/ieee.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "exact/geometry.hpp"
+#include "narrow/boxes.hpp"
+#include "narrow/bvh.hpp"
+#include "narrow/narrow.hpp"
+
+namespace hgcd {
+
+namespace {
+
+void next_epoch(NarrowScratch &s) {
+    if (++s.epoch == 0) {  // stamps wrapped: forget every cached value
+        for (auto &c : s.side) {
+            std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
+            std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
+        }
+        s.epoch = 1;
+    }
+}
+
+void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, BodyView &v) {
+    const Mesh &m = *pose.mesh;
+    v.mesh = &m;
+    v.local = m.vertices.data();
+    v.set_pose(pose.position, pose.orientation, pose.scale);
+    v.epoch = epoch;
+    const size_t nv = m.vertex_count;
+    if (c.vertex_stamp.size() < nv) {
+        c.vertex_stamp.resize(nv, 0);
+        c.world.reset(new double[3 * nv]);
+    }
+    v.world = c.world.get();
+    v.vertex_stamp = c.vertex_stamp.data();
+    if (m.bvh.empty()) {
+        // A small mesh: one leaf with every triangle, its exact box.
+        v.nodes = nullptr;
+        v.tris = m.triangles.data();
+        v.tri_ids = nullptr;
+        double *b = v.root_box;
+        b[0] = b[1] = b[2] = INFINITY;
+        b[3] = b[4] = b[5] = -INFINITY;
+        for (uint32_t i = 0; i < m.vertex_count; ++i) {
+            const double *w = v.vertex(i);
+            for (int k = 0; k < 3; ++k) {
+                b[k] = std::min(b[k], w[k]);
+                b[3 + k] = std::max(b[3 + k], w[k]);
+            }
+        }
+        std::copy(b, b + 6, v.near_box);
+        return;
+    }
+    const size_t nn = m.bvh.nodes.size();
+    if (c.box_stamp.size() < nn) {
+        c.box_stamp.resize(nn, 0);
+        c.boxes.reset(new double[kNodeData * nn]);
+    }
+    v.nodes = m.bvh.nodes.data();
+    v.tris = m.bvh.tris.data();
+    v.tri_ids = m.bvh.tri_ids.data();
+    v.boxes = c.boxes.get();
+    v.box_stamp = c.box_stamp.data();
+}
+
+inline void leaf_range(const BodyView &v, uint32_t n, uint32_t &first, uint32_t &count) {
+    if (v.nodes) {
+        first = v.nodes[n].first;
+        count = v.nodes[n].count;
+    } else {
+        first = 0;
+        count = v.mesh->triangle_count;
+    }
+}
+
+inline void view_triangle_box(BodyView &v, uint32_t t, const double *(&p)[3], double *box) {
+    const uint32_t *f = &v.tris[3 * size_t(t)];
+    p[0] = v.vertex(f[0]);
+    p[1] = v.vertex(f[1]);
+    p[2] = v.vertex(f[2]);
+    for (int k = 0; k < 3; ++k) {
+        box[k] = std::min(std::min(p[0][k], p[1][k]), p[2][k]);
+        box[3 + k] = std::max(std::max(p[0][k], p[1][k]), p[2][k]);
+    }
+}
+
+// Exact test of the triangles of leaf i of a against those of leaf j of b.
+// On a meeting pair, sets meet[0], meet[1] to their leaf-order indices.
+// With kMargin: a triangle pair within d (boxes grown by d).
+template <bool kMargin>
+bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uint32_t j,
+                 const double *node_b, NarrowScratch &s, uint32_t *meet, double d) {
+    uint32_t fa, na, fb, nb;
+    leaf_range(a, i, fa, na);
+    leaf_range(b, j, fb, nb);
+    // Triangles of b that reach a's node box, with their exact boxes.
+    s.near_b.tri.clear();
+    s.near_b.box.clear();
+    for (uint32_t t = fb; t < fb + nb; ++t) {
+        const double *q[3];
+        double tb[6];
+        view_triangle_box(b, t, q, tb);
+        if (kMargin ? boxes_apart(tb, node_a, d) : boxes_disjoint(tb, node_a)) continue;
+        s.near_b.tri.push_back(t);
+        s.near_b.box.insert(s.near_b.box.end(), tb, tb + 6);
+    }
+    if (s.near_b.tri.empty()) return false;
+    for (uint32_t t = fa; t < fa + na; ++t) {
+        const double *p[3];
+        double ta[6];
+        view_triangle_box(a, t, p, ta);
+        if (kMargin ? boxes_apart(ta, node_b, d) : boxes_disjoint(ta, node_b)) continue;
+        for (size_t k = 0; k < s.near_b.tri.size(); ++k) {
+            if (kMargin ? boxes_apart(ta, &s.near_b.box[6 * k], d) : boxes_disjoint(ta, &s.near_b.box[6 * k]))
+                continue;
+            const uint32_t *f = &b.tris[3 * size_t(s.near_b.tri[k])];
+            ++s.triangle_tests;
+            const double *q0 = b.vertex(f[0]), *q1 = b.vertex(f[1]), *q2 = b.vertex(f[2]);
+            if (kMargin ? tri_tri_within(p[0], p[1], p[2], q0, q1, q2, d)
+                        : tri_tri_intersect(p[0], p[1], p[2], q0, q1, q2)) {
+                meet[0] = t;
+                meet[1] = s.near_b.tri[k];
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+// Squared distance of box centres, times 4.
+inline double dist2(const double *x, const double *y) {
+    const double dx = (x[0] + x[3]) - (y[0] + y[3]), dy = (x[1] + x[4]) - (y[1] + y[4]),
+                 dz = (x[2] + x[5]) - (y[2] + y[5]);
+    return dx * dx + dy * dy + dz * dz;
+}
+
+inline double box_size(const double *b) { return (b[3] - b[0]) + (b[4] - b[1]) + (b[5] - b[2]); }
+
+// The oriented test's axes (PairAxes: the columns of both rotation
+// matrices) and each body's gram: gram[l][k] >= |axis_k . col_l| exactly,
+// col_l its own columns: the computed dot product is within g_3 sum_m
+// |axis_km col_lm| of the exact one, and 2e-15 times that sum covers it
+// with the rounding of the bound itself.
+void prepare_axes(BodyView &a, BodyView &b, PairAxes &x) {
+    for (int m = 0; m < 3; ++m)
+        for (int k = 0; k < 8; ++k) x.axis[m][k] = 0;
+    for (int j = 0; j < 3; ++j)
+        for (int m = 0; m < 3; ++m) {
+            x.axis[m][j] = a.r.m[3 * m + j];
+            x.axis[m][3 + j] = b.r.m[3 * m + j];
+        }
+    for (int m = 0; m < 3; ++m)
+        for (int k = 0; k < 8; ++k) x.abs_axis[m][k] = std::fabs(x.axis[m][k]);
+    for (BodyView *v : {&a, &b}) {
+        for (int l = 0; l < 3; ++l)
+            for (int k = 0; k < 8; ++k) {
+                const double c0 = v->r.m[l], c1 = v->r.m[3 + l], c2 = v->r.m[6 + l];
+                const double dot = (x.axis[0][k] * c0 + x.axis[1][k] * c1) + x.axis[2][k] * c2;
+                const double mag = (std::fabs(x.axis[0][k] * c0) + std::fabs(x.axis[1][k] * c1)) +
+                                   std::fabs(x.axis[2][k] * c2);
+                v->gram[l][k] = std::fabs(dot) + 2e-15 * mag;
+            }
+        v->axes = &x;
+    }
+}
+
+// Separating-axis test of two nodes' world images along the six axes
+// (PairAxes): every rounded world vertex under node a projects into
+// [p_a - r_a, p_a + r_a] exactly (node_box), likewise under b, so the two
+// sets (and the triangles they span) are apart when on some axis
+// |p_b - p_a| > r_a + r_b exactly. Computed, |fl(p_b - p_a)| is within u of
+// the exact difference and fl(r_a + r_b) within u of the exact sum, both
+// far inside the slack 1 + 9e-12 that the radii carry, so a computed `>`
+// is certain.
+inline bool obb_separated(const double *na, const double *nb) {
+    const double *pa = na + 8, *pb = nb + 8, *ra = na + 16, *rb = nb + 16;
+    bool apart = false;
+    for (int k = 0; k < 6; ++k) apart |= std::fabs(pb[k] - pa[k]) > ra[k] + rb[k];
+    return apart;
+}
+
+// Is the box `other` (which holds every rounded world vertex under a node of
+// the other body) strictly on one side of the plane of each triangle of leaf
+// n of v? Then no triangle under that node meets the leaf. The axis is the
+// computed normal (any vector is a valid axis); a triangle projects within
+// its vertices' projections, each computed within g_3 sum_k |n_k v_k| of
+// exact, the box within its corners' extremes sum_k max(n_k lo_k, n_k hi_k)
+// (and min), computed within g_4 sum_k |n_k| max(|lo_k|, |hi_k|): margins of
+// 2e-15 times those sums (+ 1e-300 for underflow) cover them and the
+// rounding of the margins and comparisons. A zero normal proves nothing.
+bool leaf_planes_apart(BodyView &v, uint32_t n, const double *other) {
+    uint32_t first, count;
+    leaf_range(v, n, first, count);
+    for (uint32_t t = first; t < first + count; ++t) {
+        const uint32_t *f = &v.tris[3 * size_t(t)];
+        const double *p0 = v.vertex(f[0]), *p1 = v.vertex(f[1]), *p2 = v.vertex(f[2]);
+        const double u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        const double w[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        const double nx = u[1] * w[2] - u[2] * w[1], ny = u[2] * w[0] - u[0] * w[2], nz = u[0] * w[1] - u[1] * w[0];
+        const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
+        double tmin = INFINITY, tmax = -INFINITY, tmag = 0;
+        for (const double *p : {p0, p1, p2}) {
+            const double d = (nx * p[0] + ny * p[1]) + nz * p[2];
+            tmin = std::min(tmin, d);
+            tmax = std::max(tmax, d);
+            tmag = std::max(tmag, (ax * std::fabs(p[0]) + ay * std::fabs(p[1])) + az * std::fabs(p[2]));
+        }
+        const double bmax = (std::max(nx * other[0], nx * other[3]) + std::max(ny * other[1], ny * other[4])) +
+                            std::max(nz * other[2], nz * other[5]);
+        const double bmin = (std::min(nx * other[0], nx * other[3]) + std::min(ny * other[1], ny * other[4])) +
+                            std::min(nz * other[2], nz * other[5]);
+        const double bmag = (ax * std::max(std::fabs(other[0]), std::fabs(other[3])) +
+                             ay * std::max(std::fabs(other[1]), std::fabs(other[4]))) +
+                            az * std::max(std::fabs(other[2]), std::fabs(other[5]));
+        const double slack = 2e-15 * (tmag + bmag) + 1e-300;
+        if (!(bmin - slack > tmax || bmax + slack < tmin)) return false;
+    }
+    return true;
+}
+
+// A leaf of at most this many triangles is tried against the planes of its
+// triangles (leaf_planes_apart) before the other node is descended: a body
+// deep inside a large mesh, or near its flat faces, stops there.
+constexpr uint32_t kPlaneLeaf = 16;
+
+// Do the surfaces meet under the node pair (start_a, start_b)? meet: the
+// meeting triangles (leaf order), leaves: their leaves. With kMargin:
+// surfaces within d, node boxes grown by d (the oriented and plane tests,
+// which would need their own margin argument, are left out: oriented false).
+template <bool kMargin>
+bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, uint32_t start_a,
+                   uint32_t start_b, uint32_t *meet, uint32_t *leaves, double d) {
+    std::vector<uint64_t> &stack = s.pair_stack;
+    stack.clear();
+    stack.push_back((uint64_t(start_a) << 32) | start_b);
+    while (!stack.empty()) {
+        const uint64_t top = stack.back();
+        stack.pop_back();
+        const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
+        const double *ba = a.box(i), *bb = b.box(j);
+        if (kMargin ? boxes_apart(ba, bb, d) : boxes_disjoint(ba, bb)) continue;
+        const bool la = a.leaf(i), lb = b.leaf(j);
+        // The oriented test pays off above the leaves (a leaf pair goes to
+        // triangle boxes, which are cheaper).
+        if (oriented && !(la && lb) && obb_separated(ba, bb)) continue;
+        if (!kMargin && la != lb) {
+            BodyView &lv = la ? a : b;
+            const uint32_t ln = la ? i : j;
+            uint32_t first, count;
+            leaf_range(lv, ln, first, count);
+            if (count <= kPlaneLeaf && leaf_planes_apart(lv, ln, la ? bb : ba)) continue;
+        }
+        if (la && lb) {
+            if (leaves_meet<kMargin>(a, i, ba, b, j, bb, s, meet, d)) {
+                leaves[0] = i;
+                leaves[1] = j;
+                return true;
+            }
+            continue;
+        }
+        // Descend the larger node (or the one that is not a leaf).
+        // The child whose centre is farther from the other node's is visited
+        // first: where two surfaces cross, each lies near the other's box
+        // boundary, not its middle (on the `meshes` scene, several times
+        // fewer node pairs before the first meeting triangles than in a
+        // fixed order).
+        if (lb || (!la && box_size(ba) >= box_size(bb))) {
+            const uint64_t c = a.nodes[i].first;
+            const bool swap = dist2(a.box(c), bb) > dist2(a.box(c + 1), bb);
+            stack.push_back(((c + !swap) << 32) | j);
+            stack.push_back(((c + swap) << 32) | j);
+        } else {
+            const uint64_t c = b.nodes[j].first;
+            const bool swap = dist2(b.box(c), ba) > dist2(b.box(c + 1), ba);
+            stack.push_back((uint64_t(i) << 32) | (c + !swap));
+            stack.push_back((uint64_t(i) << 32) | (c + swap));
+        }
+    }
+    return false;
+}
+
+// Is some component of `inner` inside the closed mesh `outer`? Asked once the
+// surfaces are disjoint, so no tested vertex lies on outer's surface.
+bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
+    const Mesh &mo = *outer.mesh;
+    for (uint32_t v : inner.mesh->component_vertices) {
+        const double *p = inner.vertex(v);
+        const double *rb = outer.nodes ? outer.box(0) : outer.root_box;
+        if (!point_in_box(p, rb)) continue;
+        bool inside;
+        if (outer.nodes) {
+            inside = point_in_closed_mesh_bvh(p, outer, s.node_stack);
+        } else {  // every world vertex of a small mesh is computed; parity, see holds_component
+            inside = point_in_closed_mesh(p, outer.world, mo.triangles.data(), mo.triangle_count, rb, rb + 3);
+        }
+        if (inside) return true;
+    }
+    return false;
+}
+
+// v (without a tree): near_box becomes the box of the triangles whose exact
+// boxes meet `other` (inverted, so meeting nothing, when there are none).
+void narrow_to_near(BodyView &v, const double *other) {
+    double *nb = v.near_box;
+    nb[0] = nb[1] = nb[2] = INFINITY;
+    nb[3] = nb[4] = nb[5] = -INFINITY;
+    const Mesh &m = *v.mesh;
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
+        const uint32_t *f = &m.triangles[3 * size_t(t)];
+        const double *p0 = v.world + 3 * size_t(f[0]), *p1 = v.world + 3 * size_t(f[1]),
+                     *p2 = v.world + 3 * size_t(f[2]);
+        double tb[6];
+        for (int k = 0; k < 3; ++k) {
+            tb[k] = std::min(std::min(p0[k], p1[k]), p2[k]);
+            tb[3 + k] = std::max(std::max(p0[k], p1[k]), p2[k]);
+        }
+        if (boxes_disjoint(tb, other)) continue;
+        for (int k = 0; k < 3; ++k) {
+            nb[k] = std::min(nb[k], tb[k]);
+            nb[3 + k] = std::max(nb[3 + k], tb[3 + k]);
+        }
+    }
+}
+
+// How far above the meeting leaves a hint points (NodeHint): its subtrees
+// hold up to 2^kHintLevels leaves, wide enough that a tick of motion mostly
+// leaves the meeting point inside (on scene `scanned` the meeting leaf pair
+// itself met again in one pair of seven).
+constexpr int kHintLevels = 3;
+
+uint32_t ancestor(const Bvh &t, uint32_t n) {
+    if (t.empty()) return 0;
+    for (int k = 0; k < kHintLevels; ++k) n = t.parent[n];
+    return n;
+}
+
+}  // namespace
+
+template <bool kMargin>
+Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness, bool counted,
+                     double d, NodeHint *hint) {
+    next_epoch(s);
+    BodyView va, vb;
+    prepare_side(a, s.side[0], s.epoch, va);
+    prepare_side(b, s.side[1], s.epoch, vb);
+    // (The axes of the oriented test first: the node caches fill with both.)
+    PairAxes axes;
+    const bool oriented = !kMargin && va.nodes && vb.nodes;
+    if (oriented) prepare_axes(va, vb, axes);
+    // Conservative prefilter: the solids lie inside the root boxes.
+    if (kMargin ? boxes_apart(va.box(0), vb.box(0), d) : boxes_disjoint(va.box(0), vb.box(0)))
+        return Contact::None;
+    s.exact_tests += counted;
+    // A side without a tree is one leaf of all its triangles: only those whose
+    // exact boxes reach the other's root box can meet it, and the box of
+    // those alone prunes the other's nodes (a body deep inside a large box
+    // then costs no traversal at all).
+    if (!kMargin && !va.nodes) narrow_to_near(va, vb.box(0));
+    if (!kMargin && !vb.nodes) narrow_to_near(vb, va.box(0));
+    uint32_t meet[2], leaves[2];
+    bool met = false;
+    if (hint) {
+        // The subtrees near where the surfaces met at the last detect,
+        // searched first: after a tick of motion they mostly still meet there.
+        hint->found = false;
+        const uint32_t na = va.nodes ? uint32_t(a.mesh->bvh.nodes.size()) : 1;
+        const uint32_t nb = vb.nodes ? uint32_t(b.mesh->bvh.nodes.size()) : 1;
+        if (hint->node_a < na && hint->node_b < nb)
+            met = surfaces_meet<kMargin>(va, vb, oriented, s, hint->node_a, hint->node_b, meet, leaves, d);
+    }
+    if (met || surfaces_meet<kMargin>(va, vb, oriented, s, 0, 0, meet, leaves, d)) {
+        if (witness)
+            *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
+        if (hint) *hint = NodeHint{ancestor(a.mesh->bvh, leaves[0]), ancestor(b.mesh->bvh, leaves[1]), true};
+        return kMargin ? Contact::Near : Contact::Surface;
+    }
+    if (kMargin) return Contact::None;  // (collide_within asked about containment first)
+    if (b.mesh->closed && view_holds_component(vb, va, s)) {
+        if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, false, true};
+        return Contact::Containment;
+    }
+    if (a.mesh->closed && view_holds_component(va, vb, s)) {
+        if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, true, true};
+        return Contact::Containment;
+    }
+    return Contact::None;
+}
+
+template Contact collide_tree<false>(const BodyPose &, const BodyPose &, NarrowScratch &, Witness *, bool, double,
+                                     NodeHint *);
+template Contact collide_tree<true>(const BodyPose &, const BodyPose &, NarrowScratch &, Witness *, bool, double,
+                                    NodeHint *);
+
+void prepare_query_view(const BodyPose &pose, NarrowScratch &s, BodyView &v) {
+    next_epoch(s);
+    prepare_side(pose, s.side[0], s.epoch, v);
+}
+
+}  // namespace hgcd

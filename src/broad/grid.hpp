@@ -320,6 +320,11 @@ class Grid {
     void query_levels(const double *lo, const double *hi, uint32_t slot, size_t level_end,
                       PairBuffer &out) const;
     void sweep_oversize(const Boxes &boxes, PairBuffer &out) const;
+    // sweep.cpp: for query() and query_boxes(), visit(R, rows, row cursor,
+    // entry cursors, q) for each level with residents, q the query box as
+    // (lo x, hi x, lo y, hi y, lo z, hi z), rows those meeting it.
+    template <class Visit>
+    void for_each_query_level(const float *lo, const float *hi, QueryCursors &cursors, Visit &&visit) const;
 
     std::vector<Level> levels_;       // ascending exponent
     std::vector<uint32_t> oversize_;  // slots, ascending

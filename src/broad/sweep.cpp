@@ -417,7 +417,8 @@ void Grid::sweep_guests(const Level &lv, size_t begin, size_t end, PairBuffer &o
     sweep_guest_rows<Lanes4>(G, R, lv.exponent, begin, end, out);
 }
 
-void Grid::query(const float *lo, const float *hi, uint32_t self, QueryCursors &cursors, PairBuffer &out) const {
+template <class Visit>
+void Grid::for_each_query_level(const float *lo, const float *hi, QueryCursors &cursors, Visit &&visit) const {
     const size_t levels = levels_.size();
     if (cursors.row.size() != levels) {
         cursors.row.assign(levels, 0);
@@ -431,47 +432,41 @@ void Grid::query(const float *lo, const float *hi, uint32_t self, QueryCursors &
         std::vector<uint32_t> &entry = cursors.entry[l];
         if (entry.size() != list.row_keys.size()) entry.assign(list.row_keys.size(), 0);
         const RowsView R{list.row_keys, list.row_start.data(), list.arrays()};
-        const RowRange rr = rows_meeting(dlo, dhi, levels_[l].exponent);
-#if HGCD_AVX2
-        if (use_avx2()) {
-            query_rows_avx2(R, q, self, rr, cursors.row[l], entry.data(), out);
-            continue;
-        }
-#endif
-        const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
-        const Lanes4 lanes(box, 0);
-        query_rows<Lanes4>(R, q, rr, cursors.row[l], entry.data(),
-                           [&](size_t j, size_t e) { scan(lanes, R.box, j, e, q[1], self, out); });
+        visit(R, rows_meeting(dlo, dhi, levels_[l].exponent), cursors.row[l], entry.data(), q);
     }
 }
 
+void Grid::query(const float *lo, const float *hi, uint32_t self, QueryCursors &cursors, PairBuffer &out) const {
+    for_each_query_level(lo, hi, cursors,
+                         [&](const RowsView &R, const RowRange &rr, size_t &row, uint32_t *entry, const float *q) {
+#if HGCD_AVX2
+                             if (use_avx2()) {
+                                 query_rows_avx2(R, q, self, rr, row, entry, out);
+                                 return;
+                             }
+#endif
+                             const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
+                             const Lanes4 lanes(box, 0);
+                             query_rows<Lanes4>(R, q, rr, row, entry, [&](size_t j, size_t e) {
+                                 scan(lanes, R.box, j, e, q[1], self, out);
+                             });
+                         });
+}
+
 void Grid::query_boxes(const float *lo, const float *hi, QueryCursors &cursors, std::vector<QueryBox> &out) const {
-    const size_t levels = levels_.size();
-    if (cursors.row.size() != levels) {
-        cursors.row.assign(levels, 0);
-        cursors.entry.assign(levels, {});
-    }
-    const double dlo[3] = {lo[0], lo[1], lo[2]}, dhi[3] = {hi[0], hi[1], hi[2]};
-    const float q[6] = {lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]};
-    for (size_t l = 0; l < levels; ++l) {
-        const List &list = levels_[l].residents;
-        if (list.count() == 0) continue;
-        std::vector<uint32_t> &entry = cursors.entry[l];
-        if (entry.size() != list.row_keys.size()) entry.assign(list.row_keys.size(), 0);
-        const RowsView R{list.row_keys, list.row_start.data(), list.arrays()};
-        const BoxArrays &B = R.box;
-        // (Box by box: the boxes are copied out, a few a query.)
-        query_rows<Lanes4>(R, q, rows_meeting(dlo, dhi, levels_[l].exponent), cursors.row[l], entry.data(),
-                           [&](size_t j, size_t e) {
-                               for (; j < e && B.low_x[j] <= q[1]; ++j) {
-                                   if (q[0] <= B.high_x[j] && B.low_y[j] <= q[3] && q[2] <= B.high_y[j] &&
-                                       B.low_z[j] <= q[5] && q[4] <= B.high_z[j])
-                                       out.push_back(QueryBox{{B.low_x[j], B.low_y[j], B.low_z[j]},
-                                                              {B.high_x[j], B.high_y[j], B.high_z[j]},
-                                                              B.slot[j]});
-                               }
-                           });
-    }
+    // (Box by box: the boxes are copied out, a few a query.)
+    for_each_query_level(lo, hi, cursors,
+                         [&](const RowsView &R, const RowRange &rr, size_t &row, uint32_t *entry, const float *q) {
+                             const BoxArrays &B = R.box;
+                             query_rows<Lanes4>(R, q, rr, row, entry, [&](size_t j, size_t e) {
+                                 for (; j < e && B.low_x[j] <= q[1]; ++j) {
+                                     if (q[0] <= B.high_x[j] && B.low_y[j] <= q[3] && q[2] <= B.high_y[j] &&
+                                         B.low_z[j] <= q[5] && q[4] <= B.high_z[j])
+                                         out.push_back(QueryBox{{B.low_x[j], B.low_y[j], B.low_z[j]},
+                                                                {B.high_x[j], B.high_y[j], B.high_z[j]}, B.slot[j]});
+                                 }
+                             });
+                         });
 }
 
 }  // namespace hgcd

@@ -322,14 +322,8 @@ void narrow_to_near(BodyView &v, const double *other) {
     nb[3] = nb[4] = nb[5] = -INFINITY;
     const Mesh &m = *v.mesh;
     for (uint32_t t = 0; t < m.triangle_count; ++t) {
-        const uint32_t *f = &m.triangles[3 * size_t(t)];
-        const double *p0 = v.world + 3 * size_t(f[0]), *p1 = v.world + 3 * size_t(f[1]),
-                     *p2 = v.world + 3 * size_t(f[2]);
         double tb[6];
-        for (int k = 0; k < 3; ++k) {
-            tb[k] = std::min(std::min(p0[k], p1[k]), p2[k]);
-            tb[3 + k] = std::max(std::max(p0[k], p1[k]), p2[k]);
-        }
+        triangle_box(v.world, &m.triangles[3 * size_t(t)], tb);
         if (boxes_disjoint(tb, other)) continue;
         for (int k = 0; k < 3; ++k) {
             nb[k] = std::min(nb[k], tb[k]);

@@ -101,6 +101,7 @@
 #include <hgcd/hgcd_scene.h>
 
 #include "jobs.h"
+#include "turn.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -307,23 +308,11 @@ static void make_turns(uint64_t n, double turn, const double *velocities, double
     }
 }
 
-/* q = q * r for each moving body, then normalised: |q|^2 is 1 within a few
- * ulps, so one Newton step of 1/sqrt from 1, (3 - |q|^2) / 2, is exact to
- * ~1e-32. */
+/* q = q * r for each moving body (turn.h). */
 static void turn_bodies(uint64_t n, double *orientations, const double *turns, const unsigned char *moving) {
     for (uint64_t i = 0; i < n; ++i) {
         if (!moving[i]) continue;
-        double *q = orientations + 4 * i;
-        const double *r = turns + 4 * i;
-        const double x = q[3] * r[0] + q[0] * r[3] + q[1] * r[2] - q[2] * r[1];
-        const double y = q[3] * r[1] - q[0] * r[2] + q[1] * r[3] + q[2] * r[0];
-        const double z = q[3] * r[2] + q[0] * r[1] - q[1] * r[0] + q[2] * r[3];
-        const double w = q[3] * r[3] - q[0] * r[0] - q[1] * r[1] - q[2] * r[2];
-        const double scale = 0.5 * (3 - (((x * x + y * y) + z * z) + w * w));
-        q[0] = x * scale;
-        q[1] = y * scale;
-        q[2] = z * scale;
-        q[3] = w * scale;
+        turn_orientation(orientations + 4 * i, turns + 4 * i);
     }
 }
 

@@ -65,6 +65,8 @@
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/narrowphase/collision.h>
+
+#include "fcl_pairs.hpp"
 #endif
 
 namespace {
@@ -222,24 +224,6 @@ struct FclScene {
     std::vector<fcl::CollisionObjectd *> objects;
     fcl::DynamicAABBTreeCollisionManagerd manager;
 
-    struct Data {
-        std::vector<uint64_t> pairs;
-        uint64_t candidates = 0;
-    };
-    static bool callback(fcl::CollisionObjectd *o1, fcl::CollisionObjectd *o2, void *data) {
-        Data *d = static_cast<Data *>(data);
-        ++d->candidates;
-        fcl::CollisionRequestd request(1, false);
-        fcl::CollisionResultd result;
-        fcl::collide(o1, o2, request, result);
-        if (result.isCollision()) {
-            uint64_t a = reinterpret_cast<uintptr_t>(o1->getUserData());
-            uint64_t b = reinterpret_cast<uintptr_t>(o2->getUserData());
-            if (a > b) std::swap(a, b);
-            d->pairs.push_back((a << 32) | b);
-        }
-        return false;
-    }
     FclScene(const Blob &blob, size_t n, const double *centers, const double *scales, const double *quats) {
         std::vector<fcl::Vector3d> points(blob.vertex_count());
         std::vector<fcl::Triangle> tris(blob.triangle_count());
@@ -272,10 +256,10 @@ struct FclScene {
         manager.clear();
         for (size_t i = 0; i < objects.size(); ++i) delete objects[i];
     }
-    Data run() {
-        Data d;
+    FclPairs run() {
+        FclPairs d;
         manager.update();
-        manager.collide(&d, callback);
+        manager.collide(&d, FclPairs::callback);
         std::sort(d.pairs.begin(), d.pairs.end());
         return d;
     }
@@ -319,7 +303,7 @@ void scene_case(uint64_t n, double side, uint64_t seed, uint32_t threads, int re
         fcl_setup_ms = 1e3 * (now() - t0);
     }
     std::vector<double> ft;
-    FclScene::Data d;
+    FclPairs d;
 #else
     (void)fcl;
 #endif

@@ -60,12 +60,15 @@
 #include "../src/common/transform.hpp"
 #include "../scene/scene_meshes.h"
 #include "../scene/scene_shapes.h"
+#include "turn.h"
 
 #ifdef HGCD_BENCH_FCL
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/narrowphase/collision.h>
+
+#include "fcl_pairs.hpp"
 #endif
 
 namespace {
@@ -171,17 +174,7 @@ void make_turns(Scene &s, double turn) {
 
 void turn_bodies(Scene &s) {
     for (size_t i = 0; i < s.kind.size(); ++i) {
-        double *q = &s.quats[4 * i];
-        const double *r = &s.turns[4 * i];
-        const double x = q[3] * r[0] + q[0] * r[3] + q[1] * r[2] - q[2] * r[1];
-        const double y = q[3] * r[1] - q[0] * r[2] + q[1] * r[3] + q[2] * r[0];
-        const double z = q[3] * r[2] + q[0] * r[1] - q[1] * r[0] + q[2] * r[3];
-        const double w = q[3] * r[3] - q[0] * r[0] - q[1] * r[1] - q[2] * r[2];
-        const double scale = 0.5 * (3 - (((x * x + y * y) + z * z) + w * w));
-        q[0] = x * scale;
-        q[1] = y * scale;
-        q[2] = z * scale;
-        q[3] = w * scale;
+        turn_orientation(&s.quats[4 * i], &s.turns[4 * i]);
     }
 }
 
@@ -239,24 +232,6 @@ struct Fcl {
     std::vector<std::shared_ptr<fcl::CollisionGeometryd>> models;  // per (shape, size)
     std::vector<fcl::CollisionObjectd *> objects;
     fcl::DynamicAABBTreeCollisionManagerd manager;
-    struct Data {
-        std::vector<uint64_t> pairs;
-        uint64_t candidates = 0;
-    };
-    static bool callback(fcl::CollisionObjectd *o1, fcl::CollisionObjectd *o2, void *data) {
-        Data *d = static_cast<Data *>(data);
-        ++d->candidates;
-        fcl::CollisionRequestd request(1, false);
-        fcl::CollisionResultd result;
-        fcl::collide(o1, o2, request, result);
-        if (result.isCollision()) {
-            uint64_t a = reinterpret_cast<uintptr_t>(o1->getUserData());
-            uint64_t b = reinterpret_cast<uintptr_t>(o2->getUserData());
-            if (a > b) std::swap(a, b);
-            d->pairs.push_back((a << 32) | b);
-        }
-        return false;
-    }
     static void transform(const Scene &s, size_t i, fcl::Transform3d &tf) {
         double r[9];
         hgcd::rotation_entries(s.quats[4 * i], s.quats[4 * i + 1], s.quats[4 * i + 2], s.quats[4 * i + 3], r);
@@ -307,8 +282,8 @@ struct Fcl {
         manager.clear();
         for (size_t i = 0; i < objects.size(); ++i) delete objects[i];
     }
-    Data tick(const Scene &s) {
-        Data d;
+    FclPairs tick(const Scene &s) {
+        FclPairs d;
         for (size_t i = 0; i < objects.size(); ++i) {
             fcl::Transform3d tf;
             transform(s, i, tf);
@@ -316,7 +291,7 @@ struct Fcl {
             objects[i]->computeAABB();
         }
         manager.update();
-        manager.collide(&d, callback);
+        manager.collide(&d, FclPairs::callback);
         std::sort(d.pairs.begin(), d.pairs.end());
         return d;
     }
@@ -412,7 +387,7 @@ int main(int argc, char **argv) {
     std::unique_ptr<Fcl> f;
     if (fcl) f.reset(new Fcl(s));
     std::vector<double> fcl_ms, fcl_cpu_ms;
-    Fcl::Data fd;
+    FclPairs fd;
 #else
     (void)fcl;
 #endif

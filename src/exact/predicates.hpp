@@ -135,6 +135,16 @@ inline void plane_prepare(PlaneFilter &pf, const double *t0, const double *t1,
     pf.an[2] = std::fabs(e) + std::fabs(f);
 }
 
+// Exact sign of orient3d(t0, t1, t2, x) (the filter of plane_sides3).
+inline int plane_side(const PlaneFilter &pf, const double *x) {
+    double dx = x[0] - pf.t0[0], dy = x[1] - pf.t0[1], dz = x[2] - pf.t0[2];
+    double det = -((dx * pf.n[0] + dy * pf.n[1]) + dz * pf.n[2]);
+    double perm = (std::fabs(dx) * pf.an[0] + std::fabs(dy) * pf.an[1]) + std::fabs(dz) * pf.an[2];
+    double bound = kO3dBound * perm + kSlack;
+    if (std::fabs(det) > bound) return sgn(det);
+    return orient3d_exact(pf.t0, pf.t1, pf.t2, x);
+}
+
 // Exact signs of orient3d(t0, t1, t2, x_i) for three points. The three
 // filters are evaluated together with one combined (non-short-circuit)
 // certainty test, so the common case has a single well-predicted branch.

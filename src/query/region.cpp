@@ -3,10 +3,13 @@
 // index order into the world's result arrays. Also the tree's upkeep.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "common/ieee.hpp"
+#include "broad/float_box.hpp"
 #include "broad/grid.hpp"
+#include "common/simd.hpp"
 #include "common/parallel.hpp"
 #include "common/transform.hpp"
 #include "narrow/narrow.hpp"
@@ -126,6 +129,13 @@ void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&bo
                 mine.clear();
                 double lo[3], hi[3];
                 box(q, lo, hi);
+                // The tree's boxes are floats: compared with the query's
+                // box rounded outward to float, which keeps every box the
+                // doubles would keep (and may keep a few more).
+                float flo[3], fhi[3];
+                broad::round_outward(lo, hi, flo, fhi);
+                const f32x4 qlo[3] = {f32x4{} + flo[0], f32x4{} + flo[1], f32x4{} + flo[2]};
+                const f32x4 qhi[3] = {f32x4{} + fhi[0], f32x4{} + fhi[1], f32x4{} + fhi[2]};
                 int top = 0;
                 if (!tree.wide.empty()) stack[top++] = {0, 0};
                 while (top > 0) {
@@ -134,11 +144,15 @@ void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&bo
                         // The children whose box meets the query's; what the
                         // visit of one reads first is asked for now.
                         const QueryWide &w = tree.wide[ref];
+                        i32x4 apart = i32x4{};
+                        for (int k = 0; k < 3; ++k) {
+                            f32x4 clo, chi;
+                            std::memcpy(&clo, w.lo[k], sizeof clo);
+                            std::memcpy(&chi, w.hi[k], sizeof chi);
+                            apart |= (clo > qhi[k]) | (chi < qlo[k]);
+                        }
                         for (uint32_t c = w.n; c-- > 0;) {
-                            bool apart = false;
-                            for (int k = 0; k < 3; ++k)
-                                apart |= double(w.lo[k][c]) > hi[k] || double(w.hi[k][c]) < lo[k];
-                            if (apart) continue;
+                            if (apart[c]) continue;
                             if (w.count[c] == 0) {
                                 const char *p = reinterpret_cast<const char *>(&tree.wide[w.ref[c]]);
                                 __builtin_prefetch(p);
@@ -153,8 +167,7 @@ void World::run_region_queries(size_t count, const hgcd_filter *filter, Box &&bo
                     for (uint32_t i = ref; i < ref + cnt; ++i) {
                         const QueryItem &it = tree.items[i];
                         bool away = false;
-                        for (int k = 0; k < 3; ++k)
-                            away |= double(it.lo[k]) > hi[k] || double(it.hi[k]) < lo[k];
+                        for (int k = 0; k < 3; ++k) away |= (it.lo[k] > fhi[k]) | (it.hi[k] < flo[k]);
                         if (!away && considers(it.slot) && accept(q, size_t(i), sc)) mine.push_back(it.slot);
                     }
                 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "exact/predicates.hpp"
 #include "narrow/bvh.hpp"
 
 namespace hgcd {
@@ -106,28 +107,84 @@ int point_in_tetra(const SolidView &b, const double *p) {
 // Every corner c[i] strictly on one side of the plane of (v0, v1, v2) (a
 // zero-area triangle has no side: false).
 bool corners_on_one_side(const double *v0, const double *v1, const double *v2, const double (*c)[3]) {
-    const int s = orient3d(v0, v1, v2, c[0]);
+    predicates::PlaneFilter pf;
+    predicates::plane_prepare(pf, v0, v1, v2);
+    const int s = predicates::plane_side(pf, c[0]);
     if (s == 0) return false;
     for (int i = 1; i < 8; ++i)
-        if (orient3d(v0, v1, v2, c[i]) != s) return false;
+        if (predicates::plane_side(pf, c[i]) != s) return false;
     return true;
 }
 
-bool tetra_separates(const SolidView &b, const double (*c)[3]) {
-    const uint32_t *tri = b.mesh->triangles.data();
-    for (uint32_t f = 0; f < 4; ++f) {
-        const uint32_t *face = tri + 3 * f, *next = tri + 3 * ((f + 1) % 4);
-        uint32_t opp = next[0];
-        for (int i = 0; i < 3; ++i)
-            if (next[i] != face[0] && next[i] != face[1] && next[i] != face[2]) opp = next[i];
-        const double *v0 = b.w + 3 * size_t(face[0]), *v1 = b.w + 3 * size_t(face[1]), *v2 = b.w + 3 * size_t(face[2]);
-        const int so = orient3d(v0, v1, v2, b.w + 3 * size_t(opp));
-        if (so == 0) return false;  // flat: no inside to be away from
-        bool away = true;
-        for (int i = 0; i < 8 && away; ++i) away = orient3d(v0, v1, v2, c[i]) == -so;
-        if (away) return true;
+// The last axes of the separating-axis test of a triangle and a box (the
+// box's face normals and the triangle's normal tried already): a box axis
+// crossed with a triangle edge. Along axis k x (b - a), a and b project
+// alike, so the axis separates when, in the projection that drops axis k,
+// the line through a and b has the box's four corners strictly on one side
+// and the third vertex not on it: signs of exact orient2d. Two disjoint
+// convex polytopes have a strictly separating plane parallel to a face of
+// their Minkowski difference: a face of either, or spanned by an edge of
+// each; edges parallel to axis k span none (their projection is a point,
+// every sign 0, and no separation is claimed).
+bool edge_axis_separates(const double *const *v, const double *lo, const double *hi) {
+    for (int k = 0; k < 3; ++k) {
+        const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;  // (as orient2d_proj)
+        const double cx[4] = {lo[i], hi[i], lo[i], hi[i]}, cy[4] = {lo[j], lo[j], hi[j], hi[j]};
+        for (int e = 0; e < 3; ++e) {
+            const double *a = v[e], *b = v[(e + 1) % 3], *third = v[(e + 2) % 3];
+            const int s = predicates::orient2d_filtered(a[i], a[j], b[i], b[j], cx[0], cy[0]);
+            if (s == 0) continue;
+            bool apart = true;
+            for (int q = 1; q < 4 && apart; ++q) apart = predicates::orient2d_filtered(a[i], a[j], b[i], b[j], cx[q], cy[q]) == s;
+            if (apart && predicates::orient2d_proj(k, a, b, third) != s) return true;
+        }
     }
     return false;
+}
+
+// A tetrahedron's solid (the hull of its 4 vertices) against the box, by
+// the separating-axis test of two convex solids (see edge_axis_separates):
+// the box's axes, the 4 face planes (every corner strictly on the side away
+// from the fourth vertex), and each of the 6 edges crossed with each box
+// axis (the other two vertices not strictly on the corners' side). All
+// signs exact. 1: they meet; 0: apart; -1: the tetrahedron is flat (no
+// inside to be away from; the caller decides).
+int tetra_meets_box(const SolidView &b, const double *lo, const double *hi, const double (*c)[3]) {
+    const uint32_t *tri = b.mesh->triangles.data();
+    uint32_t id[4] = {tri[0], tri[1], tri[2], tri[3]};
+    for (int i = 3; i < 6; ++i)
+        if (tri[i] != id[0] && tri[i] != id[1] && tri[i] != id[2]) id[3] = tri[i];
+    const double *v[4];
+    for (int i = 0; i < 4; ++i) v[i] = b.w + 3 * size_t(id[i]);
+    for (int k = 0; k < 3; ++k) {
+        const double vlo = std::min(std::min(v[0][k], v[1][k]), std::min(v[2][k], v[3][k]));
+        const double vhi = std::max(std::max(v[0][k], v[1][k]), std::max(v[2][k], v[3][k]));
+        if (vlo > hi[k] || vhi < lo[k]) return 0;
+    }
+    for (int f = 0; f < 4; ++f) {
+        predicates::PlaneFilter pf;
+        predicates::plane_prepare(pf, v[(f + 1) % 4], v[(f + 2) % 4], v[(f + 3) % 4]);
+        const int so = predicates::plane_side(pf, v[f]);
+        if (so == 0) return -1;
+        bool away = true;
+        for (int i = 0; i < 8 && away; ++i) away = predicates::plane_side(pf, c[i]) == -so;
+        if (away) return 0;
+    }
+    static const int kEdge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+    for (int k = 0; k < 3; ++k) {
+        const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;  // (as orient2d_proj)
+        const double cx[4] = {lo[i], hi[i], lo[i], hi[i]}, cy[4] = {lo[j], lo[j], hi[j], hi[j]};
+        for (const auto &e : kEdge) {
+            const double *p = v[e[0]], *q = v[e[1]];
+            const int s = predicates::orient2d_filtered(p[i], p[j], q[i], q[j], cx[0], cy[0]);
+            if (s == 0) continue;
+            bool apart = true;
+            for (int r = 1; r < 4 && apart; ++r) apart = predicates::orient2d_filtered(p[i], p[j], q[i], q[j], cx[r], cy[r]) == s;
+            if (apart && predicates::orient2d_proj(k, p, q, v[e[2]]) != s && predicates::orient2d_proj(k, p, q, v[e[3]]) != s)
+                return 0;
+        }
+    }
+    return 1;
 }
 
 }  // namespace
@@ -149,8 +206,7 @@ bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
     // The body's vertices inside the box: its solid meets it (a mesh has a
     // triangle, whose vertices are then in the box).
     if (!outside(b.box, lo, hi) && !outside(b.box + 3, lo, hi)) return true;
-    // The box's surface as 12 triangles (two per face; degenerate when the
-    // box is flat, which tri_tri_intersect takes as segments and points).
+    // The box's corners (the same point twice where the box is flat).
     double c[8][3];
     for (int i = 0; i < 8; ++i)
         for (int k = 0; k < 3; ++k) c[i][k] = (i >> k) & 1 ? hi[k] : lo[k];
@@ -161,37 +217,28 @@ bool box_meets_solid(const SolidView &b, const double *lo, const double *hi) {
         for (size_t i = 0; i < 3 * size_t(b.mesh->triangle_count); ++i)
             if (!outside(b.w + 3 * size_t(tri[i]), lo, hi)) return true;
     }
-    // A tetrahedron's solid is the hull of its vertices: a face plane with
-    // every corner strictly on the side away from the fourth vertex
-    // separates it from the box (exact signs).
-    if (b.mesh->tetra && tetra_separates(b, c)) return false;
-    static const int kFace[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+    if (b.mesh->tetra) {
+        const int r = tetra_meets_box(b, lo, hi, c);
+        if (r >= 0) return r == 1;
+    }
     const bool meets = any_triangle(
         b, [&](const double *box) { return !boxes_apart(box, box + 3, lo, hi); },
         [&](uint32_t, const double *const *v) {
             double tlo[3], thi[3];
             triangle_box(v, tlo, thi);
             if (boxes_apart(tlo, thi, lo, hi)) return false;
-            // A vertex in the box; else the triangle meets the box only
-            // through the box's surface.
+            // A vertex in the box: they meet. Else the separating-axis test
+            // of the triangle and the (solid) box: the box's axes failed
+            // above; the triangle's normal (every corner strictly on one
+            // side of its plane), then the edge axes.
             if (!outside(v[0], lo, hi) || !outside(v[1], lo, hi) || !outside(v[2], lo, hi)) return true;
-            // Every corner strictly on one side of the triangle's plane: apart.
             if (corners_on_one_side(v[0], v[1], v[2], c)) return false;
-            for (const auto &f : kFace) {
-                if (tri_tri_intersect(v[0], v[1], v[2], c[f[0]], c[f[1]], c[f[2]]) ||
-                    tri_tri_intersect(v[0], v[1], v[2], c[f[0]], c[f[2]], c[f[3]]))
-                    return true;
-            }
-            return false;
+            return !edge_axis_separates(v, lo, hi);
         });
     if (meets) return true;
-    // The surfaces are apart: the box lies wholly inside or outside a closed
+    // No triangle meets the box: it lies wholly inside or outside a closed
     // solid, and its corner (not on the surface) tells which.
     if (!b.mesh->closed) return false;
-    if (b.mesh->tetra) {
-        const int r = point_in_tetra(b, lo);
-        if (r >= 0) return r == 1;
-    }
     if (outside(lo, b.box, b.box + 3)) return false;
     return inside_closed(b, lo);
 }

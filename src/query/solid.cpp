@@ -167,15 +167,25 @@ int tetra_meets_box(const SolidView &b, const double *lo, const double *hi, cons
         const double vhi = std::max(std::max(v[0][k], v[1][k]), std::max(v[2][k], v[3][k]));
         if (vlo > hi[k] || vhi < lo[k]) return 0;
     }
+    // Every corner against every face: a face with all away separates; a
+    // corner on no face's far side lies in the closed solid (they meet).
+    bool corner_in[8] = {true, true, true, true, true, true, true, true};
     for (int f = 0; f < 4; ++f) {
         predicates::PlaneFilter pf;
         predicates::plane_prepare(pf, v[(f + 1) % 4], v[(f + 2) % 4], v[(f + 3) % 4]);
         const int so = predicates::plane_side(pf, v[f]);
         if (so == 0) return -1;
         bool away = true;
-        for (int i = 0; i < 8 && away; ++i) away = predicates::plane_side(pf, c[i]) == -so;
+        for (int i = 0; i < 8; ++i) {
+            const int side = predicates::plane_side(pf, c[i]);
+            away &= side == -so;
+            corner_in[i] &= side != -so;
+        }
         if (away) return 0;
     }
+    bool some_in = false;
+    for (bool in : corner_in) some_in |= in;
+    if (some_in) return 1;
     static const int kEdge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
     for (int k = 0; k < 3; ++k) {
         const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;  // (as orient2d_proj)

@@ -269,6 +269,46 @@ int main(int argc, char **argv) {
         cpu_mark = cpu_now() - cpu;  // (emit's CPU time: the last tick's)
         emit("hgcd", "tree_update", threads, n, dts[1], 0, -1, "", commit);
     }
+    // A query after bodies came and went (100 destroyed, 100 created, as an
+    // engine's projectiles), 3 rounds on each thread count, the median.
+    {
+        double unit_v[12];
+        uint32_t unit_t[12];
+        hgcd_scene_tetra_unit_mesh(unit_v, unit_t);
+        hgcd_mesh_desc md = hgcd_mesh_desc_default();
+        md.vertices = unit_v;
+        md.triangles = unit_t;
+        md.vertex_count = 4;
+        md.triangle_count = 4;
+        hgcd_mesh unit;
+        if (hgcd_mesh_create(w, &md, &unit) != HGCD_OK) return 1;
+        std::vector<hgcd_body> churn;
+        for (int threads = 1; threads <= 2; ++threads) {
+            hgcd_world_set_thread_count(w, uint32_t(threads));
+            std::vector<double> dts;
+            double cpu = 0;
+            for (int round = 0; round < 3; ++round) {
+                for (const hgcd_body &b : churn) hgcd_body_destroy(w, b);
+                churn.clear();
+                for (int k = 0; k < 100; ++k) {
+                    hgcd_body_desc bd = hgcd_body_desc_default();
+                    bd.mesh = unit;
+                    for (int a = 0; a < 3; ++a) bd.position[a] = sc.side * rng.unif();
+                    hgcd_body id;
+                    if (hgcd_body_create(w, &bd, &id) != HGCD_OK) return 1;
+                    churn.push_back(id);
+                }
+                hgcd_query_results res;
+                const double c0 = cpu_now(), t0 = now();
+                hgcd_world_query_point(w, sc.centers.data(), 1, 0, nullptr, &res);
+                dts.push_back(now() - t0);
+                cpu = cpu_now() - c0;
+            }
+            std::sort(dts.begin(), dts.end());
+            cpu_mark = cpu_now() - cpu;
+            emit("hgcd", "tree_churn", threads, n, dts[1], 0, -1, "", commit);
+        }
+    }
     if (!peers) {
         std::fflush(stdout);
         std::_Exit(0);

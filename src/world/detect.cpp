@@ -14,6 +14,7 @@
 #include "narrow/ccd_narrow.hpp"
 #include "narrow/contact.hpp"
 #include "narrow/narrow.hpp"
+#include "narrow/within.hpp"
 #include "world/world.hpp"
 
 namespace hgcd {
@@ -376,9 +377,10 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
                                    (meshes_[m].convex ? kCcdUse : 0));
         plan.any_ccd = true;
     }
-    // (Pairs with a margin take the exact margin path one at a time.)
+    // (With a margin, the batch decides which tetrahedron pairs touch, and
+    // those apart go on to the margin test one at a time: narrow_chunk.)
     plan.margins = world_margin_ > 0 || margin_bodies_ > 0;
-    plan.batch = !plan.want_contacts && !plan.any_ccd && !plan.margins;
+    plan.batch = !plan.want_contacts && !plan.any_ccd;
     plan.all_tetra = plan.batch;
     for (size_t m = 0; m < meshes_.size() && plan.all_tetra; ++m)
         plan.all_tetra = !mesh_alive_[m] || meshes_[m].tetra;
@@ -459,7 +461,10 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
     } else {
         tetras = narrow_pairs(plan, list, chunk, t);
     }
-    if (tetras) collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
+    if (tetras) {
+        collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
+        if (plan.margins) within_margins(tetras, t);
+    }
     // The batch's hits listed first without a branch (a branch per pair on
     // its verdict mispredicted often: hits are 28% of the pairs).
     size_t hit_count = 0;
@@ -482,6 +487,20 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
             const TetraPair &p = t.tetra[t.hit_index[h]];
             to[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
         }
+    }
+}
+
+// The batch's pairs whose solids do not touch, with a margin d > 0: Near
+// when within d (tet::tetra_within_apart).
+void World::within_margins(size_t tetras, NarrowThread &t) const {
+    const Placement *place = place_.data();
+    const bool uniform = margin_bodies_ == 0;  // (then every pair's margin is the world's)
+    for (size_t k = 0; k < tetras; ++k) {
+        if (t.verdict[k] != Contact::None) continue;
+        const TetraPair &p = t.tetra[k];
+        const double d =
+            uniform ? world_margin_ : pair_margin(world_margin_, margin_[p.a - place], margin_[p.b - place]);
+        if (d > 0) t.verdict[k] = tet::tetra_within_apart(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), d, t.scratch);
     }
 }
 

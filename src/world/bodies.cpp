@@ -230,6 +230,25 @@ hgcd_status World::set_margin(hgcd_body id, double margin) {
     return HGCD_OK;
 }
 
+// As set_margin, for every live body at once.
+hgcd_status World::set_contact_margin(double margin) {
+    if (!margin_ok(margin))
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_set_contact_margin: margin must be finite, >= 0 and <= 1e15");
+    if (std::memcmp(&world_margin_, &margin, sizeof margin) == 0) return HGCD_OK;
+    world_margin_ = margin;
+    for (size_t slot = 0; slot < live_gen_.size(); ++slot) {
+        if (!live_gen_[slot]) continue;
+        const size_t i = at_[slot];
+        r_level_[i] = level_radius(i);
+        set_box_offsets(i);
+        moved_[slot] = moved_at_[i] = 1;
+    }
+    grid_stale_ = true;
+    query_.stale = true;
+    coherent_ = false;  // (every pair's d changed)
+    return HGCD_OK;
+}
+
 hgcd_status World::get_margin(hgcd_body id, double *out) const {
     const int64_t slot = live_body(id);
     if (slot < 0) return HGCD_ERROR_STALE_ID;

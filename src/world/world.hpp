@@ -78,6 +78,8 @@ class World {
     // Contact margins (bodies.cpp).
     hgcd_status set_margin(hgcd_body id, double margin);
     hgcd_status get_margin(hgcd_body id, double *out) const;
+    hgcd_status set_contact_margin(double margin);
+    double contact_margin() const { return world_margin_; }
     hgcd_status pair_excluded(hgcd_body a, hgcd_body b, uint32_t *out) const;
 
     hgcd_status step();

@@ -8,6 +8,7 @@
 #include "broad/float_box.hpp"
 #include "common/ieee.hpp"
 #include "common/transform.hpp"
+#include "world/pose_box.hpp"
 #include "world/world.hpp"
 
 namespace hgcd {
@@ -140,7 +141,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
-    body_record_[i] = pool_.offset(uint32_t(mesh));
+    body_record_[i] = BodyRecord{pool_.offset(uint32_t(mesh)), pool_.groups(uint32_t(mesh))};
     user_data_[slot] = d.user_data;
     filter_[i] = BodyFilter();  // (counted as plain: set_body_filter counts the body's own)
     BodyFilter f;
@@ -284,19 +285,24 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 // operations with a zero position (so c + d is the world vertex as every
 // path computes it, and fl(c + min d) <= fl(c + d): rounding is monotone),
 // rounded outward to float, over the vertices the triangles use (those the
-// mesh's bounding sphere, and so r_level, bounds). Meshes of more triangles
-// than Mesh::kExactBoxTriangles take the cube around their bounding sphere
-// instead (a pose set costs no more than a few hundred vertex transforms),
-// widened past the rounding of R, cut down to the rotated boxes of a few
-// tree nodes where those are tighter.
+// mesh's bounding sphere, and so r_level, bounds), read from the mesh's
+// record (mesh_pool.hpp, pose_box.hpp). Meshes of more triangles than
+// Mesh::kExactBoxTriangles have none: they take the cube around their
+// bounding sphere instead (a pose set costs no more than a few hundred
+// vertex transforms), widened past the rounding of R, cut down to the
+// rotated boxes of a few tree nodes where those are tighter.
 void World::set_box_offsets(size_t s) {
     const Placement &pl = place_[s];
-    const Mesh &m = meshes_[body_mesh_[s]];
     const Rotation r = rotation_of(pl.orientation);
+    const BodyRecord rec = body_record_[s];
+    const double g = box_growth(s);
     double lo[3], hi[3];
-    if (m.triangle_count <= Mesh::kExactBoxTriangles) {
-        offset_box(r, pl.scale, m.box_points.data(), m.box_points.size() / 3, lo, hi);
+    if (rec.groups) {
+        const double *points = pool_.blocks()[rec.block].d;
+        if (g == 0) return record_float_box(r, pl.scale, points, rec.groups, &box_off_[6 * s]);
+        record_box(r, pl.scale, points, rec.groups, lo, hi);
     } else {
+        const Mesh &m = meshes_[body_mesh_[s]];
         const double zero[3] = {0, 0, 0};
         // |R (s v) - R (s c)| <= stretch s radius for every vertex v; each
         // computed offset is within 8 eps (|R| |s v|) of R (s v), |R| <= 2.
@@ -342,7 +348,7 @@ void World::set_box_offsets(size_t s) {
             hi[k] = std::min(hi[k], cut_hi[k]);
         }
     }
-    if (const double g = box_growth(s)) {
+    if (g != 0) {
         // (nextafter: the rounded sum is within an ulp of the exact one.)
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::nextafter(lo[k] - g, -INFINITY);

@@ -268,8 +268,9 @@ class World {
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
-    MeshPool pool_;  // the narrow phase's records of small meshes, by slot
+    MeshPool pool_;  // the records of small meshes, by slot (mesh_pool.hpp)
     uint32_t live_meshes_ = 0;
+    uint32_t tetra_meshes_ = 0;  // live meshes that are tetrahedra (Mesh::tetra)
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)
@@ -291,9 +292,13 @@ class World {
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
     LargeVector<BodyFilter> filter_;   // type, enabled, filter (filter.hpp)
-    // The first block of the mesh's record in pool_ (MeshPool::kNone: none),
-    // read by the narrow phase beside the placements (refresh_records()).
-    LargeVector<uint32_t> body_record_;
+    // The mesh's record in pool_: its first block (MeshPool::kNone: none)
+    // and groups of 4 points (0: none), read by the narrow phase and the
+    // box of a new orientation beside the placements (refresh_records()).
+    struct BodyRecord {
+        uint32_t block, groups;
+    };
+    LargeVector<BodyRecord> body_record_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
     LargeVector<float> box_off_;

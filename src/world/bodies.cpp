@@ -104,7 +104,6 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             margin_.reserve(cap);
             point_.reserve(3 * cap);
             at_.reserve(cap);
-            moved_.reserve(cap);
             moved_at_.reserve(cap);
             slot_of_.reserve(cap);
             stored_gen_.reserve(cap);
@@ -125,7 +124,6 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         margin_.resize(n);
         point_.resize(3 * n);
         at_.push_back(slot);
-        moved_.push_back(1);
         moved_at_.push_back(1);
         slot_of_.push_back(slot);
         stored_gen_.push_back(0);
@@ -133,7 +131,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     if (reuse) body_free_.pop_back();
     query_.stale = true;
     const size_t i = at_[slot];
-    moved_[slot] = moved_at_[i] = 1;
+    moved_at_[i] = 1;
     for (int k = 0; k < 3; ++k) {
         place_[i].position[k] = point_[3 * i + k] = d.position[k];
         velocity_[3 * i + k] = d.velocity[k];
@@ -177,7 +175,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
     query_.stale = true;
-    moved_[slot] = moved_at_[at_[slot]] = 1;  // (its last pairs end)
+    moved_at_[at_[slot]] = 1;  // (its last pairs end)
     if (at_[slot] < mover_.size()) mover_[at_[slot]] |= kDead;  // (the grid may still hold it)
     ++mover_marks_;  // (the movers' lists of residents may hold it)
     --mesh_users_[body_mesh_[at_[slot]]];
@@ -200,7 +198,7 @@ void World::apply_pose(size_t i, const double *p, const double *q) {
         set_box_offsets(i);
         moved = true;
     }
-    if (moved) moved_[slot_of_[i]] = moved_at_[i] = 1;
+    if (moved) moved_at_[i] = 1;
 }
 
 hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {
@@ -227,7 +225,7 @@ hgcd_status World::set_margin(hgcd_body id, double margin) {
     set_box_offsets(i);
     grid_stale_ = true;
     query_.stale = true;
-    moved_[slot] = moved_at_[i] = 1;
+    moved_at_[i] = 1;
     return HGCD_OK;
 }
 
@@ -292,15 +290,22 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 // vertex transforms), widened past the rounding of R, cut down to the
 // rotated boxes of a few tree nodes where those are tighter.
 void World::set_box_offsets(size_t s) {
+    const BodyRecord rec = body_record_[s];
+    if (rec.groups == 0 || world_margin_ != 0 || (margin_bodies_ != 0 && margin_[s] != 0))
+        return set_box_offsets_general(s);  // (box_growth(s) != 0)
+    const Placement &pl = place_[s];
+    record_float_box(rotation_of(pl.orientation), pl.scale, pool_.blocks()[rec.block].d, rec.groups,
+                     &box_off_[6 * s]);
+}
+
+void World::set_box_offsets_general(size_t s) {
     const Placement &pl = place_[s];
     const Rotation r = rotation_of(pl.orientation);
     const BodyRecord rec = body_record_[s];
     const double g = box_growth(s);
     double lo[3], hi[3];
     if (rec.groups) {
-        const double *points = pool_.blocks()[rec.block].d;
-        if (g == 0) return record_float_box(r, pl.scale, points, rec.groups, &box_off_[6 * s]);
-        record_box(r, pl.scale, points, rec.groups, lo, hi);
+        record_box(r, pl.scale, pool_.blocks()[rec.block].d, rec.groups, lo, hi);
     } else {
         const Mesh &m = meshes_[body_mesh_[s]];
         const double zero[3] = {0, 0, 0};

@@ -142,6 +142,7 @@ class World {
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
+    void set_box_offsets_general(size_t s);  // (with a margin, or no record)
     // How far the box of the body stored at s is grown for the contact
     // margins: at least world margin / 2 + its own margin, so that the
     // boxes of two bodies within their pair's margin overlap (bodies.cpp).
@@ -326,14 +327,15 @@ class World {
     std::unordered_set<uint64_t> excluded_;
     std::unordered_map<uint32_t, std::vector<uint32_t>> excluded_with_;
     std::vector<uint32_t> live_scratch_;  // grid_live
-    // Temporal coherence. Per slot, whether the body was created or its
-    // pose changed since the last detect; whether the last detect's pairs
-    // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not
-    // after a failed detect, a change of narrow phase, or with contacts on.
-    std::vector<uint8_t> moved_;  // (destroyed bodies count as moved: their pairs end)
+    // Temporal coherence. Per storage index, whether the body there was
+    // created, destroyed (its pairs end) or its pose changed since the last
+    // detect (a slot's flag: moved_at_[at_[slot]]); whether the last
+    // detect's pairs (prev_pairs_ during a detect) decide the pairs of
+    // unmoved bodies: not after a failed detect, a change of narrow phase,
+    // or with contacts on.
+    LargeVector<uint8_t> moved_at_;
     bool coherent_ = false;
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> prev_pairs_;
-    LargeVector<uint8_t> moved_at_;  // moved_ by storage index
     std::vector<uint32_t> prev_start_;  // where each slot's pairs (as a) start in prev_pairs_
     // The batch calls' scratch: each entry's storage index, and the marks
     // (per storage index, of epoch batch_epoch_) that find an id named twice.

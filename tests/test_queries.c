@@ -902,15 +902,16 @@ static void test_tree_follows_world(void **state) {
 }
 
 /* An engine's loop (new poses, a query, a detect, a query again) on 4000
- * bodies, moved far each tick so that detects renumber storage: every
- * query equals that of a twin world built afresh at the same poses. */
+ * bodies, moved far on even ticks so that detects renumber storage (and the
+ * query tree is rebuilt) and by a little on odd ones (the tree is refitted):
+ * every query equals that of a twin world built afresh at the same poses. */
 static void test_engine_loop(void **state) {
     enum { N = 4000, TICKS = 8, Q = 300 };
     hgcd_world_desc wd = hgcd_world_desc_default();
     hgcd_world *w, *twin;
     hgcd_mesh mesh, tmesh;
     hgcd_mesh_desc md = hgcd_mesh_desc_default();
-    static double pos[3 * N], quat[4 * N], pts[3 * Q];
+    static double pos[3 * N], quat[4 * N], pts[3 * Q], boxes[6 * Q];
     static hgcd_ray rays[Q];
     static hgcd_ray_hit h1[Q], h2[Q];
     rng r = {99};
@@ -933,7 +934,7 @@ static void test_engine_loop(void **state) {
     for (tick = 0; tick < TICKS; ++tick) {
         for (i = 0; i < N; ++i) {
             int k;
-            for (k = 0; k < 3; ++k) pos[3 * i + k] = 40 * unif(&r);
+            for (k = 0; k < 3; ++k) pos[3 * i + k] = tick % 2 ? pos[3 * i + k] + unif(&r) - 0.5 : 40 * unif(&r);
             random_unit_quaternion(&r, quat + 4 * i);
         }
         assert_int_equal(hgcd_world_set_poses(w, NULL, N, pos, 0, quat, 0), HGCD_OK);
@@ -961,6 +962,19 @@ static void test_engine_loop(void **state) {
             }
             assert_int_equal(hgcd_world_query_point(w, pts, Q, 0, NULL, &a), HGCD_OK);
             assert_int_equal(hgcd_world_query_point(twin, pts, Q, 0, NULL, &b), HGCD_OK);
+            assert_int_equal(a.body_count, b.body_count);
+            assert_memory_equal(a.offsets, b.offsets, (Q + 1) * sizeof(size_t));
+            for (k = 0; k < a.body_count; ++k) assert_int_equal(a.bodies[k].index, b.bodies[k].index);
+            for (k = 0; k < Q; ++k) { /* boxes of side 1 around the points */
+                int c;
+                for (c = 0; c < 3; ++c) {
+                    boxes[6 * k + c] = pts[3 * k + c] - 0.5;
+                    boxes[6 * k + 3 + c] = pts[3 * k + c] + 0.5;
+                }
+            }
+            assert_int_equal(hgcd_world_query_box(w, boxes, Q, 0, NULL, &a), HGCD_OK);
+            assert_int_equal(hgcd_world_query_box(twin, boxes, Q, 0, NULL, &b), HGCD_OK);
+            assert_true(a.body_count > Q);
             assert_int_equal(a.body_count, b.body_count);
             assert_memory_equal(a.offsets, b.offsets, (Q + 1) * sizeof(size_t));
             for (k = 0; k < a.body_count; ++k) assert_int_equal(a.bodies[k].index, b.bodies[k].index);

@@ -1053,10 +1053,12 @@ HGCD_API hgcd_status hgcd_mesh_validate(const hgcd_world *world,
  * counts. Batched and parallel on the world's threads; every answer, and its
  * order, is the same at any thread count.
  *
- * Cost: the first query after bodies were created, destroyed or moved (a
- * pose set, a step) builds a tree over the bodies' boxes, O(n log n), mostly
- * on one thread (about half a second for 750,000 bodies); later queries
- * reuse it. A query then costs about O(log n) plus the exact tests of the
+ * Cost: the first query after bodies were created or destroyed builds a
+ * tree over the bodies' boxes, O(n log n), mostly on one thread (about half
+ * a second for 750,000 bodies); the first after bodies only moved (a pose
+ * set, a step) refits it, O(n) on the world's threads (about a tenth of a
+ * build), and rebuilds it once moves have loosened it to twice its boxes'
+ * area at its build; later queries reuse it. A query then costs about O(log n) plus the exact tests of the
  * bodies its tree search reaches; in a mesh of more than 48 triangles those
  * descend the mesh's own tree (hgcd_mesh_info), so they reach the triangles
  * near the query, not every triangle.

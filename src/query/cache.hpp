@@ -1,5 +1,6 @@
 // What a world keeps for its scene queries: the tree over its bodies' boxes
-// (rebuilt on the first query after a body was created, destroyed or moved)
+// (brought up to date on the first query after a body was created,
+// destroyed or moved: refitted, or rebuilt when refits have loosened it)
 // and the last box, point or mesh query's results.
 #pragma once
 #include <cstddef>
@@ -13,7 +14,12 @@ namespace hgcd {
 
 struct QueryCache {
     QueryTree tree;
-    bool stale = true;  // the tree does not describe the bodies any more
+    bool stale = true;  // the tree does not describe the bodies' boxes any more
+    // Bodies were created or destroyed since the tree was built: its items
+    // are not the live bodies, and a refit (which moves boxes, not items)
+    // cannot follow.
+    bool rebuild = true;
+    std::vector<uint32_t> item_of_slot;  // each live body's index in tree.items
     std::vector<size_t> offsets;
     std::vector<hgcd_body> bodies;
 };

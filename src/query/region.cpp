@@ -33,38 +33,64 @@ bool stride_ok(size_t stride, size_t size) { return stride == 0 || (stride % siz
 
 void World::ensure_query_tree() {
     if (!query_.stale) return;
-    std::vector<QueryItem> items;
-    items.reserve(live_bodies_);
-    const Boxes b = boxes();
-    for (uint32_t slot = 0; slot < uint32_t(live_gen_.size()); ++slot) {
-        if (!live_gen_[slot]) continue;
-        QueryItem it;
-        double lo[3], hi[3];
-        b.at(at_[slot], lo, hi);
-        for (int k = 0; k < 3; ++k) {
-            it.lo[k] = float_at_most(lo[k]);
-            it.hi[k] = float_at_least(hi[k]);
-        }
-        it.slot = slot;
-        it.mesh = body_mesh_[at_[slot]];
-        items.push_back(it);
-    }
     QueryTree &tree = query_.tree;
-    tree.build(std::move(items), threads());
+    const Boxes b = boxes();
+    const auto item_box = [&](QueryItem &it, size_t s) {
+        double lo[3], hi[3];
+        b.at(s, lo, hi);
+        broad::round_outward(lo, hi, it.lo, it.hi);
+    };
+    // The passes over every body run in storage order, reading the world's
+    // arrays in sequence and writing each body's item where the tree put it
+    // (in the tree's order they were scattered reads, each a cache miss).
+    const auto each_stored = [&](auto &&f) {
+        parallel_for(threads(), int64_t(slot_of_.size()), 4096, Schedule::Static, [&](int64_t s0, int64_t s1, int) {
+            for (int64_t s = s0; s < s1; ++s)
+                if (stored_gen_[size_t(s)]) f(query_.item_of_slot[slot_of_[size_t(s)]], size_t(s));
+        });
+    };
+    const auto index_items = [&] {
+        query_.item_of_slot.resize(live_gen_.size());
+        for (uint32_t i = 0; i < uint32_t(tree.items.size()); ++i) query_.item_of_slot[tree.items[i].slot] = i;
+    };
+    // Only boxes moved (no body created or destroyed): the items' boxes
+    // again and a refit, a pass over the tree instead of a build; rebuilt
+    // once the moves have loosened it to twice its nodes' area at the build
+    // (a looser tree only costs the queries time: answers do not depend on
+    // the tree).
+    if (!query_.rebuild && !tree.wide.empty()) {
+        each_stored([&](uint32_t i, size_t s) { item_box(tree.items[i], s); });
+        if (tree.refit() > 2 * tree.built_area) {
+            std::vector<QueryItem> items;
+            items.swap(tree.items);
+            tree.build(std::move(items), threads());
+            index_items();
+        }
+    } else {
+        std::vector<QueryItem> items;
+        items.reserve(live_bodies_);
+        for (uint32_t slot = 0; slot < uint32_t(live_gen_.size()); ++slot) {
+            if (!live_gen_[slot]) continue;
+            QueryItem it;
+            it.slot = slot;
+            it.mesh = body_mesh_[at_[slot]];
+            item_box(it, at_[slot]);
+            items.push_back(it);
+        }
+        tree.build(std::move(items), threads());
+        index_items();
+    }
     constexpr size_t kCache = 3 * QueryTree::kCachedVertices;
     tree.world.resize(kCache * tree.items.size());
-    parallel_for(threads(), int64_t(tree.items.size()), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
-        for (int64_t i = b; i < e; ++i) {
-            const QueryItem &it = tree.items[size_t(i)];
-            const Mesh &m = meshes_[it.mesh];
-            if (m.vertex_count > QueryTree::kCachedVertices) continue;
-            const Placement &p = place_[at_[it.slot]];
-            const Rotation r = rotation_of(p.orientation);
-            for (uint32_t v = 0; v < m.vertex_count; ++v)
-                transform_point(r, p.position, p.scale, &m.vertices[3 * v], &tree.world[kCache * size_t(i) + 3 * v]);
-        }
+    each_stored([&](uint32_t i, size_t s) {
+        const Mesh &m = meshes_[body_mesh_[s]];
+        if (m.vertex_count > QueryTree::kCachedVertices) return;
+        const Placement &p = place_[s];
+        const Rotation r = rotation_of(p.orientation);
+        for (uint32_t v = 0; v < m.vertex_count; ++v)
+            transform_point(r, p.position, p.scale, &m.vertices[3 * v], &tree.world[kCache * size_t(i) + 3 * v]);
     });
-    query_.stale = false;
+    query_.stale = query_.rebuild = false;
 }
 
 SolidView World::query_view(size_t i, QueryScratch &s, double *box) const {

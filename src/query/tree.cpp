@@ -201,9 +201,42 @@ uint32_t collapse(const std::vector<QueryNode> &nodes, uint32_t b,
 
 }  // namespace
 
+double QueryTree::refit() {
+    double total = 0;
+    for (size_t at = wide.size(); at-- > 0;) {
+        QueryWide &w = wide[at];
+        for (uint32_t k = 0; k < w.n; ++k) {
+            float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            const auto take = [&](const float *clo, const float *chi) {
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], clo[a]);
+                    hi[a] = std::max(hi[a], chi[a]);
+                }
+            };
+            if (w.count[k]) {
+                for (uint32_t i = w.ref[k]; i < w.ref[k] + w.count[k]; ++i) take(items[i].lo, items[i].hi);
+            } else {
+                const QueryWide &c = wide[w.ref[k]];
+                for (uint32_t j = 0; j < c.n; ++j) {
+                    const float clo[3] = {c.lo[0][j], c.lo[1][j], c.lo[2][j]}, chi[3] = {c.hi[0][j], c.hi[1][j], c.hi[2][j]};
+                    take(clo, chi);
+                }
+            }
+            for (int a = 0; a < 3; ++a) {
+                w.lo[a][k] = lo[a];
+                w.hi[a][k] = hi[a];
+            }
+            const double dx = double(hi[0]) - lo[0], dy = double(hi[1]) - lo[1], dz = double(hi[2]) - lo[2];
+            total += dx * dy + dy * dz + dz * dx;
+        }
+    }
+    return total;
+}
+
 void QueryTree::build(std::vector<QueryItem> &&in, int) {
     items = std::move(in);
     wide.clear();
+    built_area = 0;
     if (items.empty()) return;
     std::sort(items.begin(), items.end(), [](const QueryItem &x, const QueryItem &y) { return x.slot < y.slot; });
     std::vector<QueryNode> nodes;
@@ -224,9 +257,10 @@ void QueryTree::build(std::vector<QueryItem> &&in, int) {
         w.n = 1;
         w.ref[0] = nodes[0].first;
         w.count[0] = uint8_t(nodes[0].count);
-        return;
+    } else {
+        collapse(nodes, 0, wide);
     }
-    collapse(nodes, 0, wide);
+    built_area = refit();
 }
 
 void SegmentProbe::set(const double *origin, const double *end) {

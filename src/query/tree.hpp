@@ -81,6 +81,12 @@ struct QueryTree {
     // Builds over the items (any order; the result depends only on the
     // items, sorted by slot first, so not on storage order).
     void build(std::vector<QueryItem> &&in, int threads);
+    // After the items' boxes changed in place: every node's box again, the
+    // children's unions, bottom up (wide nodes follow their parents).
+    // Returns the sum of the surface areas of the nodes' child boxes, which
+    // grows as moves loosen the tree.
+    double refit();
+    double built_area = 0;  // refit()'s sum right after the last build
     // An order in which to answer a batch of queries, point(k, xyz) giving
     // query k's place: along a Morton curve over the tree's root box (ties
     // by index), so that queries answered one after the other walk the same

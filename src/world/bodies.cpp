@@ -129,7 +129,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         stored_gen_.push_back(0);
     }
     if (reuse) body_free_.pop_back();
-    query_.stale = true;
+    query_.stale = query_.rebuild = true;
     const size_t i = at_[slot];
     moved_at_[i] = 1;
     for (int k = 0; k < 3; ++k) {
@@ -174,7 +174,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     margin_[at_[slot]] = 0;
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
-    query_.stale = true;
+    query_.stale = query_.rebuild = true;
     moved_at_[at_[slot]] = 1;  // (its last pairs end)
     if (at_[slot] < mover_.size()) mover_[at_[slot]] |= kDead;  // (the grid may still hold it)
     ++mover_marks_;  // (the movers' lists of residents may hold it)

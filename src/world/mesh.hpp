@@ -72,7 +72,7 @@ struct Mesh {
     // Meshes of at most kExactBoxTriangles triangles: a body's box is the
     // box of the distinct vertices the triangles use (each transformed once
     // per new orientation), read from the mesh's record in the world's pool
-    // (world/mesh_pool.hpp, box_points_of), not from here; larger meshes
+    // (world/mesh_pool.hpp, world/pose_box.hpp), not from here; larger meshes
     // take their bounding sphere's.
     static constexpr uint32_t kExactBoxTriangles = 128;
     // For larger meshes: the boxes (centre xyz, half widths xyz, mesh frame)

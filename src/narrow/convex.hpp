@@ -43,6 +43,12 @@ enum class ConvexVerdict {
 // strictly inside the other (containment).
 ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b);
 
+// The convex path's one-pair test (collide() of two bodies whose meshes have
+// Mesh::sat): the kernel, then for the pairs it leaves open the world
+// vertices, the search for crossing surfaces and the exact steps
+// (narrow.cpp).
+Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness);
+
 // Certainly do the surfaces cross: an edge of one mesh through the
 // interior of a triangle of the other (both its ends strictly on either
 // side of the triangle's plane, the line strictly inside its three edges,

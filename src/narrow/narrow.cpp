@@ -252,32 +252,6 @@ __attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPo
     return direct_exact(a, s.world_a.data(), box_a, b, s.world_b.data(), box_b, s, witness, true);
 }
 
-// The convex path (both meshes Mesh::sat): the kernel (convex_decide), then
-// for the pairs it leaves open the world vertices and their exact boxes, the
-// search for an edge through a triangle, and the exact steps of the direct
-// or tree path. A witness request (contacts) takes only the kernel's
-// separations: its certificates name no triangle pair. exact_tests counts
-// the pairs that pass the line of centres.
-__attribute__((noinline)) Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
-                                                 Witness *witness) {
-    const ConvexVerdict v = convex_decide(a, b);
-    if (v == ConvexVerdict::ApartOnCentres) return Contact::None;
-    ++s.exact_tests;
-    if (v == ConvexVerdict::Apart) return Contact::None;
-    if (!witness) {
-        if (v == ConvexVerdict::Surface) return Contact::Surface;
-        if (v == ConvexVerdict::AHoldsB || v == ConvexVerdict::BHoldsA) return Contact::Containment;
-    }
-    double box_a[6], box_b[6];
-    world_vertices(a, s.world_a, box_a);
-    world_vertices(b, s.world_b, box_b);
-    if (boxes_disjoint(box_a, box_b)) return Contact::None;
-    const double *wa = s.world_a.data(), *wb = s.world_b.data();
-    if (!witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
-    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
-    return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
-}
-
 // The margin path of small meshes whose solids do not share a point: the
 // direct path's triangle pairs with boxes grown by d and the within-d
 // triangle test, after the face planes of convex meshes.
@@ -309,6 +283,31 @@ __attribute__((noinline)) Contact collide_within_direct(const BodyPose &a, const
 }
 
 }  // namespace
+
+// The convex path (both meshes Mesh::sat): the kernel (convex_decide), then
+// for the pairs it leaves open the world vertices and their exact boxes, the
+// search for an edge through a triangle, and the exact steps of the direct
+// or tree path. A witness request (contacts) takes only the kernel's
+// separations: its certificates name no triangle pair. exact_tests counts
+// the pairs that pass the line of centres.
+Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
+    const ConvexVerdict v = convex_decide(a, b);
+    if (v == ConvexVerdict::ApartOnCentres) return Contact::None;
+    ++s.exact_tests;
+    if (v == ConvexVerdict::Apart) return Contact::None;
+    if (!witness) {
+        if (v == ConvexVerdict::Surface) return Contact::Surface;
+        if (v == ConvexVerdict::AHoldsB || v == ConvexVerdict::BHoldsA) return Contact::Containment;
+    }
+    double box_a[6], box_b[6];
+    world_vertices(a, s.world_a, box_a);
+    world_vertices(b, s.world_b, box_b);
+    if (boxes_disjoint(box_a, box_b)) return Contact::None;
+    const double *wa = s.world_a.data(), *wb = s.world_b.data();
+    if (!witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
+    return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
+}
 
 Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &s, Witness *witness) {
     // Solids that share a point are within any d: the fast exact paths

@@ -44,6 +44,12 @@ struct TetraPair {
     const double *shape_a, *shape_b;
 };
 
+// A pair of bodies whose meshes both have Mesh::sat (small convex meshes).
+struct ConvexPair {
+    const Mesh *mesh_a, *mesh_b;
+    const Placement *a, *b;
+};
+
 // What collide() found, for callers that ask (the contacts of hgcd.h). A path
 // that does not record it leaves recorded false.
 struct Witness {
@@ -136,6 +142,13 @@ Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScr
 // other's face planes (certified in float); a lane those leave open goes on
 // with the one-pair test's later steps. Elsewhere one pair at a time.
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
+
+// collide() of every pair of small convex meshes pairs[0, n) into out[0, n),
+// the same verdicts and counts in scratch: the convex path's separating axis
+// along the line of centres four pairs at a time (one per lane, the one-pair
+// test's operations), then the one-pair test for the pairs it leaves
+// (convex_batch.cpp).
+void collide_convex_batch(const ConvexPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
 
 // The tree path (tree_path.cpp), for pairs where at least one mesh has a
 // BVH. counted: exact_tests counts the pair once its root boxes overlap

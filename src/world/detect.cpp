@@ -114,6 +114,11 @@ struct World::NarrowPlan {
     bool margins = false;
     std::unique_ptr<TetraPair[]> batch_pairs;
     std::unique_ptr<Contact[]> batch_verdicts;
+    // Likewise pairs of small convex meshes (Mesh::sat), when some live mesh
+    // has it.
+    bool convex_batch = false;
+    std::unique_ptr<ConvexPair[]> convex_pairs;
+    std::unique_ptr<Contact[]> convex_verdicts;
 };
 
 // One worker's narrow phase, on the heap apart from the others': the
@@ -130,6 +135,9 @@ struct World::NarrowThread {
     uint64_t containment = 0, ccd_fallback = 0;
     TetraPair *tetra = nullptr;  // this thread's batch (plan.batch)
     Contact *verdict = nullptr;
+    ConvexPair *convex = nullptr;  // and its convex batch (plan.convex_batch)
+    Contact *convex_verdict = nullptr;
+    size_t convex_count = 0;
     uint32_t hit_index[kNarrowChunk];
 };
 
@@ -384,6 +392,12 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
         plan.batch_pairs.reset(new TetraPair[size_t(threads) * kNarrowChunk]);
         plan.batch_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
     }
+    for (size_t m = 0; m < meshes_.size() && plan.batch && !plan.convex_batch; ++m)
+        plan.convex_batch = mesh_alive_[m] && meshes_[m].sat;
+    if (plan.convex_batch) {
+        plan.convex_pairs.reset(new ConvexPair[size_t(threads) * kNarrowChunk]);
+        plan.convex_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
+    }
 }
 
 void World::narrow_phase(int threads, const NarrowPlan &plan,
@@ -407,6 +421,10 @@ void World::narrow_phase(int threads, const NarrowPlan &plan,
             if (plan.batch) {
                 t->tetra = plan.batch_pairs.get() + size_t(me) * kNarrowChunk;
                 t->verdict = plan.batch_verdicts.get() + size_t(me) * kNarrowChunk;
+            }
+            if (plan.convex_batch) {
+                t->convex = plan.convex_pairs.get() + size_t(me) * kNarrowChunk;
+                t->convex_verdict = plan.convex_verdicts.get() + size_t(me) * kNarrowChunk;
             }
         }
         for (int64_t c = c0; c < c1; ++c) narrow_chunk(plan, plan.chunks[size_t(c)], *t);
@@ -481,6 +499,17 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
             to[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
         }
     }
+    if (!t.convex_count) return;
+    const size_t n = t.convex_count;
+    t.convex_count = 0;
+    collide_convex_batch(t.convex, n, t.convex_verdict, t.scratch);
+    for (size_t k = 0; k < n; ++k) {
+        const Contact v = t.convex_verdict[k];
+        if (v == Contact::None) continue;
+        const ConvexPair &p = t.convex[k];
+        t.hits.push_back(pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]));
+        t.containment += v == Contact::Containment;
+    }
 }
 
 // The pairs of a chunk whose meshes are not all tetrahedra: each tested here,
@@ -516,6 +545,10 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
         if (batch && mesh_a->tetra && mesh_b->tetra) {
             t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb, pool_.blocks()[body_record_[a].block].d,
                                           pool_.blocks()[body_record_[b].block].d};
+            continue;
+        }
+        if (plan.convex_batch && mesh_a->sat && mesh_b->sat) {
+            t.convex[t.convex_count++] = ConvexPair{mesh_a, mesh_b, &la, &lb};
             continue;
         }
         const BodyPose pa = pose_of(mesh_a, la), pb = pose_of(mesh_b, lb);

@@ -392,8 +392,7 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
         plan.batch_pairs.reset(new TetraPair[size_t(threads) * kNarrowChunk]);
         plan.batch_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
     }
-    for (size_t m = 0; m < meshes_.size() && plan.batch && !plan.convex_batch; ++m)
-        plan.convex_batch = mesh_alive_[m] && meshes_[m].sat;
+    plan.convex_batch = plan.batch && sat_meshes_ > 0;
     if (plan.convex_batch) {
         plan.convex_pairs.reset(new ConvexPair[size_t(threads) * kNarrowChunk]);
         plan.convex_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);

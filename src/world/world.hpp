@@ -271,7 +271,9 @@ class World {
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
     MeshPool pool_;  // the records of small meshes, by slot (mesh_pool.hpp)
     uint32_t live_meshes_ = 0;
-    uint32_t tetra_meshes_ = 0;  // live meshes that are tetrahedra (Mesh::tetra)
+    // Live meshes that are tetrahedra (Mesh::tetra), and that have Mesh::sat:
+    // what the narrow phase's plan asks, without a pass over the meshes.
+    uint32_t tetra_meshes_ = 0, sat_meshes_ = 0;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)

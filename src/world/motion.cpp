@@ -204,6 +204,7 @@ bool World::renumber() {
     });
     for (uint32_t &i : side_storage_) i = new_of_old[i];  // (the second grid's slots are its own)
     forget_resident_cache();  // (its lists name storage indices)
+    moved_parts_.clear();     // (counted by storage index)
     // The meshes' records follow (where bodies have meshes of their own).
     if (pool_.repack(body_mesh_.data(), stored_gen_.data(), n)) refresh_records();
     return true;

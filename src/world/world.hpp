@@ -194,7 +194,9 @@ class World {
     struct MovedCount {
         size_t moved = 0, new_movers = 0;
     };
-    MovedCount count_moved(int threads) const;
+    // (Also keeps how many are in each of `threads` equal ranges of
+    // storage, for list_moved.)
+    MovedCount count_moved(int threads);
     void reuse_pairs();  // pairs_ from prev_pairs_ when no live body moved
     void clear_moved();  // (after a detect)
     // Incremental detection (incremental.cpp): whether this detect may search
@@ -208,7 +210,7 @@ class World {
     // movers, into candidates_, through each mover's cached list of the
     // residents near it (resident_cache.cpp).
     void find_resident_candidates(int threads, std::vector<Grid::QueryCursors> &cursors_of);
-    void forget_resident_cache() noexcept;  // (the grid or storage changed)
+    void forget_resident_cache() noexcept;  // (the grid or storage changed, or the lists lack memory)
     size_t keep_unmoved_colliding(int threads);
     // Forgets the movers (before the grid is updated, or dropped). No throw.
     void drop_movers() noexcept;
@@ -378,13 +380,20 @@ class World {
     Grid side_grid_;
     std::vector<PairBuffer> side_found_;
     std::vector<uint32_t> moved_list_;
+    std::vector<size_t> moved_parts_;  // count_moved's counts by range (empty after a renumbering)
     // Per mover (by its index in the second grid), the grid's residents
     // that met its fat box when it last searched the grid, with their boxes
-    // (resident_cache.cpp): a run of the worker's pool of the last detect
-    // that made it; valid while the mover moved at every detect since, and
-    // free of new movers while mover_marks_ (which counts bodies that became
-    // movers or died) has not changed since.
-    using ResidentEntry = Grid::QueryBox;  // (slot: the storage index)
+    // (resident_cache.cpp): a run of one of the arenas (one per worker that
+    // made lists), where a list stays put until the arenas are compacted;
+    // valid until the grid is updated, and free of new movers while
+    // mover_marks_ (which counts bodies that became movers or died) has not
+    // changed since the list was written.
+    // An entry: the resident's storage index, and its box on the list's
+    // own scale (resident_cache.cpp): low corner, then high corner negated.
+    struct ResidentEntry {
+        int16_t box[6];
+        uint32_t slot;
+    };
     struct ResidentCache {
         float fat[6], last[3];  // fat box, and the low corner of the box at the last detect
         uint32_t worker, begin, count;
@@ -392,9 +401,12 @@ class World {
         uint64_t marks;
     };
     std::vector<ResidentCache> resident_cache_;
-    std::vector<std::vector<ResidentEntry>> resident_pool_[2];  // per worker: the last detect's, and this one's
-    int resident_pool_at_ = 0;  // the last detect's
+    std::vector<std::vector<ResidentEntry>> resident_arena_;  // per worker
+    std::vector<std::vector<ResidentEntry>> resident_fresh_;  // per worker, the lists one detect writes
+    std::vector<std::vector<Grid::QueryBox>> resident_found_;  // per worker, a search's residents
     uint64_t mover_marks_ = 0;
+    // The arenas holding only the valid lists (when mostly garbage).
+    void compact_resident_lists(int threads);
 
     Grid grid_;
     std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs

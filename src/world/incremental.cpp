@@ -193,7 +193,7 @@ size_t World::keep_unmoved_colliding(int threads) {
             const size_t b = total * size_t(p) / parts, e = total * size_t(p + 1) / parts;
             for (size_t k = b; k < e; ++k) {
                 const uint32_t a = prev_pairs_[k].a.index, c = prev_pairs_[k].b.index;
-                if (!(moved_[a] | moved_[c])) kept.push_back(pair_key(a, c));
+                if (!(moved_at_[at_[a]] | moved_at_[at_[c]])) kept.push_back(pair_key(a, c));
             }
         }
     });

@@ -53,8 +53,11 @@ Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, W
 // interior of a triangle of the other (both its ends strictly on either
 // side of the triangle's plane, the line strictly inside its three edges,
 // every sign certified by a filter)? Tried on the edges at each mesh's
-// vertex nearest the other's position; false proves nothing. wa, wb: the
-// world vertices (world_vertices).
-bool convex_surfaces_cross(const BodyPose &a, const double *wa, const BodyPose &b, const double *wb);
+// vertex nearest the other's position, then on every edge against the
+// triangles (at most 64 of a mesh) that reach the intersection of the two
+// boxes; false proves nothing. wa, wb: the world
+// vertices (world_vertices), box_a, box_b their exact boxes.
+bool convex_surfaces_cross(const BodyPose &a, const double *wa, const double *box_a, const BodyPose &b,
+                           const double *wb, const double *box_b);
 
 }  // namespace hgcd

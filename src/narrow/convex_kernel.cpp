@@ -226,6 +226,38 @@ HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double
     return false;
 }
 
+// Last, for meshes with more than kEdgeAxisPairs pairs of edge directions
+// (whose edge axes axes_apart skips), the cross products of the edges at
+// each body's vertex reaching furthest towards the other (va, vb): where
+// two such bodies nearly touch without a face axis between them, their
+// nearest features are mostly edges there. (A local edge vector turned
+// into the world frame is as good an axis as any: apart_on's margin covers
+// any vector.)
+constexpr uint32_t kSupportEdges = 8;
+HGCD_CK_INLINE uint32_t support_edges(const BodyPose &body, const Rotation &r, uint32_t v, double (*out)[3]) {
+    const SatData &m = *body.mesh->sat;
+    const double *x = &body.mesh->vertices[3 * size_t(v)];
+    uint32_t n = 0;
+    for (uint32_t e = m.vertex_edge_start[v]; e < m.vertex_edge_start[v + 1] && n < kSupportEdges; ++e, ++n) {
+        const double *y = &body.mesh->vertices[3 * size_t(m.vertex_edges[e])];
+        const double d[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+        rotate(r, d, out[n]);
+    }
+    return n;
+}
+HGCD_CK_INLINE bool support_edges_apart(const PairView &p, uint32_t va, uint32_t vb) {
+    if (uint64_t(p.sa.edges) * p.sb.edges <= kEdgeAxisPairs) return false;  // (all tried already)
+    double ea[kSupportEdges][3], eb[kSupportEdges][3];
+    const uint32_t na = support_edges(p.a, p.ra, va, ea), nb = support_edges(p.b, p.rb, vb, eb);
+    for (uint32_t i = 0; i < na; ++i)
+        for (uint32_t j = 0; j < nb; ++j) {
+            const double *x = ea[i], *y = eb[j];
+            const double N[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+            if (apart_on(p, N)) return true;
+        }
+    return false;
+}
+
 // Is a point certainly strictly inside the solid of body `in` (pose in,
 // rotation r, data m with m.inside_test)? z: the point's coordinates in the
 // body's frame as computed, within 14 eps dz per axis of the exact ones
@@ -410,14 +442,16 @@ HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
     const double *qa = a.orientation, *qb = b.orientation;
     p.dq[0] = std::fabs(1.0 - (((qa[0] * qa[0] + qa[1] * qa[1]) + qa[2] * qa[2]) + qa[3] * qa[3])) + 0x1p-50;
     p.dq[1] = std::fabs(1.0 - (((qb[0] * qb[0] + qb[1] * qb[1]) + qb[2] * qb[2]) + qb[3] * qb[3])) + 0x1p-50;
-    if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
-    if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
     // One body's stretch of the line of centres inside the other's: try
-    // whether it holds the whole body.
+    // whether it holds the whole body (before the axes, which cannot
+    // separate such a pair).
     if (inside) {
         if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb)) return ConvexVerdict::AHoldsB;
         if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra)) return ConvexVerdict::BHoldsA;
     }
+    if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
+    if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
+    if (support_edges_apart(p, a_toward, b_toward)) return ConvexVerdict::Apart;
     return ConvexVerdict::Open;
 }
 

@@ -304,7 +304,7 @@ Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, W
     world_vertices(b, s.world_b, box_b);
     if (boxes_disjoint(box_a, box_b)) return Contact::None;
     const double *wa = s.world_a.data(), *wb = s.world_b.data();
-    if (!witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
+    if (!witness && convex_surfaces_cross(a, wa, box_a, b, wb, box_b)) return Contact::Surface;
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
     return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
 }

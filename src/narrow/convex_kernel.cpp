@@ -111,6 +111,11 @@ struct PairView {
     double scale;   // P + L_a + L_b
     double c[9];    // fl(R_b^T R_a), row-major
     double dq[2];   // |1 - fl(|q|^2)| + 2^-50 of a and b
+    // (The rest is filled in by decide before use: zeroing it first cost a
+    // `rep stos` per pair.)
+    PairView(const BodyPose &pa, const BodyPose &pb)
+        : a(pa), b(pb), sa(*pa.mesh->sat), sb(*pb.mesh->sat), ra(rotation_of(pa.orientation)),
+          rb(rotation_of(pb.orientation)) {}
 };
 
 // A face axis n of mesh a (frame a), for the real world axis N = R_a n
@@ -393,8 +398,8 @@ HGCD_CK_INLINE bool holds_all(const BodyPose &out, const Rotation &ro, const Sat
 }
 
 HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
-    const SatData &sa = *a.mesh->sat, &sb = *b.mesh->sat;
-    PairView p{a, b, sa, sb, rotation_of(a.orientation), rotation_of(b.orientation), {}, 0, {}, {}};
+    PairView p(a, b);
+    const SatData &sa = p.sa, &sb = p.sb;
     const double *ca = a.position, *cb = b.position;
     for (int k = 0; k < 3; ++k) p.u[k] = cb[k] - ca[k];
     // The line of centres: tet_axis_separates's test and margin (tetra.hpp),

@@ -113,9 +113,8 @@ struct PairView {
     double dq[2];   // |1 - fl(|q|^2)| + 2^-50 of a and b
     // (The rest is filled in by decide before use: zeroing it first cost a
     // `rep stos` per pair.)
-    PairView(const BodyPose &pa, const BodyPose &pb)
-        : a(pa), b(pb), sa(*pa.mesh->sat), sb(*pb.mesh->sat), ra(rotation_of(pa.orientation)),
-          rb(rotation_of(pb.orientation)) {}
+    PairView(const BodyPose &pa, const BodyPose &pb, const Rotation &r_a, const Rotation &r_b)
+        : a(pa), b(pb), sa(*pa.mesh->sat), sb(*pb.mesh->sat), ra(r_a), rb(r_b) {}
 };
 
 // A face axis n of mesh a (frame a), for the real world axis N = R_a n
@@ -397,33 +396,42 @@ HGCD_CK_INLINE bool holds_all(const BodyPose &out, const Rotation &ro, const Sat
     return true;
 }
 
-HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
-    PairView p(a, b);
+// The line of centres: tet_axis_separates's test and margin (tetra.hpp),
+// whose argument holds for any number of vertices (the world vertices are
+// fl(c + fl(R l)) with l = fl(s v) here too, and reach bounds |v|_1 of every
+// vertex), with the projections' other ends for the poke tests of rest().
+// True when it separates.
+HGCD_CK_INLINE bool centres(const BodyPose &a, const BodyPose &b, ConvexCentres &c) {
+    const SatData &sa = *a.mesh->sat, &sb = *b.mesh->sat;
+    c.ra = rotation_of(a.orientation);
+    c.rb = rotation_of(b.orientation);
+    const double *ca = a.position, *cb = b.position;
+    for (int k = 0; k < 3; ++k) c.u[k] = cb[k] - ca[k];
+    rotate_t(c.ra, c.u, c.da);
+    rotate_t(c.rb, c.u, c.ub);
+    for (int j = 0; j < 3; ++j) c.db[j] = -1.0 * c.ub[j];
+    range_arg(sa, a.scale, c.da, c.alo, c.ahi, c.a_toward);
+    range_arg(sb, b.scale, c.db, c.blo, c.bhi, c.b_toward);
+    c.uu = (c.u[0] * c.u[0] + c.u[1] * c.u[1]) + c.u[2] * c.u[2];
+    const double gap = c.uu - (c.ahi + c.bhi);
+    const double reach = 2 * (a.scale * sa.reach + b.scale * sb.reach);
+    const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(c.u[0]) +
+                       (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * std::fabs(c.u[1])) +
+                      (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * std::fabs(c.u[2]);
+    c.cmargin = tet::kCentresMargin * (c.uu + cu) + tet::kUnderflowFloor;
+    return gap > 0 && gap > c.cmargin;
+}
+
+// Everything after the line of centres, for a pair it does not separate.
+HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const ConvexCentres &c) {
+    PairView p(a, b, c.ra, c.rb);
     const SatData &sa = p.sa, &sb = p.sb;
     const double *ca = a.position, *cb = b.position;
-    for (int k = 0; k < 3; ++k) p.u[k] = cb[k] - ca[k];
-    // The line of centres: tet_axis_separates's test and margin (tetra.hpp),
-    // whose argument holds for any number of vertices (the world vertices
-    // are fl(c + fl(R l)) with l = fl(s v) here too, and reach bounds
-    // |v|_1 of every vertex), with the projections' other ends for the poke
-    // tests below.
-    double da[3], db[3], ub[3];
-    rotate_t(p.ra, p.u, da);
-    rotate_t(p.rb, p.u, ub);
-    for (int j = 0; j < 3; ++j) db[j] = -1.0 * ub[j];
-    double alo, ahi, blo, bhi;
-    uint32_t a_toward, b_toward;  // the vertices reaching furthest towards the other body
-    range_arg(sa, a.scale, da, alo, ahi, a_toward);
-    range_arg(sb, b.scale, db, blo, bhi, b_toward);
-    const double uu = (p.u[0] * p.u[0] + p.u[1] * p.u[1]) + p.u[2] * p.u[2];
+    for (int k = 0; k < 3; ++k) p.u[k] = c.u[k];
+    const double *da = c.da, *db = c.db, *ub = c.ub;
+    const double alo = c.alo, ahi = c.ahi, blo = c.blo, bhi = c.bhi, uu = c.uu, cmargin = c.cmargin;
+    const uint32_t a_toward = c.a_toward, b_toward = c.b_toward;
     const double reach_ab = ahi + bhi;
-    const double gap = uu - reach_ab;
-    const double reach = 2 * (a.scale * sa.reach + b.scale * sb.reach);
-    const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(p.u[0]) +
-                       (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * std::fabs(p.u[1])) +
-                      (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * std::fabs(p.u[2]);
-    const double cmargin = tet::kCentresMargin * (uu + cu) + tet::kUnderflowFloor;
-    if (gap > 0 && gap > cmargin) return ConvexVerdict::ApartOnCentres;
     // On that line, relative to c_a, a's vertices project to [alo, ahi] and
     // b's to [uu - bhi, uu - blo] (b's range is taken along -R_b^T u): the
     // same sums as the gap above with other ends of the ranges, so the same
@@ -460,12 +468,23 @@ HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
     return ConvexVerdict::Open;
 }
 
+HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
+    ConvexCentres c;
+    if (centres(a, b, c)) return ConvexVerdict::ApartOnCentres;
+    return rest(a, b, c);
+}
+
 #if HGCD_AVX2
 __attribute__((target("avx2"))) ConvexVerdict decide_avx2(const BodyPose &a, const BodyPose &b) {
     return decide(a, b);
 }
+__attribute__((target("avx2"))) ConvexVerdict rest_avx2(const BodyPose &a, const BodyPose &b,
+                                                        const ConvexCentres &c) {
+    return rest(a, b, c);
+}
 #endif
 ConvexVerdict decide_base(const BodyPose &a, const BodyPose &b) { return decide(a, b); }
+ConvexVerdict rest_base(const BodyPose &a, const BodyPose &b, const ConvexCentres &c) { return rest(a, b, c); }
 
 }  // namespace
 
@@ -474,6 +493,13 @@ ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b) {
     if (use_avx2()) return decide_avx2(a, b);
 #endif
     return decide_base(a, b);
+}
+
+ConvexVerdict convex_decide_past_centres(const BodyPose &a, const BodyPose &b, const ConvexCentres &c) {
+#if HGCD_AVX2
+    if (use_avx2()) return rest_avx2(a, b, c);
+#endif
+    return rest_base(a, b, c);
 }
 
 }  // namespace hgcd

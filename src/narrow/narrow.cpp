@@ -291,7 +291,11 @@ __attribute__((noinline)) Contact collide_within_direct(const BodyPose &a, const
 // separations: its certificates name no triangle pair. exact_tests counts
 // the pairs that pass the line of centres.
 Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
-    const ConvexVerdict v = convex_decide(a, b);
+    return collide_convex_after(a, b, s, witness, convex_decide(a, b));
+}
+
+Contact collide_convex_after(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness,
+                             ConvexVerdict v) {
     if (v == ConvexVerdict::ApartOnCentres) return Contact::None;
     ++s.exact_tests;
     if (v == ConvexVerdict::Apart) return Contact::None;

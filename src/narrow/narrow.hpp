@@ -106,6 +106,7 @@ struct NarrowScratch {
     std::vector<uint32_t> node_stack;   // ray traversal
     uint64_t triangle_tests = 0;
     uint64_t exact_tests = 0;
+    uint64_t margin_fallbacks = 0;  // tetrahedron pairs the margin's certificates left to the direct path
 };
 
 // Exact: true when the closed solids of a and b share a point (surfaces meet,

@@ -14,6 +14,7 @@
 #include "narrow/ccd_narrow.hpp"
 #include "narrow/contact.hpp"
 #include "narrow/narrow.hpp"
+#include "narrow/within.hpp"
 #include "world/world.hpp"
 
 namespace hgcd {
@@ -384,9 +385,10 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
                                    (meshes_[m].convex ? kCcdUse : 0));
         plan.any_ccd = true;
     }
-    // (Pairs with a margin take the exact margin path one at a time.)
+    // (With a margin, the batch decides which tetrahedron pairs touch, and
+    // those apart go on to the margin test one at a time: narrow_chunk.)
     plan.margins = world_margin_ > 0 || margin_bodies_ > 0;
-    plan.batch = !plan.want_contacts && !plan.any_ccd && !plan.margins;
+    plan.batch = !plan.want_contacts && !plan.any_ccd;
     plan.all_tetra = plan.batch;
     for (size_t m = 0; m < meshes_.size() && plan.all_tetra; ++m)
         plan.all_tetra = !mesh_alive_[m] || meshes_[m].tetra;
@@ -394,7 +396,8 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
         plan.batch_pairs.reset(new TetraPair[size_t(threads) * kNarrowChunk]);
         plan.batch_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
     }
-    for (size_t m = 0; m < meshes_.size() && plan.batch && !plan.convex_batch; ++m)
+    // (The convex batch decides touching only: not with margins.)
+    for (size_t m = 0; m < meshes_.size() && plan.batch && !plan.margins && !plan.convex_batch; ++m)
         plan.convex_batch = mesh_alive_[m] && meshes_[m].sat;
     if (plan.convex_batch) {
         plan.convex_pairs.reset(new ConvexPair[size_t(threads) * kNarrowChunk]);
@@ -477,7 +480,10 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
     } else {
         tetras = narrow_pairs(plan, list, chunk, t);
     }
-    if (tetras) collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
+    if (tetras) {
+        collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
+        if (plan.margins) within_margins(tetras, t);
+    }
     // The batch's hits listed first without a branch (a branch per pair on
     // its verdict mispredicted often: hits are 28% of the pairs).
     size_t hit_count = 0;
@@ -511,6 +517,20 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
         const ConvexPair &p = t.convex[k];
         t.hits.push_back(pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]));
         t.containment += v == Contact::Containment;
+    }
+}
+
+// The batch's pairs whose solids do not touch, with a margin d > 0: Near
+// when within d (tet::tetra_within_apart).
+void World::within_margins(size_t tetras, NarrowThread &t) const {
+    const Placement *place = place_.data();
+    const bool uniform = margin_bodies_ == 0;  // (then every pair's margin is the world's)
+    for (size_t k = 0; k < tetras; ++k) {
+        if (t.verdict[k] != Contact::None) continue;
+        const TetraPair &p = t.tetra[k];
+        const double d =
+            uniform ? world_margin_ : pair_margin(world_margin_, margin_[p.a - place], margin_[p.b - place]);
+        if (d > 0) t.verdict[k] = tet::tetra_within_apart(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), d, t.scratch);
     }
 }
 

@@ -230,6 +230,7 @@ class World {
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts,
                       std::vector<NodeWitness> &fresh);
     void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;
+    void within_margins(size_t tetras, NarrowThread &t) const;
     size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                         NarrowThread &t) const;
     static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, double d,

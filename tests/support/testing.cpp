@@ -18,6 +18,7 @@
 #include "world/mesh_pool.hpp"
 #include "world/threads.hpp"
 #include "narrow/narrow.hpp"
+#include "narrow/within.hpp"
 #include "common/ieee.hpp"
 #include "common/transform.hpp"
 
@@ -278,6 +279,49 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
     counts[4] = hits;
     counts[5] = contained;
     return differ;
+}
+
+int64_t hgcdi_tetra_within_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
+                                 const double *poses, const double *d, uint32_t pair_count, int *verdict,
+                                 int *batch, int *general) {
+    uint32_t faces[12];
+    hgcd_scene_tetra_unit_mesh(nullptr, faces);
+    std::vector<hgcd::Mesh> mesh(mesh_count);
+    for (uint32_t m = 0; m < mesh_count; ++m) {
+        std::string error;
+        if (!hgcd::build_mesh(meshes + 12 * size_t(m), 4, faces, 4, &mesh[m], &error) || !mesh[m].tetra) return -1;
+    }
+    std::vector<hgcd::MeshPool::Block> record(3 * size_t(mesh_count));
+    for (uint32_t m = 0; m < mesh_count; ++m) hgcd::write_record(mesh[m], record[3 * size_t(m)].d);
+    std::vector<hgcd::Placement> place(2 * size_t(pair_count));
+    std::vector<hgcd::TetraPair> pairs(pair_count);
+    for (uint32_t k = 0; k < pair_count; ++k) {
+        for (int side = 0; side < 2; ++side) {
+            hgcd::Placement &pl = place[2 * size_t(k) + side];
+            const double *pose = poses + 16 * size_t(k) + 8 * side;
+            std::memcpy(pl.position, pose, 3 * sizeof(double));
+            std::memcpy(pl.orientation, pose + 3, 4 * sizeof(double));
+            pl.scale = pose[7];
+        }
+        const uint32_t ma = pair_mesh[2 * size_t(k)], mb = pair_mesh[2 * size_t(k) + 1];
+        pairs[k] = hgcd::TetraPair{&mesh[ma], &mesh[mb], &place[2 * size_t(k)], &place[2 * size_t(k) + 1],
+                                   record[3 * size_t(ma)].d, record[3 * size_t(mb)].d};
+    }
+    hgcd::NarrowScratch fast, slow, batched;
+    std::vector<hgcd::Contact> touching(pair_count);
+    hgcd::collide_tetra_batch(pairs.data(), pair_count, touching.data(), batched);
+    for (uint32_t k = 0; k < pair_count; ++k) {
+        const hgcd::BodyPose a = hgcd::pose_of(pairs[k].mesh_a, *pairs[k].a);
+        const hgcd::BodyPose b = hgcd::pose_of(pairs[k].mesh_b, *pairs[k].b);
+        batch[k] = touching[k] != hgcd::Contact::None ||
+                   hgcd::tet::tetra_within_apart(a, b, d[k], batched) != hgcd::Contact::None;
+        verdict[k] = hgcd::tet::collide_tetra_within(a, b, d[k], fast) != hgcd::Contact::None;
+        // The general path: collide() with a witness request skips the tetrahedron path.
+        hgcd::Witness witness;
+        general[k] = hgcd::collide(a, b, slow, &witness) != hgcd::Contact::None ||
+                     hgcd::collide_within_direct(a, b, d[k], slow, nullptr) != hgcd::Contact::None;
+    }
+    return int64_t(fast.margin_fallbacks);
 }
 
 void hgcdi_thread_governor(int full, uint32_t count, const double *rate, const double *lost, int *used) {

@@ -76,6 +76,19 @@ int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, con
 int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
                                 const double *poses, uint32_t pair_count, uint64_t *counts);
 
+/* The contact margin's test of two tetrahedra (src/narrow/within.cpp,
+ * tet::collide_tetra_within, the batch's and the one-pair path's) on
+ * pair_count pairs (meshes, pair_mesh and poses as in
+ * hgcdi_tetra_batch_check), pair k with margin d[k] > 0: verdict[k] = 1 when
+ * the pair is reported by the one-pair test, batch[k] by the batch's
+ * (collide_tetra_batch, then tet::tetra_within_apart for the pairs apart),
+ * and general[k] through the general exact margin path (the touching test,
+ * then the direct path's triangle pairs within d). Returns how many pairs the certificates left to the direct
+ * path, or -1 when a mesh is refused or not a tetrahedron. */
+int64_t hgcdi_tetra_within_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
+                                 const double *poses, const double *d, uint32_t pair_count, int *verdict,
+                                 int *batch, int *general);
+
 /* The adaptive thread policy's decisions (src/world/threads.hpp) on a
  * simulated machine, for a world set to `full` threads: detect k (k <
  * count) run on t threads takes rate[k * (full + 1) + t] seconds per unit of

@@ -23,7 +23,11 @@
  *   detect_ms (median total_seconds; the first mode of a tick also pays the
  *   grid update after the move), pairs (last tick), libccd_tests,
  *   pairs_differ (pairs of the last tick not in the exact answer, plus exact
- *   pairs missing), libccd (hgcd_feature_libccd()).
+ *   pairs missing), libccd (hgcd_feature_libccd()), narrow_cpu_ms (median of
+ *   the process's CPU time during the detect times the narrow phase's share
+ *   of the detect's wall time: on a machine busy with other work, where wall
+ *   times are inflated by waiting, the figure to compare on 1 thread) and
+ *   cpu_ns_per_candidate.
  * and a table on stderr. Exit status 0, 1 on an API failure, 2 on usage. */
 #define _POSIX_C_SOURCE 200809L
 #include <hgcd/hgcd.h>
@@ -35,12 +39,19 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static int failed(hgcd_status s, const hgcd_world *w, const char *what) {
     if (s == HGCD_OK) return 0;
     fprintf(stderr, "bench_narrow: %s failed: %s (%s)\n", what, hgcd_status_string(s),
             w ? hgcd_world_last_error(w) : "");
     return 1;
+}
+
+static double cpu_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 static int cmp_double(const void *a, const void *b) {
@@ -140,9 +151,10 @@ int main(int argc, char **argv) {
     double *quats = malloc(4 * n * sizeof(double)), *vels = malloc(3 * n * sizeof(double));
     double *narrow_ms = malloc((size_t)ticks * MODE_COUNT * sizeof(double));
     double *detect_ms = malloc((size_t)ticks * MODE_COUNT * sizeof(double));
+    double *narrow_cpu_ms = malloc((size_t)ticks * MODE_COUNT * sizeof(double));
     hgcd_pair *exact_pairs = NULL;
     size_t exact_count = 0;
-    if (!centers || !scales || !quats || !vels || !narrow_ms || !detect_ms) {
+    if (!centers || !scales || !quats || !vels || !narrow_ms || !detect_ms || !narrow_cpu_ms) {
         fprintf(stderr, "bench_narrow: out of memory\n");
         return 1;
     }
@@ -199,15 +211,19 @@ int main(int argc, char **argv) {
         for (int m = 0; m < MODE_COUNT; ++m) {
             if (!use[m]) continue;
             if (failed(hgcd_world_set_narrow_phase(w, all_modes[m].narrow), w, "set_narrow_phase") ||
-                failed(hgcd_world_set_contacts(w, all_modes[m].contacts), w, "set_contacts") ||
-                failed(hgcd_world_detect(w), w, "world_detect"))
+                failed(hgcd_world_set_contacts(w, all_modes[m].contacts), w, "set_contacts"))
                 return 1;
+            const double cpu0 = cpu_seconds();
+            if (failed(hgcd_world_detect(w), w, "world_detect")) return 1;
+            const double cpu = cpu_seconds() - cpu0;
             hgcd_stats *st = &last[m];
             memset(st, 0, sizeof *st);
             st->struct_size = sizeof *st;
             hgcd_world_stats(w, st);
             narrow_ms[t * MODE_COUNT + m] = 1e3 * st->narrow_seconds;
             detect_ms[t * MODE_COUNT + m] = 1e3 * st->total_seconds;
+            narrow_cpu_ms[t * MODE_COUNT + m] =
+                st->total_seconds > 0 ? 1e3 * cpu * st->narrow_seconds / st->total_seconds : 0;
             const hgcd_pair *p;
             size_t count;
             hgcd_world_pairs(w, &p, &count);
@@ -229,30 +245,32 @@ int main(int argc, char **argv) {
             (unsigned long long)n, (unsigned long long)seed, sphere ? "icosphere" : box ? "box" : "tetrahedron",
             md.triangle_count, last[0].thread_count ? last[0].thread_count : threads, ticks,
             hgcd_feature_libccd() == 2 ? "double" : hgcd_feature_libccd() == 1 ? "single" : "none", commit);
-    fprintf(stderr, "%-8s %10s %10s %9s %10s %9s %12s %12s\n", "mode", "narrow_ms", "detect_ms", "pairs", "candidates",
-            "ns/cand", "libccd_tests", "pairs_differ");
+    fprintf(stderr, "%-8s %10s %10s %9s %10s %9s %12s %12s %12s\n", "mode", "narrow_ms", "detect_ms", "pairs", "candidates",
+            "ns/cand", "libccd_tests", "pairs_differ", "cpu_ns/cand");
     for (int m = 0; m < MODE_COUNT; ++m) {
         if (!use[m]) continue;
-        double nm[4096], dm[4096];
+        double nm[4096], dm[4096], cm[4096];
         const int k = ticks < 4096 ? ticks : 4096;
         for (int t = 0; t < k; ++t) {
             nm[t] = narrow_ms[t * MODE_COUNT + m];
             dm[t] = detect_ms[t * MODE_COUNT + m];
+            cm[t] = narrow_cpu_ms[t * MODE_COUNT + m];
         }
-        const double nmed = median(nm, k), dmed = median(dm, k);
-        const double per = 1e6 * nmed / (double)(last[m].candidate_pairs ? last[m].candidate_pairs : 1);
-        fprintf(stderr, "%-8s %10.2f %10.2f %9llu %10llu %9.1f %12llu %12zu\n", all_modes[m].name, nmed, dmed,
+        const double nmed = median(nm, k), dmed = median(dm, k), cmed = median(cm, k);
+        const double cand = (double)(last[m].candidate_pairs ? last[m].candidate_pairs : 1);
+        const double per = 1e6 * nmed / cand, cpu_per = 1e6 * cmed / cand;
+        fprintf(stderr, "%-8s %10.2f %10.2f %9llu %10llu %9.1f %12llu %12zu %12.1f\n", all_modes[m].name, nmed, dmed,
                 (unsigned long long)last[m].colliding_pairs, (unsigned long long)last[m].candidate_pairs, per,
-                (unsigned long long)last[m].libccd_tests, last_differ[m]);
+                (unsigned long long)last[m].libccd_tests, last_differ[m], cpu_per);
         printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
                "\"commit\":\"%s\",\"mesh_triangles\":%u,\"narrow\":\"%s\",\"contacts\":%u,\"narrow_ms\":%.3f,\"detect_ms\":%.3f,"
                "\"pairs\":%llu,\"candidate_pairs\":%llu,\"ns_per_candidate\":%.1f,\"mesh\":\"%s\",\"libccd_tests\":%llu,"
-               "\"pairs_differ\":%zu,\"libccd\":%d}\n",
+               "\"pairs_differ\":%zu,\"libccd\":%d,\"narrow_cpu_ms\":%.3f,\"cpu_ns_per_candidate\":%.1f}\n",
                (unsigned long long)n, (unsigned long long)seed, last[m].thread_count, ticks, commit,
                md.triangle_count, all_modes[m].narrow == HGCD_NARROW_EXACT ? "exact" : all_modes[m].narrow == HGCD_NARROW_GJK ? "gjk" : "mpr",
                all_modes[m].contacts, nmed, dmed, (unsigned long long)last[m].colliding_pairs,
                (unsigned long long)last[m].candidate_pairs, per, sphere ? "icosphere" : box ? "box" : "tetrahedron",
-               (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd());
+               (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd(), cmed, cpu_per);
     }
     hgcd_world_destroy(w);
     free(ids);
@@ -265,5 +283,6 @@ int main(int argc, char **argv) {
     free(vels);
     free(narrow_ms);
     free(detect_ms);
+    free(narrow_cpu_ms);
     return 0;
 }

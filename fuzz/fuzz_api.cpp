@@ -359,14 +359,14 @@ void check_pairs(Model &m) {
     std::vector<double> mg(n + 1, 0.0);
     bool margins = m.desc.contact_margin > 0;
     for (size_t k = 0; k < n; ++k) margins |= (mg[k] = m.bodies[order[k].second].margin) > 0;
+    // One oracle call, into room for every pair (the margin oracle's GMP
+    // distances are the dearest part of an input).
+    std::vector<uint32_t> e(n * (n > 0 ? n - 1 : 0) + 2);
+    const size_t room = e.size() / 2;
     const size_t ne = margins ? oracle_pairs_within(n, bm.data(), p.data(), q.data(), s.data(), m.desc.contact_margin,
-                                                    mg.data(), nullptr, 0)
-                              : oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), nullptr, 0);
-    std::vector<uint32_t> e(2 * ne + 2);
-    if (margins)
-        oracle_pairs_within(n, bm.data(), p.data(), q.data(), s.data(), m.desc.contact_margin, mg.data(), e.data(), ne);
-    else
-        oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), e.data(), ne);
+                                                    mg.data(), e.data(), room)
+                              : oracle_colliding_pairs(n, bm.data(), p.data(), q.data(), s.data(), e.data(), room);
+    EXPECT(ne <= room, "oracle pairs %zu past %zu", ne, room);
     std::set<std::pair<uint32_t, uint32_t>> want, have;
     for (size_t k = 0; k < ne; ++k)
         if (considered(m, m.bodies[order[e[2 * k]].second], m.bodies[order[e[2 * k + 1]].second]))
@@ -441,6 +441,11 @@ void check_state(Model &m) {
         EXPECT(hgcd_body_get_mesh(m.w, b.id, &mid) == HGCD_OK && mid.index == m.meshes[b.mesh].id.index &&
                    mid.generation == m.meshes[b.mesh].id.generation,
                "body mesh");
+    }
+    {
+        double wm;
+        EXPECT(hgcd_world_get_contact_margin(m.w, &wm) == HGCD_OK && !std::memcmp(&wm, &m.desc.contact_margin, sizeof wm),
+               "world margin");
     }
     {  // the same poses in one batch read, listed in reverse order
         std::vector<hgcd_body> ids;
@@ -741,8 +746,15 @@ void op_filtering(Input &in, Model &m) {
     const uint8_t what = in.u8();
     hgcd_status s, expect = k < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK;
     switch (what % 6) {
-        case 5: {  // a contact margin
-            const double mg = pick_margin(in.u8());
+        case 5: {  // a contact margin: the body's, or (one in eight) the world's
+            const uint8_t pick = in.u8();
+            const double mg = pick_margin(pick);
+            if (pick >= 0xE0) {
+                expect = margin_ok(mg) ? HGCD_OK : HGCD_ERROR_INVALID_ARGUMENT;
+                s = hgcd_world_set_contact_margin(m.w, mg);
+                if (s == HGCD_OK) m.desc.contact_margin = mg;
+                break;
+            }
             if (expect == HGCD_OK && !margin_ok(mg)) expect = HGCD_ERROR_INVALID_ARGUMENT;
             s = hgcd_body_set_margin(m.w, id, mg);
             if (s == HGCD_OK) m.bodies[k].margin = mg;

@@ -66,6 +66,9 @@ runs=(
     "bvh_ray test_degenerate_first_ray"
     "convex test_hand_built"
     "convex test_kernel_decides"
+    "margin test_scene_cases"
+    "margin test_margin_refusals"
+    "margin_tetra test_tetra_gaps"
 )
 run_one() {
     local prog=$1 filter=$2

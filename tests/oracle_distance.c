@@ -224,10 +224,20 @@ double oracle_pair_margin(double world_margin, double margin_a, double margin_b)
 }
 
 /* The triangles' boxes are more than d apart on an axis (then so are the
- * triangles): the gap as an exact rational. */
+ * triangles): the gap as an exact rational, after a check in doubles that
+ * can only say "apart" (rounding is monotone and d is a double, so a
+ * rounded gap above d is an exact gap above d). */
 static int tri_boxes_apart(const double *P, const double *Q, double d) {
     int k, i, apart = 0;
     mpq_t gap, x, dq;
+    for (k = 0; k < 3; k++) {
+        double plo = P[k], phi = P[k], qlo = Q[k], qhi = Q[k];
+        for (i = 1; i < 3; i++) {
+            plo = fmin(plo, P[3 * i + k]), phi = fmax(phi, P[3 * i + k]);
+            qlo = fmin(qlo, Q[3 * i + k]), qhi = fmax(qhi, Q[3 * i + k]);
+        }
+        if (qlo - phi > d || plo - qhi > d) return 1;
+    }
     mpq_init(gap);
     mpq_init(x);
     mpq_init(dq);
@@ -251,6 +261,48 @@ static int tri_boxes_apart(const double *P, const double *Q, double d) {
     mpq_clear(x);
     mpq_clear(dq);
     return apart;
+}
+
+/* A cheap pre-check that can only say "apart": along the axis n, all of
+ * the points b lie more than d beyond all of the points a (or the other way
+ * round). The projections are computed in doubles and trusted only with a
+ * slack of 2^-40 of their products' magnitudes (a thousand times their
+ * rounding error), |n| taken 2^-40 larger, so the GMP distance decides
+ * every pair near d. */
+static int axis_gap_apart(const double *n, const double *a, size_t na, const double *b, size_t nb, double d) {
+    const double an = fabs(n[0]) + fabs(n[1]) + fabs(n[2]);
+    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * (1 + 0x1p-40) + 0x1p-40 * an;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, need;
+    size_t i;
+    int side;
+    if (!(an > 0x1p-400) || !(an < 0x1p400)) return 0;
+    for (side = 0; side < 2; side++)
+        for (i = 0; i < (side ? nb : na); i++) {
+            const double *x = (side ? b : a) + 3 * i;
+            const double w[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
+            const double h = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+            const double e = 0x1p-40 * (fabs(n[0] * w[0]) + fabs(n[1] * w[1]) + fabs(n[2] * w[2])) + 0x1p-800;
+            if (h - e < lo[side]) lo[side] = h - e;
+            if (h + e > hi[side]) hi[side] = h + e;
+        }
+    need = d * len * (1 + 0x1p-40) + 0x1p-800;
+    return (lo[1] - hi[0]) * (1 - 0x1p-40) > need || (lo[0] - hi[1]) * (1 - 0x1p-40) > need;
+}
+
+/* The normal of triangle P as an axis between P and Q. */
+static int tri_plane_apart(const double *P, const double *Q, double d) {
+    const double u[3] = {P[3] - P[0], P[4] - P[1], P[5] - P[2]}, v[3] = {P[6] - P[0], P[7] - P[1], P[8] - P[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return axis_gap_apart(n, P, 3, Q, 3, d);
+}
+
+/* The line between the two bodies' box centres as an axis. */
+static int bodies_apart(const double *wa, size_t na, const double *box_a, const double *wb, size_t nb,
+                        const double *box_b, double d) {
+    double n[3];
+    int k;
+    for (k = 0; k < 3; k++) n[k] = 0.5 * (box_b[k] + box_b[3 + k]) - 0.5 * (box_a[k] + box_a[3 + k]);
+    return axis_gap_apart(n, wa, na, wb, nb, d);
 }
 
 static int cmp_pair(const void *x, const void *y) {
@@ -296,7 +348,11 @@ size_t oracle_pairs_within(size_t body_count, const oracle_mesh *const *body_mes
             int hit = 0, k;
             uint32_t s, t;
             mpq_t gap, dq;
-            /* Boxes farther apart than d on an axis (exact rationals). */
+            /* Boxes farther apart than d on an axis (in doubles where that
+             * says apart, as in tri_boxes_apart, else exact rationals). */
+            for (k = 0; k < 3; k++)
+                if (box[6 * j + k] - box[6 * i + 3 + k] > d || box[6 * i + k] - box[6 * j + 3 + k] > d) break;
+            if (k < 3) continue;
             mpq_init(gap);
             mpq_init(dq);
             mpq_set_d(dq, d);
@@ -316,6 +372,7 @@ size_t oracle_pairs_within(size_t body_count, const oracle_mesh *const *body_mes
             mpq_clear(gap);
             mpq_clear(dq);
             if (hit < 0) continue;
+            if (bodies_apart(wv[i], ma->vertex_count, box + 6 * i, wv[j], mb->vertex_count, box + 6 * j, d)) continue;
             for (s = 0; s < ma->triangle_count && !hit; s++)
                 for (t = 0; t < mb->triangle_count && !hit; t++) {
                     double P[9], Q[9];
@@ -323,7 +380,8 @@ size_t oracle_pairs_within(size_t body_count, const oracle_mesh *const *body_mes
                         P[k] = wv[i][3 * (size_t)ma->tris[3 * s + k / 3] + k % 3];
                         Q[k] = wv[j][3 * (size_t)mb->tris[3 * t + k / 3] + k % 3];
                     }
-                    if (!tri_boxes_apart(P, Q, d)) hit = oracle_tri_tri_within(P, Q, d);
+                    if (!tri_boxes_apart(P, Q, d) && !tri_plane_apart(P, Q, d) && !tri_plane_apart(Q, P, d))
+                        hit = oracle_tri_tri_within(P, Q, d);
                 }
             if (!hit) {
                 /* Apart surfaces: within d only if one solid holds the other

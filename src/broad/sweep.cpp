@@ -349,6 +349,7 @@ HGCD_SWEEP_INLINE size_t seek(const T *v, size_t b, size_t e, size_t h, const T 
 // the block that passes its high x.
 // scan_row(j, e): the entries from j up to the box's high x, of the row
 // ending at e.
+constexpr size_t kNearEntries = 16;  // a query's start this close to the hint is stepped to
 template <class Lanes, class ScanRow>
 HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, const RowRange &rr, size_t &row_hint,
                                   uint32_t *entry_hint, ScanRow &&scan_row) {
@@ -363,11 +364,16 @@ HGCD_SWEEP_INLINE void query_rows(const RowsView &R, const float *q, const RowRa
             continue;
         }
         // (Forward from the hint a block at a time, as the sweeps' cursors
-        // move; back by seek when the last query here started further on.)
+        // move, when the start is near; else by seek, back or far ahead:
+        // sparse queries, such as the re-searches of a few moved bodies,
+        // land far from the last one in the row, and stepping there block
+        // by block read the row's whole stretch.)
         const size_t b = R.start[k], e = R.start[k + 1];
         const size_t h = std::min<size_t>(std::max<size_t>(entry_hint[k], b), e);
-        const size_t j = h > b && !(R.box.reach[h - 1] < q[0]) ? seek(R.box.reach, b, e, h, q[0])
-                                                               : floor_entry<Lanes>(R.box.reach, h, e, q[0]);
+        const size_t near = std::min<size_t>(h + kNearEntries, e);
+        const size_t j = (h > b && !(R.box.reach[h - 1] < q[0])) || (near < e && R.box.reach[near] < q[0])
+                             ? seek(R.box.reach, b, e, h, q[0])
+                             : floor_entry<Lanes>(R.box.reach, h, e, q[0]);
         entry_hint[k] = uint32_t(j);
         if (j < e && R.box.low_x[j] <= q[1]) scan_row(j, e);
         ++k;
@@ -382,6 +388,38 @@ __attribute__((target("avx2"), noinline)) void query_rows_avx2(const RowsView &R
     const Lanes8 lanes(box, 0);
     query_rows<Lanes8>(R, q, rr, row_hint, entry_hint,
                        [&](size_t j, size_t e) { scan(lanes, R.box, j, e, q[1], self, out); });
+}
+#endif
+
+// The entries [j, e) of a list that meet the box of `lanes`, appended to
+// out with their boxes, a block at a time up to the block holding the first
+// whose low x passes `right` (needs j < e; the padding past e is read and
+// masked). Hits are few a block: a branch each.
+template <class Lanes>
+HGCD_SWEEP_INLINE void scan_boxes(const Lanes &lanes, const Grid::BoxArrays &B, size_t j, size_t e, float right,
+                                  std::vector<Grid::QueryBox> &out) {
+    constexpr int kBlock = Lanes::kBlock;
+    for (;; j += kBlock) {
+        unsigned hits = lanes.test(B, j);
+        if (j + kBlock > e) hits &= (1u << (e - j)) - 1;
+        for (; hits; hits &= hits - 1) {
+            const size_t i = j + size_t(__builtin_ctz(hits));
+            out.push_back(Grid::QueryBox{{B.low_x[i], B.low_y[i], B.low_z[i]}, {B.high_x[i], B.high_y[i], B.high_z[i]},
+                                         B.slot[i]});
+        }
+        if (j + kBlock >= e || B.low_x[j + kBlock - 1] > right) return;
+    }
+}
+
+#if HGCD_AVX2
+__attribute__((target("avx2"), noinline)) void query_boxes_avx2(const RowsView &R, const float *q,
+                                                                const RowRange &rr, size_t &row_hint,
+                                                                uint32_t *entry_hint,
+                                                                std::vector<Grid::QueryBox> &out) {
+    const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
+    const Lanes8 lanes(box, 0);
+    query_rows<Lanes8>(R, q, rr, row_hint, entry_hint,
+                       [&](size_t j, size_t e) { scan_boxes(lanes, R.box, j, e, q[1], out); });
 }
 #endif
 
@@ -454,17 +492,18 @@ void Grid::query(const float *lo, const float *hi, uint32_t self, QueryCursors &
 }
 
 void Grid::query_boxes(const float *lo, const float *hi, QueryCursors &cursors, std::vector<QueryBox> &out) const {
-    // (Box by box: the boxes are copied out, a few a query.)
     for_each_query_level(lo, hi, cursors,
                          [&](const RowsView &R, const RowRange &rr, size_t &row, uint32_t *entry, const float *q) {
-                             const BoxArrays &B = R.box;
+#if HGCD_AVX2
+                             if (use_avx2()) {
+                                 query_boxes_avx2(R, q, rr, row, entry, out);
+                                 return;
+                             }
+#endif
+                             const Grid::BoxArrays box{q, q + 1, q + 2, q + 3, q + 4, q + 5, nullptr, nullptr};
+                             const Lanes4 lanes(box, 0);
                              query_rows<Lanes4>(R, q, rr, row, entry, [&](size_t j, size_t e) {
-                                 for (; j < e && B.low_x[j] <= q[1]; ++j) {
-                                     if (q[0] <= B.high_x[j] && B.low_y[j] <= q[3] && q[2] <= B.high_y[j] &&
-                                         B.low_z[j] <= q[5] && q[4] <= B.high_z[j])
-                                         out.push_back(QueryBox{{B.low_x[j], B.low_y[j], B.low_z[j]},
-                                                                {B.high_x[j], B.high_y[j], B.high_z[j]}, B.slot[j]});
-                                 }
+                                 scan_boxes(lanes, R.box, j, e, q[1], out);
                              });
                          });
 }

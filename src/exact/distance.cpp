@@ -297,4 +297,29 @@ bool tri_tri_within(const double *p0, const double *p1, const double *p2, const 
     return tri_tri_intersect(p0, p1, p2, q0, q1, q2);
 }
 
+bool features_within(const double *const *a, int na, const double *const *b, int nb, double d) {
+    if (na > nb) return features_within(b, nb, a, na, d);
+    if (nb == 3 && na >= 2) return tri_tri_within(a[0], a[1], a[na - 1], b[0], b[1], b[2], d);
+    Pair c;
+    for (int i = 0; i < 3; ++i) {
+        c.p[i] = a[i < na ? i : na - 1];
+        c.p[3 + i] = b[i < nb ? i : nb - 1];
+    }
+    c.d = d;
+    if (nb == 1)  // two points
+        return sign(c, [&](auto v) {
+                   const auto w = v.diff(0, 3);
+                   return dot(w, w) - v.margin() * v.margin();
+               }) <= 0;
+    if (na == 1 && nb == 2) return point_segment(c, 0, 3, 4);
+    if (na == 1) {  // a point and a triangle: through its face, else an edge
+        static const int tb[3] = {3, 4, 5};
+        return point_face(c, 0, tb) || point_segment(c, 0, 3, 4) || point_segment(c, 0, 4, 5) ||
+               point_segment(c, 0, 5, 3);
+    }
+    // Two segments: closest points interior to both, else an endpoint.
+    return edge_edge_interior(c, 0, 1, 3, 4) || point_segment(c, 0, 3, 4) || point_segment(c, 1, 3, 4) ||
+           point_segment(c, 3, 0, 1) || point_segment(c, 4, 0, 1);
+}
+
 }  // namespace hgcd

@@ -29,6 +29,14 @@ bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
 bool tri_tri_within(const double *p0, const double *p1, const double *p2, const double *q0,
                     const double *q1, const double *q2, double d);
 
+// True if the hulls of the points a[0, na) and b[0, nb) (1: a point, 2: a
+// segment, 3: a triangle, each as the closed set it is, degenerate or not)
+// are within Euclidean distance d > 0. Exact, with the same signs as
+// tri_tri_within, but for a vertex-vertex, vertex-segment, vertex-triangle or
+// segment-segment pair it evaluates only that pair's tests (the certificate
+// of a closest feature pair found in floating point).
+bool features_within(const double *const *a, int na, const double *const *b, int nb, double d);
+
 // A triangle with its plane filter data and box computed once, for callers
 // that test one triangle against several others (e.g. the 16 face pairs of
 // two tetrahedra). The vertex pointers must stay valid while it is used.

@@ -13,6 +13,7 @@
 #include "narrow/bvh.hpp"
 #include "narrow/convex.hpp"
 #include "narrow/tetra.hpp"
+#include "narrow/within.hpp"
 
 namespace hgcd {
 
@@ -164,17 +165,10 @@ bool separated_by_face(const Mesh &ca, const double *wa, const Mesh &mb, const d
 constexpr uint64_t kFaceTestBudget = 4096;
 
 // Is there an axis c = e_a x e_b (the rounded cross product of rounded edge
-// vectors of two convex meshes' triangles: any vector serves as an axis, so
-// c itself is the axis, exactly) along which every vertex of b lies more
-// than d |c| beyond every vertex of a, or the other way round? Then the
-// bodies (in their vertices' hulls) are more than d apart. Certified in
-// float: each projection c . (x - r) (r a vertex of a) is within 2^-48 of
-// sum |c_k| |x_k - r_k| of its exact value (a rounded difference, three
-// products, two sums: index 4), and |c| <= sqrt(c.c) (1 + 1e-12); the
-// factors 1 + 1e-12 cover the rounding of the bounds themselves. An
-// uncertain axis proves nothing.
+// vectors of two convex meshes' triangles: any vector serves as an axis)
+// with a gap of more than d between the bodies' vertices (axis_apart)? Then
+// the bodies (in their vertices' hulls) are more than d apart.
 bool separated_by_edge_axes(const Mesh &ma, const double *wa, const Mesh &mb, const double *wb, double d) {
-    const double *r = wa;
     for (uint32_t ta = 0; ta < ma.triangle_count; ++ta)
         for (int i = 0; i < 3; ++i) {
             const double *a0 = &wa[3 * size_t(ma.triangles[3 * ta + i])];
@@ -186,25 +180,7 @@ bool separated_by_edge_axes(const Mesh &ma, const double *wa, const Mesh &mb, co
                     const double *b1 = &wb[3 * size_t(mb.triangles[3 * tb + (j + 1) % 3])];
                     const double fx = b1[0] - b0[0], fy = b1[1] - b0[1], fz = b1[2] - b0[2];
                     const double c[3] = {ey * fz - ez * fy, ez * fx - ex * fz, ex * fy - ey * fx};
-                    const double len = std::sqrt((c[0] * c[0] + c[1] * c[1]) + c[2] * c[2]) * (1 + 1e-12);
-                    if (!(len > 0)) continue;
-                    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-                    for (int side = 0; side < 2; ++side) {
-                        const Mesh &m = side ? mb : ma;
-                        const double *w = side ? wb : wa;
-                        for (uint32_t v = 0; v < m.vertex_count; ++v) {
-                            const double *x = &w[3 * size_t(v)];
-                            const double dx = x[0] - r[0], dy = x[1] - r[1], dz = x[2] - r[2];
-                            const double p = (c[0] * dx + c[1] * dy) + c[2] * dz;
-                            const double e =
-                                ((std::fabs(c[0] * dx) + std::fabs(c[1] * dy)) + std::fabs(c[2] * dz)) * 0x1p-48 +
-                                0x1p-700;
-                            lo[side] = std::min(lo[side], p - e);
-                            hi[side] = std::max(hi[side], p + e);
-                        }
-                    }
-                    const double need = d * len * (1 + 1e-12);
-                    if ((lo[1] - hi[0]) * (1 - 1e-12) > need || (lo[0] - hi[1]) * (1 - 1e-12) > need) return true;
+                    if (axis_apart(c, wa, ma.vertex_count, wb, mb.vertex_count, d)) return true;
                 }
         }
     return false;
@@ -252,37 +228,16 @@ __attribute__((noinline)) Contact collide_direct(const BodyPose &a, const BodyPo
     return direct_exact(a, s.world_a.data(), box_a, b, s.world_b.data(), box_b, s, witness, true);
 }
 
-// The convex path (both meshes Mesh::sat): the kernel (convex_decide), then
-// for the pairs it leaves open the world vertices and their exact boxes, the
-// search for an edge through a triangle, and the exact steps of the direct
-// or tree path. A witness request (contacts) takes only the kernel's
-// separations: its certificates name no triangle pair. exact_tests counts
-// the pairs that pass the line of centres.
-__attribute__((noinline)) Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s,
-                                                 Witness *witness) {
-    const ConvexVerdict v = convex_decide(a, b);
-    if (v == ConvexVerdict::ApartOnCentres) return Contact::None;
-    ++s.exact_tests;
-    if (v == ConvexVerdict::Apart) return Contact::None;
-    if (!witness) {
-        if (v == ConvexVerdict::Surface) return Contact::Surface;
-        if (v == ConvexVerdict::AHoldsB || v == ConvexVerdict::BHoldsA) return Contact::Containment;
-    }
-    double box_a[6], box_b[6];
-    world_vertices(a, s.world_a, box_a);
-    world_vertices(b, s.world_b, box_b);
-    if (boxes_disjoint(box_a, box_b)) return Contact::None;
-    const double *wa = s.world_a.data(), *wb = s.world_b.data();
-    if (!witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
-    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
-    return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
+}  // namespace
+
+bool face_apart(const Mesh &ca, const double *wa, const Mesh &mb, const double *wb, double d) {
+    return ca.convex && separated_by_face<true>(ca, wa, mb, wb, d);
 }
 
 // The margin path of small meshes whose solids do not share a point: the
 // direct path's triangle pairs with boxes grown by d and the within-d
 // triangle test, after the face planes of convex meshes.
-__attribute__((noinline)) Contact collide_within_direct(const BodyPose &a, const BodyPose &b, double d,
-                                                        NarrowScratch &s, Witness *witness) {
+Contact collide_within_direct(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &s, Witness *witness) {
     double box_a[6], box_b[6];
     world_vertices(a, s.world_a, box_a);
     world_vertices(b, s.world_b, box_b);
@@ -308,12 +263,40 @@ __attribute__((noinline)) Contact collide_within_direct(const BodyPose &a, const
     return Contact::None;
 }
 
-}  // namespace
+// The convex path (both meshes Mesh::sat): the kernel (convex_decide), then
+// for the pairs it leaves open the world vertices and their exact boxes, the
+// search for an edge through a triangle, and the exact steps of the direct
+// or tree path. A witness request (contacts) takes only the kernel's
+// separations: its certificates name no triangle pair. exact_tests counts
+// the pairs that pass the line of centres.
+Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
+    return collide_convex_after(a, b, s, witness, convex_decide(a, b));
+}
+
+Contact collide_convex_after(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness,
+                             ConvexVerdict v) {
+    if (v == ConvexVerdict::ApartOnCentres) return Contact::None;
+    ++s.exact_tests;
+    if (v == ConvexVerdict::Apart) return Contact::None;
+    if (!witness) {
+        if (v == ConvexVerdict::Surface) return Contact::Surface;
+        if (v == ConvexVerdict::AHoldsB || v == ConvexVerdict::BHoldsA) return Contact::Containment;
+    }
+    double box_a[6], box_b[6];
+    world_vertices(a, s.world_a, box_a);
+    world_vertices(b, s.world_b, box_b);
+    if (boxes_disjoint(box_a, box_b)) return Contact::None;
+    const double *wa = s.world_a.data(), *wb = s.world_b.data();
+    if (!witness && convex_surfaces_cross(a, wa, box_a, b, wb, box_b)) return Contact::Surface;
+    if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
+    return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
+}
 
 Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &s, Witness *witness) {
     // Solids that share a point are within any d: the fast exact paths
     // first (they decide containment too), the search within d only for
     // pairs apart.
+    if (a.mesh->tetra && b.mesh->tetra && !witness) return tet::collide_tetra_within(a, b, d, s);
     const Contact touching = collide(a, b, s, witness);
     if (touching != Contact::None) return touching;
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree<true>(a, b, s, witness, false, d);

@@ -35,20 +35,19 @@ inline BodyPose pose_of(const Mesh *m, const Placement &p) {
     return BodyPose{m, p.position, p.orientation, p.scale};
 }
 
-// A mesh's record for the batched kernels, which read it per body in place
-// of the Mesh (world/mesh_pool.hpp packs the records): record_blocks(m)
-// blocks of 4 doubles, 32-byte aligned. A tetrahedron (Mesh::tetra): its
-// local vertices x0..x3 y0..y3 z0..z3 (tetra_local; 3 blocks). Other meshes
-// have none (0 blocks).
-uint32_t record_blocks(const Mesh &m);
-void write_record(const Mesh &m, double *out);
-
 // A pair of bodies whose meshes are both tetrahedra (Mesh::tetra), with the
-// meshes' records (write_record).
+// meshes' records (world/mesh_pool.hpp: a tetrahedron's is its tetra_local,
+// 32-byte aligned), which the batched kernels read in place of the Mesh.
 struct TetraPair {
     const Mesh *mesh_a, *mesh_b;
     const Placement *a, *b;
     const double *shape_a, *shape_b;
+};
+
+// A pair of bodies whose meshes both have Mesh::sat (small convex meshes).
+struct ConvexPair {
+    const Mesh *mesh_a, *mesh_b;
+    const Placement *a, *b;
 };
 
 // What collide() found, for callers that ask (the contacts of hgcd.h). A path
@@ -100,6 +99,7 @@ struct NarrowScratch {
     std::vector<uint32_t> node_stack;   // ray traversal
     uint64_t triangle_tests = 0;
     uint64_t exact_tests = 0;
+    uint64_t margin_fallbacks = 0;  // tetrahedron pairs the margin's certificates left to the direct path
 };
 
 // Exact: true when the closed solids of a and b share a point (surfaces meet,
@@ -143,6 +143,13 @@ Contact collide_within(const BodyPose &a, const BodyPose &b, double d, NarrowScr
 // other's face planes (certified in float); a lane those leave open goes on
 // with the one-pair test's later steps. Elsewhere one pair at a time.
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
+
+// collide() of every pair of small convex meshes pairs[0, n) into out[0, n),
+// the same verdicts and counts in scratch: the convex path's separating axis
+// along the line of centres four pairs at a time (one per lane, the one-pair
+// test's operations), then the one-pair test for the pairs it leaves
+// (convex_batch.cpp).
+void collide_convex_batch(const ConvexPair *pairs, size_t n, Contact *out, NarrowScratch &scratch);
 
 // The tree path (tree_path.cpp), for pairs where at least one mesh has a
 // BVH. counted: exact_tests counts the pair once its root boxes overlap

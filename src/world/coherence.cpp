@@ -12,28 +12,39 @@
 
 namespace hgcd {
 
-World::MovedCount World::count_moved(int threads) const {
-    const size_t n = stored_gen_.size(), known = mover_.size();
-    std::vector<MovedCount> of(static_cast<size_t>(threads));
-    parallel_for(threads, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
-        MovedCount mine = of[size_t(me)];
-        for (int64_t i = b; i < e; ++i) {
-            if (!stored_gen_[size_t(i)] || !moved_at_[size_t(i)]) continue;
-            ++mine.moved;
-            mine.new_movers += size_t(i) >= known || !(mover_[size_t(i)] & kMover);
+// In equal ranges of storage, one a worker, without a branch a body (a
+// share of them moved, in no pattern).
+World::MovedCount World::count_moved(int threads) {
+    const size_t n = stored_gen_.size(), known = mover_.size(), parts = size_t(threads);
+    std::vector<MovedCount> of(parts);
+    parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
+        for (size_t p = size_t(p0); p < size_t(p1); ++p) {
+            const size_t b = n * p / parts, e = n * (p + 1) / parts, mid = std::min(std::max(known, b), e);
+            size_t moved = 0, fresh = 0;
+            for (size_t i = b; i < mid; ++i) {
+                const size_t m = size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
+                moved += m;
+                fresh += m & size_t(!(mover_[i] & kMover));
+            }
+            for (size_t i = mid; i < e; ++i) {
+                const size_t m = size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
+                moved += m;
+                fresh += m;
+            }
+            of[p] = MovedCount{moved, fresh};
         }
-        of[size_t(me)] = mine;
     });
+    moved_parts_.resize(parts);
     MovedCount all;
-    for (const MovedCount &c : of) {
-        all.moved += c.moved;
-        all.new_movers += c.new_movers;
+    for (size_t p = 0; p < parts; ++p) {
+        moved_parts_[p] = of[p].moved;
+        all.moved += of[p].moved;
+        all.new_movers += of[p].new_movers;
     }
     return all;
 }
 
 void World::clear_moved() {
-    std::fill(moved_.begin(), moved_.end(), uint8_t(0));
     std::fill(moved_at_.begin(), moved_at_.end(), uint8_t(0));
 }
 
@@ -53,7 +64,7 @@ void World::reuse_pairs() {
 uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) {
     // Where each slot's pairs start in the last pairs (sorted by (a, b)):
     // a pair (a, b) is looked up among a's few.
-    const size_t slots = moved_.size();
+    const size_t slots = live_gen_.size();
     prev_start_.assign(slots + 1, 0);
     for (const hgcd_pair &p : prev_pairs_) ++prev_start_[p.a.index + 1];
     for (size_t s = 0; s < slots; ++s) prev_start_[s + 1] += prev_start_[s];

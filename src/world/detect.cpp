@@ -14,6 +14,7 @@
 #include "narrow/ccd_narrow.hpp"
 #include "narrow/contact.hpp"
 #include "narrow/narrow.hpp"
+#include "narrow/within.hpp"
 #include "world/world.hpp"
 
 namespace hgcd {
@@ -114,6 +115,11 @@ struct World::NarrowPlan {
     bool margins = false;
     std::unique_ptr<TetraPair[]> batch_pairs;
     std::unique_ptr<Contact[]> batch_verdicts;
+    // Likewise pairs of small convex meshes (Mesh::sat), when some live mesh
+    // has it.
+    bool convex_batch = false;
+    std::unique_ptr<ConvexPair[]> convex_pairs;
+    std::unique_ptr<Contact[]> convex_verdicts;
 };
 
 // One worker's narrow phase, on the heap apart from the others': the
@@ -130,6 +136,9 @@ struct World::NarrowThread {
     uint64_t containment = 0, ccd_fallback = 0;
     TetraPair *tetra = nullptr;  // this thread's batch (plan.batch)
     Contact *verdict = nullptr;
+    ConvexPair *convex = nullptr;  // and its convex batch (plan.convex_batch)
+    Contact *convex_verdict = nullptr;
+    size_t convex_count = 0;
     uint32_t hit_index[kNarrowChunk];
 };
 
@@ -376,15 +385,20 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
                                    (meshes_[m].convex ? kCcdUse : 0));
         plan.any_ccd = true;
     }
-    // (Pairs with a margin take the exact margin path one at a time.)
+    // (With a margin, the batch decides which tetrahedron pairs touch, and
+    // those apart go on to the margin test one at a time: narrow_chunk.)
     plan.margins = world_margin_ > 0 || margin_bodies_ > 0;
-    plan.batch = !plan.want_contacts && !plan.any_ccd && !plan.margins;
-    plan.all_tetra = plan.batch;
-    for (size_t m = 0; m < meshes_.size() && plan.all_tetra; ++m)
-        plan.all_tetra = !mesh_alive_[m] || meshes_[m].tetra;
+    plan.batch = !plan.want_contacts && !plan.any_ccd;
+    plan.all_tetra = plan.batch && tetra_meshes_ == live_meshes_;
     if (plan.batch) {
         plan.batch_pairs.reset(new TetraPair[size_t(threads) * kNarrowChunk]);
         plan.batch_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
+    }
+    // (The convex batch decides touching only: not with margins.)
+    plan.convex_batch = plan.batch && !plan.margins && sat_meshes_ > 0;
+    if (plan.convex_batch) {
+        plan.convex_pairs.reset(new ConvexPair[size_t(threads) * kNarrowChunk]);
+        plan.convex_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
     }
 }
 
@@ -409,6 +423,10 @@ void World::narrow_phase(int threads, const NarrowPlan &plan,
             if (plan.batch) {
                 t->tetra = plan.batch_pairs.get() + size_t(me) * kNarrowChunk;
                 t->verdict = plan.batch_verdicts.get() + size_t(me) * kNarrowChunk;
+            }
+            if (plan.convex_batch) {
+                t->convex = plan.convex_pairs.get() + size_t(me) * kNarrowChunk;
+                t->convex_verdict = plan.convex_verdicts.get() + size_t(me) * kNarrowChunk;
             }
         }
         for (int64_t c = c0; c < c1; ++c) narrow_chunk(plan, plan.chunks[size_t(c)], *t);
@@ -450,16 +468,19 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
         const Placement *place = place_.data();
         const uint32_t *body_mesh = body_mesh_.data();
         const MeshPool::Block *records = pool_.blocks();
-        const uint32_t *record = body_record_.data();
+        const BodyRecord *record = body_record_.data();
         for (size_t k = chunk.begin; k < chunk.end; ++k, ++tetras) {
             const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
             t.tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b,
-                                        records[record[a]].d, records[record[b]].d};
+                                        records[record[a].block].d, records[record[b].block].d};
         }
     } else {
         tetras = narrow_pairs(plan, list, chunk, t);
     }
-    if (tetras) collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
+    if (tetras) {
+        collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
+        if (plan.margins) within_margins(tetras, t);
+    }
     // The batch's hits listed first without a branch (a branch per pair on
     // its verdict mispredicted often: hits are 28% of the pairs).
     size_t hit_count = 0;
@@ -482,6 +503,31 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
             const TetraPair &p = t.tetra[t.hit_index[h]];
             to[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
         }
+    }
+    if (!t.convex_count) return;
+    const size_t n = t.convex_count;
+    t.convex_count = 0;
+    collide_convex_batch(t.convex, n, t.convex_verdict, t.scratch);
+    for (size_t k = 0; k < n; ++k) {
+        const Contact v = t.convex_verdict[k];
+        if (v == Contact::None) continue;
+        const ConvexPair &p = t.convex[k];
+        t.hits.push_back(pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]));
+        t.containment += v == Contact::Containment;
+    }
+}
+
+// The batch's pairs whose solids do not touch, with a margin d > 0: Near
+// when within d (tet::tetra_within_apart).
+void World::within_margins(size_t tetras, NarrowThread &t) const {
+    const Placement *place = place_.data();
+    const bool uniform = margin_bodies_ == 0;  // (then every pair's margin is the world's)
+    for (size_t k = 0; k < tetras; ++k) {
+        if (t.verdict[k] != Contact::None) continue;
+        const TetraPair &p = t.tetra[k];
+        const double d =
+            uniform ? world_margin_ : pair_margin(world_margin_, margin_[p.a - place], margin_[p.b - place]);
+        if (d > 0) t.verdict[k] = tet::tetra_within_apart(pose_of(p.mesh_a, *p.a), pose_of(p.mesh_b, *p.b), d, t.scratch);
     }
 }
 
@@ -516,8 +562,12 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
         const Placement &la = place_[a], &lb = place_[b];
         const Mesh *mesh_a = &meshes_[body_mesh_[a]], *mesh_b = &meshes_[body_mesh_[b]];
         if (batch && mesh_a->tetra && mesh_b->tetra) {
-            t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb, pool_.blocks()[body_record_[a]].d,
-                                          pool_.blocks()[body_record_[b]].d};
+            t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb, pool_.blocks()[body_record_[a].block].d,
+                                          pool_.blocks()[body_record_[b].block].d};
+            continue;
+        }
+        if (plan.convex_batch && mesh_a->sat && mesh_b->sat) {
+            t.convex[t.convex_count++] = ConvexPair{mesh_a, mesh_b, &la, &lb};
             continue;
         }
         const BodyPose pa = pose_of(mesh_a, la), pb = pose_of(mesh_b, lb);

@@ -51,24 +51,27 @@ void World::drop_movers() noexcept {
 // moved since the last detect, ascending: storage follows the grid's sweep
 // order, so consecutive queries meet nearby rows and entries.
 void World::list_moved(int threads, size_t count) {
+    // Ranges of storage in order, one a worker, as count_moved counted them
+    // (again if storage was renumbered since), each written into its place.
+    const size_t parts = size_t(threads);
+    if (moved_parts_.size() != parts) count_moved(threads);
     moved_list_.resize(count);
     const size_t n = stored_gen_.size();
-    // Ranges of storage in order, one a worker: counted, then written.
-    const size_t parts = size_t(threads);
     std::vector<size_t> first(parts + 1, 0);
+    for (size_t p = 0; p < parts; ++p) first[p + 1] = first[p] + moved_parts_[p];
+    moved_parts_.clear();
     parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
         for (size_t p = size_t(p0); p < size_t(p1); ++p) {
-            size_t mine = 0;
-            for (size_t i = n * p / parts; i < n * (p + 1) / parts; ++i) mine += stored_gen_[i] && moved_at_[i];
-            first[p + 1] = mine;
-        }
-    });
-    for (size_t p = 0; p < parts; ++p) first[p + 1] += first[p];
-    parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
-        for (size_t p = size_t(p0); p < size_t(p1); ++p) {
+            // Every index written, the next one over it unless it moved
+            // (no branch a body); the range ends where its last moved one
+            // is written.
             uint32_t *to = moved_list_.data() + first[p];
-            for (size_t i = n * p / parts; i < n * (p + 1) / parts; ++i)
-                if (stored_gen_[i] && moved_at_[i]) *to++ = uint32_t(i);
+            const size_t want = first[p + 1] - first[p];
+            size_t written = 0;
+            for (size_t i = n * p / parts, end = n * (p + 1) / parts; written < want && i < end; ++i) {
+                to[written] = uint32_t(i);
+                written += size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
+            }
         }
     });
 }
@@ -190,7 +193,7 @@ size_t World::keep_unmoved_colliding(int threads) {
             const size_t b = total * size_t(p) / parts, e = total * size_t(p + 1) / parts;
             for (size_t k = b; k < e; ++k) {
                 const uint32_t a = prev_pairs_[k].a.index, c = prev_pairs_[k].b.index;
-                if (!(moved_[a] | moved_[c])) kept.push_back(pair_key(a, c));
+                if (!(moved_at_[at_[a]] | moved_at_[at_[c]])) kept.push_back(pair_key(a, c));
             }
         }
     });

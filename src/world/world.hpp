@@ -78,6 +78,8 @@ class World {
     // Contact margins (bodies.cpp).
     hgcd_status set_margin(hgcd_body id, double margin);
     hgcd_status get_margin(hgcd_body id, double *out) const;
+    hgcd_status set_contact_margin(double margin);
+    double contact_margin() const { return world_margin_; }
     hgcd_status pair_excluded(hgcd_body a, hgcd_body b, uint32_t *out) const;
 
     hgcd_status step();
@@ -142,6 +144,7 @@ class World {
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
+    void set_box_offsets_general(size_t s);  // (with a margin, or no record)
     // How far the box of the body stored at s is grown for the contact
     // margins: at least world margin / 2 + its own margin, so that the
     // boxes of two bodies within their pair's margin overlap (bodies.cpp).
@@ -193,7 +196,9 @@ class World {
     struct MovedCount {
         size_t moved = 0, new_movers = 0;
     };
-    MovedCount count_moved(int threads) const;
+    // (Also keeps how many are in each of `threads` equal ranges of
+    // storage, for list_moved.)
+    MovedCount count_moved(int threads);
     void reuse_pairs();  // pairs_ from prev_pairs_ when no live body moved
     void clear_moved();  // (after a detect)
     // Incremental detection (incremental.cpp): whether this detect may search
@@ -207,7 +212,7 @@ class World {
     // movers, into candidates_, through each mover's cached list of the
     // residents near it (resident_cache.cpp).
     void find_resident_candidates(int threads, std::vector<Grid::QueryCursors> &cursors_of);
-    void forget_resident_cache() noexcept;  // (the grid or storage changed)
+    void forget_resident_cache() noexcept;  // (the grid or storage changed, or the lists lack memory)
     size_t keep_unmoved_colliding(int threads);
     // Forgets the movers (before the grid is updated, or dropped). No throw.
     void drop_movers() noexcept;
@@ -230,6 +235,7 @@ class World {
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts,
                       std::vector<NodeWitness> &fresh);
     void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;
+    void within_margins(size_t tetras, NarrowThread &t) const;
     size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                         NarrowThread &t) const;
     static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, double d,
@@ -268,8 +274,11 @@ class World {
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
-    MeshPool pool_;  // the narrow phase's records of small meshes, by slot
+    MeshPool pool_;  // the records of small meshes, by slot (mesh_pool.hpp)
     uint32_t live_meshes_ = 0;
+    // Live meshes that are tetrahedra (Mesh::tetra), and that have Mesh::sat:
+    // what the narrow phase's plan asks, without a pass over the meshes.
+    uint32_t tetra_meshes_ = 0, sat_meshes_ = 0;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)
@@ -291,9 +300,13 @@ class World {
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
     LargeVector<BodyFilter> filter_;   // type, enabled, filter (filter.hpp)
-    // The first block of the mesh's record in pool_ (MeshPool::kNone: none),
-    // read by the narrow phase beside the placements (refresh_records()).
-    LargeVector<uint32_t> body_record_;
+    // The mesh's record in pool_: its first block (MeshPool::kNone: none)
+    // and groups of 4 points (0: none), read by the narrow phase and the
+    // box of a new orientation beside the placements (refresh_records()).
+    struct BodyRecord {
+        uint32_t block, groups;
+    };
+    LargeVector<BodyRecord> body_record_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
     LargeVector<float> box_off_;
@@ -321,14 +334,15 @@ class World {
     std::unordered_set<uint64_t> excluded_;
     std::unordered_map<uint32_t, std::vector<uint32_t>> excluded_with_;
     std::vector<uint32_t> live_scratch_;  // grid_live
-    // Temporal coherence. Per slot, whether the body was created or its
-    // pose changed since the last detect; whether the last detect's pairs
-    // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not
-    // after a failed detect, a change of narrow phase, or with contacts on.
-    std::vector<uint8_t> moved_;  // (destroyed bodies count as moved: their pairs end)
+    // Temporal coherence. Per storage index, whether the body there was
+    // created, destroyed (its pairs end) or its pose changed since the last
+    // detect (a slot's flag: moved_at_[at_[slot]]); whether the last
+    // detect's pairs (prev_pairs_ during a detect) decide the pairs of
+    // unmoved bodies: not after a failed detect, a change of narrow phase,
+    // or with contacts on.
+    LargeVector<uint8_t> moved_at_;
     bool coherent_ = false;
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> prev_pairs_;
-    LargeVector<uint8_t> moved_at_;  // moved_ by storage index
     std::vector<uint32_t> prev_start_;  // where each slot's pairs (as a) start in prev_pairs_
     // The batch calls' scratch: each entry's storage index, and the marks
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
@@ -368,13 +382,20 @@ class World {
     Grid side_grid_;
     std::vector<PairBuffer> side_found_;
     std::vector<uint32_t> moved_list_;
+    std::vector<size_t> moved_parts_;  // count_moved's counts by range (empty after a renumbering)
     // Per mover (by its index in the second grid), the grid's residents
     // that met its fat box when it last searched the grid, with their boxes
-    // (resident_cache.cpp): a run of the worker's pool of the last detect
-    // that made it; valid while the mover moved at every detect since, and
-    // free of new movers while mover_marks_ (which counts bodies that became
-    // movers or died) has not changed since.
-    using ResidentEntry = Grid::QueryBox;  // (slot: the storage index)
+    // (resident_cache.cpp): a run of one of the arenas (one per worker that
+    // made lists), where a list stays put until the arenas are compacted;
+    // valid until the grid is updated, and free of new movers while
+    // mover_marks_ (which counts bodies that became movers or died) has not
+    // changed since the list was written.
+    // An entry: the resident's storage index, and its box on the list's
+    // own scale (resident_cache.cpp): low corner, then high corner negated.
+    struct ResidentEntry {
+        int16_t box[6];
+        uint32_t slot;
+    };
     struct ResidentCache {
         float fat[6], last[3];  // fat box, and the low corner of the box at the last detect
         uint32_t worker, begin, count;
@@ -382,9 +403,12 @@ class World {
         uint64_t marks;
     };
     std::vector<ResidentCache> resident_cache_;
-    std::vector<std::vector<ResidentEntry>> resident_pool_[2];  // per worker: the last detect's, and this one's
-    int resident_pool_at_ = 0;  // the last detect's
+    std::vector<std::vector<ResidentEntry>> resident_arena_;  // per worker
+    std::vector<std::vector<ResidentEntry>> resident_fresh_;  // per worker, the lists one detect writes
+    std::vector<std::vector<Grid::QueryBox>> resident_found_;  // per worker, a search's residents
     uint64_t mover_marks_ = 0;
+    // The arenas holding only the valid lists (when mostly garbage).
+    void compact_resident_lists(int threads);
 
     Grid grid_;
     std::vector<PairBuffer> candidates_;  // per thread, one detect's candidate pairs

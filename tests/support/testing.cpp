@@ -16,8 +16,10 @@
 #include "broad/grid.hpp"
 #include "world/mesh.hpp"
 #include "world/mesh_pool.hpp"
+#include "world/pose_box.hpp"
 #include "world/threads.hpp"
 #include "narrow/narrow.hpp"
+#include "narrow/within.hpp"
 #include "common/ieee.hpp"
 #include "common/transform.hpp"
 
@@ -166,20 +168,32 @@ int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint
 
 int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, const double *p, uint32_t points) {
     const hgcd::IeeeMode ieee;
+    // The points as a mesh record holds them (mesh_pool.hpp): groups of 4,
+    // x y z runs, the last padded with copies of its first point; aligned.
+    const uint32_t groups = (points + 3) / 4;
+    std::vector<hgcd::MeshPool::Block> record(3 * size_t(groups));
+    for (uint32_t g = 0; g < groups; ++g)
+        for (uint32_t k = 0; k < 4; ++k) {
+            const uint32_t v = 4 * g + k < points ? 4 * g + k : 4 * g;
+            for (int a = 0; a < 3; ++a) record[3 * g + uint32_t(a)].d[k] = p[3 * v + uint32_t(a)];
+        }
     int64_t differ = 0;
     for (uint32_t i = 0; i < n; ++i) {
         const hgcd::Rotation r = hgcd::rotation_of(q + 4 * size_t(i));
-        double lo[3], hi[3], rlo[3], rhi[3];
+        double lo[3], hi[3], rlo[3], rhi[3], plo[3], phi[3];
         hgcd::offset_box(r, s[i], p, points, lo, hi);
         hgcd::offset_box_scalar(r, s[i], p, points, rlo, rhi);
-        float f[6], g[6];
+        hgcd::record_box(r, s[i], record[0].d, groups, plo, phi);
+        float f[6], g[6], h[6];
         hgcd::broad::round_outward(lo, hi, f, f + 3);
+        hgcd::record_float_box(r, s[i], record[0].d, groups, h);
         for (int k = 0; k < 3; ++k) {
             g[k] = hgcd::float_at_most(rlo[k]);
             g[3 + k] = hgcd::float_at_least(rhi[k]);
         }
         differ += std::memcmp(lo, rlo, sizeof lo) != 0 || std::memcmp(hi, rhi, sizeof hi) != 0 ||
-                  std::memcmp(f, g, sizeof f) != 0;
+                  std::memcmp(plo, rlo, sizeof lo) != 0 || std::memcmp(phi, rhi, sizeof hi) != 0 ||
+                  std::memcmp(f, g, sizeof f) != 0 || std::memcmp(h, g, sizeof h) != 0;
     }
     return differ;
 }
@@ -278,6 +292,49 @@ int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const
     counts[4] = hits;
     counts[5] = contained;
     return differ;
+}
+
+int64_t hgcdi_tetra_within_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
+                                 const double *poses, const double *d, uint32_t pair_count, int *verdict,
+                                 int *batch, int *general) {
+    uint32_t faces[12];
+    hgcd_scene_tetra_unit_mesh(nullptr, faces);
+    std::vector<hgcd::Mesh> mesh(mesh_count);
+    for (uint32_t m = 0; m < mesh_count; ++m) {
+        std::string error;
+        if (!hgcd::build_mesh(meshes + 12 * size_t(m), 4, faces, 4, &mesh[m], &error) || !mesh[m].tetra) return -1;
+    }
+    std::vector<hgcd::MeshPool::Block> record(3 * size_t(mesh_count));
+    for (uint32_t m = 0; m < mesh_count; ++m) hgcd::write_record(mesh[m], record[3 * size_t(m)].d);
+    std::vector<hgcd::Placement> place(2 * size_t(pair_count));
+    std::vector<hgcd::TetraPair> pairs(pair_count);
+    for (uint32_t k = 0; k < pair_count; ++k) {
+        for (int side = 0; side < 2; ++side) {
+            hgcd::Placement &pl = place[2 * size_t(k) + side];
+            const double *pose = poses + 16 * size_t(k) + 8 * side;
+            std::memcpy(pl.position, pose, 3 * sizeof(double));
+            std::memcpy(pl.orientation, pose + 3, 4 * sizeof(double));
+            pl.scale = pose[7];
+        }
+        const uint32_t ma = pair_mesh[2 * size_t(k)], mb = pair_mesh[2 * size_t(k) + 1];
+        pairs[k] = hgcd::TetraPair{&mesh[ma], &mesh[mb], &place[2 * size_t(k)], &place[2 * size_t(k) + 1],
+                                   record[3 * size_t(ma)].d, record[3 * size_t(mb)].d};
+    }
+    hgcd::NarrowScratch fast, slow, batched;
+    std::vector<hgcd::Contact> touching(pair_count);
+    hgcd::collide_tetra_batch(pairs.data(), pair_count, touching.data(), batched);
+    for (uint32_t k = 0; k < pair_count; ++k) {
+        const hgcd::BodyPose a = hgcd::pose_of(pairs[k].mesh_a, *pairs[k].a);
+        const hgcd::BodyPose b = hgcd::pose_of(pairs[k].mesh_b, *pairs[k].b);
+        batch[k] = touching[k] != hgcd::Contact::None ||
+                   hgcd::tet::tetra_within_apart(a, b, d[k], batched) != hgcd::Contact::None;
+        verdict[k] = hgcd::tet::collide_tetra_within(a, b, d[k], fast) != hgcd::Contact::None;
+        // The general path: collide() with a witness request skips the tetrahedron path.
+        hgcd::Witness witness;
+        general[k] = hgcd::collide(a, b, slow, &witness) != hgcd::Contact::None ||
+                     hgcd::collide_within_direct(a, b, d[k], slow, nullptr) != hgcd::Contact::None;
+    }
+    return int64_t(fast.margin_fallbacks);
 }
 
 void hgcdi_thread_governor(int full, uint32_t count, const double *rate, const double *lost, int *used) {

@@ -57,11 +57,13 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
  * rounding, or -1 where that kernel does not run (no AVX2). */
 int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint32_t n);
 
-/* A body's box offsets (src/common/transform.hpp): for each of n cases
- * (quaternion q[4 i .. 4 i + 3], taken as it is, scale s[i], and the
- * `points` points p, 3 doubles each), offset_box against offset_box_scalar
- * and then the rounding to float (round_outward against float_at_most and
- * float_at_least). Returns how many cases differ in any bit. */
+/* A body's box offsets (src/common/transform.hpp, src/world/pose_box.hpp):
+ * for each of n cases (quaternion q[4 i .. 4 i + 3], taken as it is, scale
+ * s[i], and the `points` points p, 3 doubles each), offset_box and
+ * record_box (the points as a mesh record, padded) against
+ * offset_box_scalar, then the rounding to float (round_outward and
+ * record_float_box against float_at_most and float_at_least). Returns how
+ * many cases differ in any bit. */
 int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, const double *p, uint32_t points);
 
 /* The narrow phase's batched tetrahedron test (src/narrow/tetra.cpp,
@@ -75,6 +77,19 @@ int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, con
  * refused or not a tetrahedron. */
 int64_t hgcdi_tetra_batch_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
                                 const double *poses, uint32_t pair_count, uint64_t *counts);
+
+/* The contact margin's test of two tetrahedra (src/narrow/within.cpp,
+ * tet::collide_tetra_within, the batch's and the one-pair path's) on
+ * pair_count pairs (meshes, pair_mesh and poses as in
+ * hgcdi_tetra_batch_check), pair k with margin d[k] > 0: verdict[k] = 1 when
+ * the pair is reported by the one-pair test, batch[k] by the batch's
+ * (collide_tetra_batch, then tet::tetra_within_apart for the pairs apart),
+ * and general[k] through the general exact margin path (the touching test,
+ * then the direct path's triangle pairs within d). Returns how many pairs the certificates left to the direct
+ * path, or -1 when a mesh is refused or not a tetrahedron. */
+int64_t hgcdi_tetra_within_check(const double *meshes, uint32_t mesh_count, const uint32_t *pair_mesh,
+                                 const double *poses, const double *d, uint32_t pair_count, int *verdict,
+                                 int *batch, int *general);
 
 /* The adaptive thread policy's decisions (src/world/threads.hpp) on a
  * simulated machine, for a world set to `full` threads: detect k (k <

@@ -376,6 +376,96 @@ static void test_tip_to_tip(void **state) {
     scene_free(&sc);
 }
 
+/* Bodies crossing edge to edge, no vertex of either inside the other (the
+ * kernel's edge test), and their touching neighbours: two slabs in a cross
+ * (b turned by the exact quaternion (1/2, 1/2, 1/2, 1/2), which takes x to
+ * y, y to z, z to x), moved until faces, edges and vertices touch and one
+ * ulp beyond; then at random orientations, pairs of edges turned against
+ * each other, bisected (oracle) to touching, an ulp either side and crossing
+ * deeper. */
+static void test_edge_crossing(void **state) {
+    (void)state;
+    scene sc;
+    scene_init(&sc, 256, 1);
+    const double id[4] = {0, 0, 0, 1}, cyc[4] = {0.5, 0.5, 0.5, 0.5};
+    const double UP = 1e300;
+    /* b = [-1, 1] x [-2, 2] x [-0.5, 0.5] about pb, a = [-2, 2] x [-0.5, 0.5] x [-1, 1] */
+    const struct {
+        double pb[3];
+        int expect;
+    } cases[] = {
+        {{0, 0, 0}, 1},        /* a cross: b's edges through a, a's through b */
+        {{0.5, 0.25, 0.25}, 1}, /* off centre */
+        {{0, 0, 1.5}, 1},      /* faces coplanar, touching over a square */
+        {{0, 0, UP}, 0},       /* one ulp above */
+        {{3, 0, 0}, 1},        /* b's face on a's end face */
+        {{UP, 0, 0}, 0},
+        {{1, 2.5, 1.5}, 1},    /* b's vertex on a's edge */
+        {{1, 2.5, UP}, 0},
+        {{3, 2.5, 1.5}, 1},    /* vertex on vertex */
+        {{0, 0, 1.25}, 1},     /* b's lower edges through a, the rest above */
+    };
+    const double up_of[3] = {3, 2.5, 1.5}; /* what UP stands for, per axis */
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        const double base[3] = {40.0 * (double)k, 0, 0};
+        double pb[3];
+        for (int i = 0; i < 3; ++i)
+            pb[i] = cases[k].pb[i] == UP ? nextafter(base[i] + up_of[i], INFINITY) : base[i] + cases[k].pb[i];
+        add(&sc, SLAB, base, id, 1);
+        add(&sc, SLAB, pb, cyc, 1);
+    }
+    check_against_oracle(&sc);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k)
+        assert_int_equal(reported(&sc, (uint32_t)(2 * k), (uint32_t)(2 * k + 1)), cases[k].expect);
+    scene_free(&sc);
+
+    /* Random edges against edges: b is a turned half a turn about an axis
+     * normal to a's edge midpoint m (so b's copy of that edge faces a's) and
+     * twisted about m first (so the two edges cross at an angle). */
+    rng r = {2718};
+    const int shapes_e[] = {BOX, SLAB, PARALLELEPIPED, HULL, ICOSAHEDRON};
+    scene_init(&sc, 200, 2);
+    for (int k = 0; k < 24; ++k) {
+        const int shape = shapes_e[next(&r) % 5];
+        const oracle_mesh *m = &shapes[shape];
+        const uint32_t *t = &m->tris[3 * (next(&r) % m->triangle_count)];
+        const double *v0 = &m->verts[3 * t[0]], *v1 = &m->verts[3 * t[1]];
+        const double mid[3] = {0.5 * (v0[0] + v1[0]), 0.5 * (v0[1] + v1[1]), 0.5 * (v0[2] + v1[2])};
+        const double mn = sqrt(mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2]);
+        double qa[4], qb[4], q2[4], w[3] = {2 * unif(&r) - 1, 2 * unif(&r) - 1, 2 * unif(&r) - 1};
+        random_unit_quaternion(&r, qa);
+        const double mw = (w[0] * mid[0] + w[1] * mid[1] + w[2] * mid[2]) / (mn * mn);
+        for (int i = 0; i < 3; ++i) w[i] -= mw * mid[i];
+        const double wn = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        const double half[4] = {w[0] / wn, w[1] / wn, w[2] / wn, 0};
+        const double ang = 0.2 + 1.2 * unif(&r), sh = sin(0.5 * ang) / mn;
+        const double twist[4] = {sh * mid[0], sh * mid[1], sh * mid[2], cos(0.5 * ang)};
+        qmul(qa, half, q2);
+        qmul(q2, twist, qb);
+        const double vq[4] = {mid[0], mid[1], mid[2], 0}, conj[4] = {-qa[0], -qa[1], -qa[2], qa[3]};
+        double t1[4], dir[4];
+        qmul(qa, vq, t1);
+        qmul(t1, conj, dir);
+        const double pa[3] = {100.0 * k, 50, 0};
+        double lo = 0, hi = 4; /* the midpoints meet at t = 2 */
+        for (int it = 0; it < 64; ++it) {
+            const double h = 0.5 * (lo + hi);
+            if (h == lo || h == hi) break;
+            const double pb[3] = {pa[0] + h * dir[0], pa[1] + h * dir[1], pa[2] + h * dir[2]};
+            if (oracle_pair(shape, pa, qa, 1, shape, pb, qb, 1)) lo = h;
+            else hi = h;
+        }
+        add(&sc, shape, pa, qa, 1);
+        const double ts[3] = {lo, hi, 0.97 * lo};
+        for (int j = 0; j < 3; ++j) {
+            const double pb[3] = {pa[0] + ts[j] * dir[0], pa[1] + ts[j] * dir[1], pa[2] + ts[j] * dir[2]};
+            add(&sc, shape, pb, qb, 1);
+        }
+    }
+    assert_true(check_against_oracle(&sc) >= 24);
+    scene_free(&sc);
+}
+
 /* Pairs the convex kernel must settle alone (no exact triangle test): boxes
  * apart only along the cross product of two edges, boxes and icospheres deep
  * in each other (surfaces cross), and each inside a larger one (containment,
@@ -444,6 +534,7 @@ int main(void) {
         cmocka_unit_test(test_near_touching),
         cmocka_unit_test(test_tip_to_tip),
         cmocka_unit_test(test_kernel_decides),
+        cmocka_unit_test(test_edge_crossing),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -38,8 +38,10 @@ enum class ConvexVerdict {
 // outside it on that line); separating axes along the face normals nearest
 // that line (six of each mesh at most) and, for meshes with at most
 // kEdgeAxisPairs pairs of edge directions, the edge cross products; for
-// other pairs the poke certificate last; last, when one body's stretch of
-// that line lies within the other's, whether every vertex of it lies
+// other pairs the poke certificate last; then a point of an edge of one
+// body strictly inside the other while a vertex of it lies strictly outside
+// (bodies crossing edge to edge); before the axes, when one body's stretch
+// of that line lies within the other's, whether every vertex of it lies
 // strictly inside the other (containment).
 ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b);
 

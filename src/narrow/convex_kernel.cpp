@@ -291,13 +291,15 @@ HGCD_CK_INLINE bool support_edges_apart(const PairView &p, uint32_t va, uint32_t
 //       + 2^-960,
 // dq = |1 - fl(n2)| + 2^-50 >= |delta| + 24 eps, settles it: 2^-40 = 8192
 // eps covers twice the eps terms above, 12 dq L twice 5 |delta| L + 40 eps L.
-HGCD_CK_INLINE bool strictly_inside(const BodyPose &in, const SatData &m, const double *z, double dz) {
+HGCD_CK_INLINE double inside_margin(const BodyPose &in, const SatData &m, double z1, double dz) {
     const double *c = in.position, *q = in.orientation;
     const double n2 = ((q[0] * q[0] + q[1] * q[1]) + q[2] * q[2]) + q[3] * q[3];
     const double dq = std::fabs(1.0 - n2) + 0x1p-50;
-    const double L = in.scale * m.reach, z1 = norm1(z);
-    const double margin = 0x1p-40 * (((norm_inf(c) + L) + z1) + dz) + 12 * dq * L + 2 * m.theta * (z1 + L) +
-                          tet::kUnderflowFloor;
+    const double L = in.scale * m.reach;
+    return 0x1p-40 * (((norm_inf(c) + L) + z1) + dz) + 12 * dq * L + 2 * m.theta * (z1 + L) + tet::kUnderflowFloor;
+}
+HGCD_CK_INLINE bool strictly_inside(const BodyPose &in, const SatData &m, const double *z, double dz) {
+    const double z1 = norm1(z), margin = inside_margin(in, m, z1, dz);
     // Inside the ball that every plane leaves on its inner side, compared in
     // squares (no square root, whose libm fallback valgrind cannot follow in
     // the AVX2 build): with t = fl(fl(s inner) (1 - 2^-48)) - m > 0 and
@@ -377,6 +379,90 @@ HGCD_CK_INLINE bool point_inside_both(const BodyPose &a, const SatData &sa, cons
     const double t = 0.5 * ((1 - tb) + ta), t1 = 1 - t, u1 = norm1(u);
     const double za[3] = {t * da[0], t * da[1], t * da[2]}, zb[3] = {t1 * db[0], t1 * db[1], t1 * db[2]};
     return strictly_inside(a, sa, za, std::fabs(t) * u1) && strictly_inside(b, sb, zb, (std::fabs(t1) + 1) * u1);
+}
+
+// The edge test below reads every vertex of one body against every plane of
+// the other: at most this many values.
+constexpr uint32_t kEdgePokeWork = 512;
+
+// Does a point of an edge of b lie strictly inside a, while some vertex of
+// b lies strictly outside a (b_out, found on the line of centres, else
+// found here: its value g on one of a's planes above strictly_inside's
+// margin m, which covers the error of g against the exact distance N . (z*
+// - s a) of z* beyond the exact facet plane of the hull s H plus the largest
+// vertex displacement D there, so z* lies more than D beyond that plane,
+// while the solid of the mesh with vertices phi(w_i), in the hull of those
+// vertices, each within D of s v_i, lies within D of it: z* is outside the
+// solid, off its surface)? Then, as
+// for vertex_poke, b's connected surface has a path from a point inside a's
+// solid to one outside, which crosses a's surface: the surfaces meet. (Two
+// boxes crossing edge to edge have no vertex inside the other.)
+// The point is only guessed from the planes' values g at the vertices (g is
+// affine along an edge: the stretch of the edge that every plane leaves on
+// its inner side) and then certified by strictly_inside: with z_p, z_q the
+// frame coordinates of the edge's ends p, q as vertex_inside computes them
+// (within 10 eps D_p, 10 eps D_q per axis of the exact ones, D = |fl(w -
+// c)|_1) and t in [0, 1], z = fl(z_p + fl(t fl(z_q - z_p))) is the point
+// (1 - t) w_p + t w_q of the edge, whose exact frame coordinates are z*_p +
+// t (z*_q - z*_p) (the frame map is affine), up to (1 - t) (z_p - z*_p) +
+// t (z_q - z*_q), at most 10 eps (D_p + D_q), and three roundings of values
+// below 4 (D_p + D_q) (|z_p|_inf < 2 D_p: |R_kj| < 2), below 8 eps (D_p +
+// D_q) with a product's underflow (2^-1074, below strictly_inside's floor):
+// strictly_inside's dz = 2 (D_p + D_q) covers the 18 eps (D_p + D_q).
+HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatData &sa, const BodyPose &b,
+                              const Rotation &rb, const SatData &sb, bool b_out) {
+    const Mesh &mb = *b.mesh;
+    const uint32_t nv = mb.vertex_count, np = sa.planes_padded;
+    if (nv * np > kEdgePokeWork) return false;
+    double zx[Mesh::kSatVertices], zy[Mesh::kSatVertices], zz[Mesh::kSatVertices], dist[Mesh::kSatVertices];
+    double g[kEdgePokeWork];
+    const double *ca = a.position, *nx = sa.planes.data(), *ny = nx + np, *nz = ny + np, *k = nz + np;
+    const f64x4 s = splat(a.scale);
+    for (uint32_t v = 0; v < nv; ++v) {
+        double w[3], z[3];
+        transform_point(rb, b.position, b.scale, &mb.vertices[3 * size_t(v)], w);
+        const double D[3] = {w[0] - ca[0], w[1] - ca[1], w[2] - ca[2]};
+        rotate_t(ra, D, z);
+        zx[v] = z[0];
+        zy[v] = z[1];
+        zz[v] = z[2];
+        dist[v] = norm1(D);
+        const f64x4 vx = splat(z[0]), vy = splat(z[1]), vz = splat(z[2]);
+        for (uint32_t i = 0; i < np; i += SatData::kLanes) {
+            const f64x4 gv = ((load4(nx + i) * vx + load4(ny + i) * vy) + load4(nz + i) * vz) - s * load4(k + i);
+            std::memcpy(&g[v * np + i], &gv, sizeof gv);
+        }
+    }
+    for (uint32_t v = 0; v < nv && !b_out; ++v) {
+        f64x4 most = load4(&g[v * np]);
+        for (uint32_t i = SatData::kLanes; i < np; i += SatData::kLanes) most = vmax4(most, load4(&g[v * np + i]));
+        const double gv = hmax4(most);
+        b_out = gv > 0 && gv > inside_margin(a, sa, (std::fabs(zx[v]) + std::fabs(zy[v])) + std::fabs(zz[v]), dist[v]);
+    }
+    if (!b_out) return false;
+    const f64x4 zero = splat(0), one = splat(1);
+    for (uint32_t p = 0; p < nv; ++p)
+        for (uint32_t e = sb.vertex_edge_start[p]; e < sb.vertex_edge_start[p + 1]; ++e) {
+            const uint32_t q = sb.vertex_edges[e];
+            if (q < p) continue;  // (each edge once)
+            f64x4 lo = zero, hi = one;
+            i64x4 none = i64x4{};
+            for (uint32_t i = 0; i < np; i += SatData::kLanes) {
+                const f64x4 gp = load4(&g[p * np + i]), gq = load4(&g[q * np + i]);
+                const i64x4 p_out = gp >= zero, q_out = gq >= zero;
+                const f64x4 r = gp / (gp - gq);  // (used only where the signs differ)
+                lo = vmax4(lo, (p_out & ~q_out) ? r : zero);
+                hi = vmin4(hi, (q_out & ~p_out) ? r : one);
+                none |= p_out & q_out;
+            }
+            const double tlo = hmax4(lo), thi = hmin4(hi);
+            if ((none[0] | none[1]) | (none[2] | none[3]) || !(tlo < thi)) continue;
+            const double t = 0.5 * (tlo + thi);
+            const double z[3] = {zx[p] + t * (zx[q] - zx[p]), zy[p] + t * (zy[q] - zy[p]),
+                                 zz[p] + t * (zz[q] - zz[p])};
+            if (strictly_inside(a, sa, z, 2 * (dist[p] + dist[q]))) return true;
+        }
+    return false;
 }
 
 // Every vertex of `in` strictly inside `out` (by vertex_inside's depth
@@ -465,6 +551,8 @@ HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const Co
     if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
     if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
     if (support_edges_apart(p, a_toward, b_toward)) return ConvexVerdict::Apart;
+    if (inside && (edge_poke(a, p.ra, sa, b, p.rb, sb, b_out) || edge_poke(b, p.rb, sb, a, p.ra, sa, a_out)))
+        return ConvexVerdict::Surface;
     return ConvexVerdict::Open;
 }
 

@@ -171,10 +171,11 @@ static int reported(const scene *sc, uint32_t a, uint32_t b) {
 static const double exact_quats[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0},
                                         {0, 0, 1, 0}, {0.5, 0.5, 0.5, 0.5}, {-0.5, 0.5, -0.5, 0.5}};
 
-/* n bodies of random shapes in a cube of side `side`; snap: positions on a
- * 0.5 grid, rotations that permute axes and scales in {0.5, 1, 1.5}, so that
- * faces, edges and vertices touch exactly. */
-static void fill(scene *sc, rng *r, size_t n, double side, int snap) {
+/* n bodies of random shapes (or all of shape `only` when >= 0) in a cube of
+ * side `side`; snap: positions on a 0.5 grid, rotations that permute axes
+ * and scales in {0.5, 1, 1.5}, so that faces, edges and vertices touch
+ * exactly. */
+static void fill_with(scene *sc, rng *r, size_t n, double side, int snap, int only) {
     for (size_t i = 0; i < n; ++i) {
         double p[3], q[4];
         for (int k = 0; k < 3; ++k) {
@@ -183,11 +184,12 @@ static void fill(scene *sc, rng *r, size_t n, double side, int snap) {
         }
         if (snap) memcpy(q, exact_quats[next(r) % 6], sizeof q);
         else random_unit_quaternion(r, q);
-        const int shape = (int)(next(r) % SHAPE_COUNT);
+        const int shape = only >= 0 ? only : (int)(next(r) % SHAPE_COUNT);
         const double scale = snap ? 0.5 + 0.5 * (double)(next(r) % 3) : 0.3 + 1.7 * unif(r);
         add(sc, shape, p, q, scale);
     }
 }
+static void fill(scene *sc, rng *r, size_t n, double side, int snap) { fill_with(sc, r, n, side, snap, -1); }
 
 static void test_random_scenes(void **state) {
     (void)state;
@@ -201,6 +203,24 @@ static void test_random_scenes(void **state) {
         scene_free(&sc);
     }
     assert_true(total > 300); /* dense enough to mean something */
+}
+
+/* Worlds of one shape, so that the batch's pairs share their meshes (its
+ * vertex pokes four pairs at a time), dense enough for bodies inside
+ * others, random and grid-snapped (touching), on 1 and 2 threads. */
+static void test_one_shape(void **state) {
+    (void)state;
+    const int one[] = {BOX, PARALLELEPIPED, HULL, SLAB};
+    size_t total = 0;
+    for (uint64_t seed = 1; seed <= 8; ++seed) {
+        rng r = {seed * 104729};
+        scene sc;
+        scene_init(&sc, 160, (uint32_t)(seed % 2) + 1);
+        fill_with(&sc, &r, 160, 11, (int)(seed / 2 % 2), one[seed % 4]);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 2000);
 }
 
 static void test_exact_contacts(void **state) {
@@ -529,6 +549,7 @@ int main(void) {
     make_shapes();
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_scenes),
+        cmocka_unit_test(test_one_shape),
         cmocka_unit_test(test_exact_contacts),
         cmocka_unit_test(test_hand_built),
         cmocka_unit_test(test_near_touching),

@@ -55,6 +55,7 @@ struct ConvexCentres {
     double u[3], da[3], ub[3], db[3];
     double alo, ahi, blo, bhi, uu, cmargin;
     uint32_t a_toward, b_toward;
+    bool pokes_tried = false;  // the vertex pokes of the later steps were tried (by the batch)
 };
 
 // convex_decide for a pair its line of centres does not separate, from that

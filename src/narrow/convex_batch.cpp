@@ -1,8 +1,9 @@
 // The convex path's batch (collide_convex_batch, narrow.hpp): many pairs of
 // small convex meshes, the kernel's first step (the separating axis along
-// the line of centres, with the projections the later steps use) four pairs
-// at a time, one per lane, then the kernel's later steps and the one-pair
-// test's (collide_convex_after) on those values for the pairs it leaves.
+// the line of centres, with the projections the later steps use) and, when
+// each side of four pairs shares one mesh, its vertex pokes four pairs at a
+// time, one per lane, then the kernel's later steps and the one-pair test's
+// (collide_convex_after) on those values for the pairs it leaves.
 #include "common/ieee.hpp"
 #include "narrow/convex.hpp"
 
@@ -35,7 +36,8 @@ HGCD_CB_INLINE f64x4 vabs4(f64x4 a) { return (f64x4)((i64x4)a & (i64x4{} + INT64
 // One side (a or b) of four pairs, a pair per lane.
 struct Side {
     const SatData *sat[4];
-    f64x4 c[3], m[9], scale;
+    const Mesh *mesh[4];
+    f64x4 c[3], m[9], scale, n2;  // n2 = fl(|q|^2), as strictly_inside sums it
 };
 
 HGCD_CB_INLINE void load_side(const Placement *const *p, const Mesh *const *mesh, Side &s) {
@@ -45,7 +47,11 @@ HGCD_CB_INLINE void load_side(const Placement *const *p, const Mesh *const *mesh
         q[j] = lanes(p[0]->orientation[j], p[1]->orientation[j], p[2]->orientation[j], p[3]->orientation[j]);
     s.scale = lanes(p[0]->scale, p[1]->scale, p[2]->scale, p[3]->scale);
     rotation_entries(q[0], q[1], q[2], q[3], s.m);  // (rotation_of's operations lane by lane)
-    for (int k = 0; k < 4; ++k) s.sat[k] = mesh[k]->sat.get();
+    s.n2 = ((q[0] * q[0] + q[1] * q[1]) + q[2] * q[2]) + q[3] * q[3];
+    for (int k = 0; k < 4; ++k) {
+        s.sat[k] = mesh[k]->sat.get();
+        s.mesh[k] = mesh[k];
+    }
 }
 
 HGCD_CB_INLINE f64x4 vmin4(f64x4 a, f64x4 b) { return a < b ? a : b; }
@@ -130,6 +136,44 @@ HGCD_CB_INLINE unsigned centres4(const Side &A, const Side &B, Centres4 &c) {
            unsigned(apart[3] & 1) << 3;
 }
 
+HGCD_CB_INLINE f64x4 vnorm1(const f64x4 *v) { return (vabs4(v[0]) + vabs4(v[1])) + vabs4(v[2]); }
+
+// The kernel's vertex poke (convex_kernel.cpp: vertex_poke, vertex_inside,
+// strictly_inside) lane by lane, by its operations on the same values, so
+// its argument holds in each lane: is vertex v[l] of body `out`'s mesh,
+// lane l, strictly inside body `in`? For four pairs whose `in` side shares
+// one mesh (its planes then splat); the lanes where it is.
+HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v) {
+    const SatData &m = *in.sat[0];
+    f64x4 l[3], w[3], D[3], z[3];
+    for (int j = 0; j < 3; ++j)
+        l[j] = out.scale * lanes(out.mesh[0]->vertices[3 * size_t(v[0]) + j], out.mesh[1]->vertices[3 * size_t(v[1]) + j],
+                                 out.mesh[2]->vertices[3 * size_t(v[2]) + j], out.mesh[3]->vertices[3 * size_t(v[3]) + j]);
+    for (int j = 0; j < 3; ++j) w[j] = out.c[j] + ((out.m[3 * j] * l[0] + out.m[3 * j + 1] * l[1]) + out.m[3 * j + 2] * l[2]);
+    for (int j = 0; j < 3; ++j) D[j] = w[j] - in.c[j];
+    for (int j = 0; j < 3; ++j) z[j] = (in.m[j] * D[0] + in.m[3 + j] * D[1]) + in.m[6 + j] * D[2];
+    const f64x4 dz = vnorm1(D), z1 = vnorm1(z);
+    const f64x4 dq = vabs4(1.0 - in.n2) + 0x1p-50;
+    const f64x4 L = in.scale * m.reach;
+    const f64x4 cinf = vmax4(vmax4(vabs4(in.c[0]), vabs4(in.c[1])), vabs4(in.c[2]));
+    const f64x4 margin =
+        0x1p-40 * (((cinf + L) + z1) + dz) + 12 * dq * L + 2 * m.theta * (z1 + L) + tet::kUnderflowFloor;
+    const f64x4 t = (in.scale * m.inner) * (1 - 0x1p-48) - margin;
+    const f64x4 zz2 = (z[0] * z[0] + z[1] * z[1]) + z[2] * z[2];
+    const i64x4 ball = (t > 0.0) & (zz2 * (1 + 0x1p-46) < (t * t) * (1 - 0x1p-48));
+    const double *nx = m.planes.data(), *ny = nx + m.planes_padded, *nz = ny + m.planes_padded,
+                 *k = nz + m.planes_padded;
+    const f64x4 lim = -margin;
+    i64x4 outside = i64x4{};
+    for (uint32_t i = 0; i < m.plane_count; ++i) {
+        const f64x4 g = ((nx[i] * z[0] + ny[i] * z[1]) + nz[i] * z[2]) - in.scale * k[i];
+        outside |= g >= lim;
+    }
+    const i64x4 inside = ball | ~outside;
+    return unsigned(inside[0] & 1) | unsigned(inside[1] & 1) << 1 | unsigned(inside[2] & 1) << 2 |
+           unsigned(inside[3] & 1) << 3;
+}
+
 // Lane k of the four pairs' values, as the one-pair kernel's.
 HGCD_CB_INLINE void lane_of(const Side &A, const Side &B, const Centres4 &c, int k, ConvexCentres &out) {
     for (int j = 0; j < 9; ++j) {
@@ -173,12 +217,33 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
         load_side(pb, mb, B);
         Centres4 c;
         const unsigned apart = centres4(A, B, c);
+        // The kernel's first certificates, a vertex of one poking into the
+        // other, four pairs at a time too when each side shares one mesh
+        // with planes (inside_test).
+        const bool shared = ma[1] == ma[0] && ma[2] == ma[0] && ma[3] == ma[0] && mb[1] == mb[0] &&
+                            mb[2] == mb[0] && mb[3] == mb[0] && A.sat[0]->inside_test && B.sat[0]->inside_test;
+        unsigned surface = 0;
+        if (shared && apart != 15) {
+            const i64x4 b_out = (c.uu - c.blo) - c.ahi > c.cmargin, a_out = (c.uu - c.bhi) - c.alo > c.cmargin;
+            const unsigned bo = unsigned(b_out[0] & 1) | unsigned(b_out[1] & 1) << 1 | unsigned(b_out[2] & 1) << 2 |
+                                unsigned(b_out[3] & 1) << 3;
+            const unsigned ao = unsigned(a_out[0] & 1) | unsigned(a_out[1] & 1) << 1 | unsigned(a_out[2] & 1) << 2 |
+                                unsigned(a_out[3] & 1) << 3;
+            const unsigned open = ~apart & 15;
+            if (open & bo) surface = pokes4(A, B, c.b_toward) & bo & open;
+            if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward) & ao & open;
+        }
         for (size_t l = 0; l < 4 && k + l < n; ++l) {
             out[k + l] = Contact::None;
             if (apart >> l & 1) continue;
+            const BodyPose a = pose_of(ma[l], *pa[l]), b = pose_of(mb[l], *pb[l]);
+            if (surface >> l & 1) {
+                out[k + l] = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Surface);
+                continue;
+            }
             ConvexCentres one;
             lane_of(A, B, c, int(l), one);
-            const BodyPose a = pose_of(ma[l], *pa[l]), b = pose_of(mb[l], *pb[l]);
+            one.pokes_tried = shared;
             out[k + l] = collide_convex_after(a, b, scratch, nullptr, convex_decide_past_centres(a, b, one));
         }
     }

@@ -199,9 +199,8 @@ HGCD_CK_INLINE int pick_faces(const SatData &m, const double *d, uint32_t *out) 
 }
 
 // Separating axes after the line of centres: face normals of both meshes
-// (those nearest that line first), then edge against edge when the meshes
-// have at most kEdgeAxisPairs pairs of edge directions.
-HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double *ub) {
+// (those nearest that line first).
+HGCD_CK_INLINE bool face_axes_apart(const PairView &p, const double *da, const double *ub) {
     uint32_t fa[kFaceAxes], fb[kFaceAxes];
     const int na = pick_faces(p.sa, da, fa), nb = pick_faces(p.sb, ub, fb);
     // (ub = R_b^T u points from b's position away from a: b's faces take
@@ -211,6 +210,12 @@ HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double
         if (k < na && face_apart(p, 0, fa[k], da)) return true;
         if (k < nb && face_apart(p, 1, fb[k], to_a)) return true;
     }
+    return false;
+}
+
+// Then edge against edge, when the meshes have at most kEdgeAxisPairs pairs
+// of edge directions.
+HGCD_CK_INLINE bool edge_axes_apart(const PairView &p) {
     double N[3];
     const uint64_t pairs = uint64_t(p.sa.edges) * p.sb.edges;
     if (pairs == 0 || pairs > kEdgeAxisPairs) return false;
@@ -231,7 +236,7 @@ HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double
 }
 
 // Last, for meshes with more than kEdgeAxisPairs pairs of edge directions
-// (whose edge axes axes_apart skips), the cross products of the edges at
+// (whose edge axes edge_axes_apart skips), the cross products of the edges at
 // each body's vertex reaching furthest towards the other (va, vb): where
 // two such bodies nearly touch without a face axis between them, their
 // nearest features are mostly edges there. (A local edge vector turned
@@ -529,8 +534,8 @@ HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const Co
     // other body (cheap, and it fails fast on pairs apart) first, the point
     // inside both first only for deep pairs.
     const bool inside = sa.inside_test && sb.inside_test;
-    if (inside && ((b_out && vertex_poke(a, p.ra, sa, b, p.rb, b_toward)) ||
-                   (a_out && vertex_poke(b, p.rb, sb, a, p.ra, a_toward))))
+    if (inside && !c.pokes_tried &&
+        ((b_out && vertex_poke(a, p.ra, sa, b, p.rb, b_toward)) || (a_out && vertex_poke(b, p.rb, sb, a, p.ra, a_toward))))
         return ConvexVerdict::Surface;
     const bool both_out = inside && a_out && b_out;
     if (deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
@@ -548,7 +553,7 @@ HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const Co
         if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb)) return ConvexVerdict::AHoldsB;
         if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra)) return ConvexVerdict::BHoldsA;
     }
-    if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
+    if (face_axes_apart(p, da, ub) || edge_axes_apart(p)) return ConvexVerdict::Apart;
     if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
     if (support_edges_apart(p, a_toward, b_toward)) return ConvexVerdict::Apart;
     if (inside && (edge_poke(a, p.ra, sa, b, p.rb, sb, b_out) || edge_poke(b, p.rb, sb, a, p.ra, sa, a_out)))

@@ -70,6 +70,7 @@ runs=(
     "bvh_ray test_degenerate_first_ray"
     "convex test_hand_built"
     "convex test_kernel_decides"
+    "convex test_edge_crossing"
     "margin test_scene_cases"
     "margin test_margin_refusals"
     "margin_tetra test_tetra_gaps"

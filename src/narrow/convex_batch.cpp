@@ -137,13 +137,18 @@ HGCD_CB_INLINE unsigned centres4(const Side &A, const Side &B, Centres4 &c) {
 }
 
 HGCD_CB_INLINE f64x4 vnorm1(const f64x4 *v) { return (vabs4(v[0]) + vabs4(v[1])) + vabs4(v[2]); }
+HGCD_CB_INLINE unsigned mask_of(i64x4 m) {
+    return unsigned(m[0] & 1) | unsigned(m[1] & 1) << 1 | unsigned(m[2] & 1) << 2 | unsigned(m[3] & 1) << 3;
+}
 
 // The kernel's vertex poke (convex_kernel.cpp: vertex_poke, vertex_inside,
 // strictly_inside) lane by lane, by its operations on the same values, so
 // its argument holds in each lane: is vertex v[l] of body `out`'s mesh,
 // lane l, strictly inside body `in`? For four pairs whose `in` side shares
-// one mesh (its planes then splat); the lanes where it is.
-HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v) {
+// one mesh (its planes then splat); the lanes where it is, among the lanes
+// `want` (the others may be left undecided: the planes stop when every lane
+// wanted is outside one).
+HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, unsigned want) {
     const SatData &m = *in.sat[0];
     f64x4 l[3], w[3], D[3], z[3];
     for (int j = 0; j < 3; ++j)
@@ -163,15 +168,16 @@ HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v) 
     const i64x4 ball = (t > 0.0) & (zz2 * (1 + 0x1p-46) < (t * t) * (1 - 0x1p-48));
     const double *nx = m.planes.data(), *ny = nx + m.planes_padded, *nz = ny + m.planes_padded,
                  *k = nz + m.planes_padded;
+    const unsigned in_ball = mask_of(ball) & want;
+    if (in_ball == want) return in_ball;
     const f64x4 lim = -margin;
     i64x4 outside = i64x4{};
     for (uint32_t i = 0; i < m.plane_count; ++i) {
         const f64x4 g = ((nx[i] * z[0] + ny[i] * z[1]) + nz[i] * z[2]) - in.scale * k[i];
         outside |= g >= lim;
+        if ((i & 3) == 3 && (mask_of(outside) & want) == want) return in_ball;
     }
-    const i64x4 inside = ball | ~outside;
-    return unsigned(inside[0] & 1) | unsigned(inside[1] & 1) << 1 | unsigned(inside[2] & 1) << 2 |
-           unsigned(inside[3] & 1) << 3;
+    return (in_ball | ~mask_of(outside)) & want;
 }
 
 // Lane k of the four pairs' values, as the one-pair kernel's.
@@ -224,14 +230,13 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
                             mb[2] == mb[0] && mb[3] == mb[0] && A.sat[0]->inside_test && B.sat[0]->inside_test;
         unsigned surface = 0;
         if (shared && apart != 15) {
-            const i64x4 b_out = (c.uu - c.blo) - c.ahi > c.cmargin, a_out = (c.uu - c.bhi) - c.alo > c.cmargin;
-            const unsigned bo = unsigned(b_out[0] & 1) | unsigned(b_out[1] & 1) << 1 | unsigned(b_out[2] & 1) << 2 |
-                                unsigned(b_out[3] & 1) << 3;
-            const unsigned ao = unsigned(a_out[0] & 1) | unsigned(a_out[1] & 1) << 1 | unsigned(a_out[2] & 1) << 2 |
-                                unsigned(a_out[3] & 1) << 3;
+            // (a vertex of b beyond a's far end, of a before b's near end:
+            // the kernel's b_out and a_out)
+            const unsigned bo = mask_of((c.uu - c.blo) - c.ahi > c.cmargin);
+            const unsigned ao = mask_of((c.uu - c.bhi) - c.alo > c.cmargin);
             const unsigned open = ~apart & 15;
-            if (open & bo) surface = pokes4(A, B, c.b_toward) & bo & open;
-            if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward) & ao & open;
+            if (open & bo) surface = pokes4(A, B, c.b_toward, open & bo);
+            if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward, open & ~surface & ao);
         }
         for (size_t l = 0; l < 4 && k + l < n; ++l) {
             out[k + l] = Contact::None;

@@ -442,6 +442,11 @@ void check_state(Model &m) {
                    mid.generation == m.meshes[b.mesh].id.generation,
                "body mesh");
     }
+    {
+        double wm;
+        EXPECT(hgcd_world_get_contact_margin(m.w, &wm) == HGCD_OK && !std::memcmp(&wm, &m.desc.contact_margin, sizeof wm),
+               "world margin");
+    }
     {  // the same poses in one batch read, listed in reverse order
         std::vector<hgcd_body> ids;
         std::vector<const MBody *> of;
@@ -741,8 +746,15 @@ void op_filtering(Input &in, Model &m) {
     const uint8_t what = in.u8();
     hgcd_status s, expect = k < 0 ? HGCD_ERROR_STALE_ID : HGCD_OK;
     switch (what % 6) {
-        case 5: {  // a contact margin
-            const double mg = pick_margin(in.u8());
+        case 5: {  // a contact margin: the body's, or (one in eight) the world's
+            const uint8_t pick = in.u8();
+            const double mg = pick_margin(pick);
+            if (pick >= 0xE0) {
+                expect = margin_ok(mg) ? HGCD_OK : HGCD_ERROR_INVALID_ARGUMENT;
+                s = hgcd_world_set_contact_margin(m.w, mg);
+                if (s == HGCD_OK) m.desc.contact_margin = mg;
+                break;
+            }
             if (expect == HGCD_OK && !margin_ok(mg)) expect = HGCD_ERROR_INVALID_ARGUMENT;
             s = hgcd_body_set_margin(m.w, id, mg);
             if (s == HGCD_OK) m.bodies[k].margin = mg;

@@ -448,8 +448,8 @@ static void test_offset_box_kernel(void **state) {
         if (u % 7 == 0) { q[4 * i] = q[4 * i + 1] = q[4 * i + 2] = (u >> 20) % 2 ? 0.0 : -0.0; q[4 * i + 3] = 1; }
         s[i] = u % 5 == 0 ? 1e-200 : u % 5 == 1 ? 1e200 : 0.1 + 10 * unif(&r);
     }
-    assert_int_equal(hgcdi_offset_box_check(q, s, n, p, points), 0);
-    assert_int_equal(hgcdi_offset_box_check(q, s, n, p, 4), 0);
+    /* 1 to 9 points: a mesh record's groups of 4, full and padded. */
+    for (uint32_t c = 1; c <= points; ++c) assert_int_equal(hgcdi_offset_box_check(q, s, n, p, c), 0);
     /* A point at the origin alone: every offset a sum of signed zeros. */
     const double origin[2][3] = {{-0.0, -0.0, -0.0}, {0.0, -0.0, 0.0}};
     assert_int_equal(hgcdi_offset_box_check(q, s, n, origin[0], 1), 0);

@@ -466,6 +466,40 @@ static void test_scene_cases(void **state) {
     }
 }
 
+/* The world's margin set after creation: each detect equals the oracle at
+ * the new margin (every pair tested again, the broad phase grown or shrunk),
+ * on 1 and 2 threads, contacts on and off; refusals change nothing. */
+static void test_world_margin_setter(void **state) {
+    const double margins[] = {0.3, 0, 1e-9, 0.05, 0.3};
+    const double bad[] = {-1, NAN, INFINITY, 1.0000001e15};
+    int threads;
+    size_t k;
+    (void)state;
+    for (threads = 1; threads <= 2; threads++) {
+        scene m;
+        rng r = {(uint64_t)(40 + threads)};
+        double got;
+        assert_true(scene_init(&m, 0.05, (uint32_t)threads, HGCD_NARROW_EXACT, (uint32_t)(threads - 1)));
+        random_scene(&m, &r, 5.0);
+        scene_check(&m, threads - 1);
+        for (k = 0; k < sizeof margins / sizeof *margins; k++) {
+            assert_int_equal(hgcd_world_set_contact_margin(m.w, margins[k]), HGCD_OK);
+            m.world_margin = margins[k];
+            scene_check(&m, threads - 1);
+        }
+        for (k = 0; k < sizeof bad / sizeof *bad; k++) {
+            assert_int_equal(hgcd_world_set_contact_margin(m.w, bad[k]), HGCD_ERROR_INVALID_ARGUMENT);
+            assert_int_equal(hgcd_world_get_contact_margin(m.w, &got), HGCD_OK);
+            assert_true(got == 0.3);
+        }
+        scene_check(&m, threads - 1);
+        assert_int_equal(hgcd_world_set_contact_margin(NULL, 0), HGCD_ERROR_NULL_ARGUMENT);
+        assert_int_equal(hgcd_world_get_contact_margin(m.w, NULL), HGCD_ERROR_NULL_ARGUMENT);
+        assert_int_equal(hgcd_world_get_contact_margin(NULL, &got), HGCD_ERROR_NULL_ARGUMENT);
+        hgcd_world_destroy(m.w);
+    }
+}
+
 /* Refusals change nothing; the default is 0. */
 static void test_margin_refusals(void **state) {
     const double bad[] = {-1, -0x1p-1074, NAN, INFINITY, 1.0000001e15};
@@ -515,6 +549,7 @@ int main(void) {
         cmocka_unit_test(test_scene_cases),
         cmocka_unit_test(test_scene_thresholds),
         cmocka_unit_test(test_scenes),
+        cmocka_unit_test(test_world_margin_setter),
     };
     make_sphere();
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));

@@ -180,11 +180,12 @@ static void scene_free(scene *sc) {
     hgcd_world_destroy(sc->w);
 }
 
-static void scene_add(scene *sc, int shape, const double *p, const double *q, double s) {
+/* A body created as index i (the next new index, or a freed one hgcd
+ * reuses), recorded for the oracle. */
+static hgcd_body scene_put(scene *sc, size_t i, int shape, const double *p, const double *q, double s) {
     hgcd_body_desc bd = hgcd_body_desc_default();
     hgcd_body id;
     const oracle_mesh *m = &shapes[shape];
-    size_t i = sc->n++;
     uint32_t v;
     assert_true(i < 256);
     bd.mesh = sc->mesh[shape];
@@ -197,8 +198,15 @@ static void scene_add(scene *sc, int shape, const double *p, const double *q, do
     memcpy(sc->pos[i], p, sizeof sc->pos[i]);
     memcpy(sc->quat[i], q, sizeof sc->quat[i]);
     sc->scale[i] = s;
+    free(sc->wv[i]);
     sc->wv[i] = malloc(3 * sizeof(double) * m->vertex_count);
     for (v = 0; v < m->vertex_count; ++v) oracle_world_vertex(p, q, s, m->verts + 3 * v, sc->wv[i] + 3 * v);
+    sc->skip[i] = 0;
+    return id;
+}
+
+static void scene_add(scene *sc, int shape, const double *p, const double *q, double s) {
+    scene_put(sc, sc->n++, shape, p, q, s);
 }
 
 /* Random bodies in [0, side]^3; snapped: integer positions, quarter-turn
@@ -901,6 +909,63 @@ static void test_tree_follows_world(void **state) {
     free(sc.wv[0]);
 }
 
+/* Bodies destroyed, created (in freed and new indices) and moved between
+ * queries, with every query against the oracle after each change (the
+ * query tree is built again after bodies come or go, refitted after moves). */
+static void test_tree_churn(void **state) {
+    enum { N = 100, ROUNDS = 6 };
+    scene sc;
+    rng r = {4242};
+    size_t hits[1], answers[2], round, b;
+    hgcd_body ids[256];
+    hgcd_query_results res;
+    const double everywhere[6] = {-1e9, -1e9, -1e9, 1e9, 1e9, 1e9};
+    (void)state;
+    scene_init(&sc, 2);
+    scene_random(&sc, &r, N, 10, 0);
+    assert_int_equal(hgcd_world_query_box(sc.w, everywhere, 1, 0, NULL, &res), HGCD_OK);
+    for (b = 0; b < N; ++b) ids[b] = res.bodies[b];
+    check_scene(&sc, &r, 10, 0, hits, answers);
+    for (round = 0; round < (getenv("HGCD_SKIP_SLOW_TESTS") ? 2 : ROUNDS); ++round) {
+        size_t freed[4], nf = 0, k;
+        while (nf < 4) { /* destroy 4 live bodies */
+            b = next(&r) % sc.n;
+            if (sc.skip[b]) continue;
+            assert_int_equal(hgcd_body_destroy(sc.w, ids[b]), HGCD_OK);
+            sc.skip[b] = 1;
+            freed[nf++] = b;
+        }
+        check_scene(&sc, &r, 10, 0, hits, answers);
+        for (k = 0; k < 4; ++k) { /* 4 created again, in the last freed indices first */
+            double p[3], q[4];
+            int a;
+            for (a = 0; a < 3; ++a) p[a] = 10 * unif(&r);
+            random_unit_quaternion(&r, q);
+            ids[freed[3 - k]] = scene_put(&sc, freed[3 - k], (int)(next(&r) % SHAPE_COUNT), p, q, 0.3 + unif(&r));
+        }
+        if (sc.n < 256) { /* and one at a new index */
+            double p[3] = {10 * unif(&r), 10 * unif(&r), 10 * unif(&r)}, q[4];
+            random_unit_quaternion(&r, q);
+            ids[sc.n] = scene_put(&sc, sc.n, (int)(next(&r) % SHAPE_COUNT), p, q, 0.3 + unif(&r));
+            sc.n++;
+        }
+        check_scene(&sc, &r, 10, 0, hits, answers);
+        for (b = 0; b < sc.n; ++b) { /* every live body moved a little */
+            const oracle_mesh *m = &shapes[sc.shape[b]];
+            uint32_t v;
+            int a;
+            if (sc.skip[b]) continue;
+            for (a = 0; a < 3; ++a) sc.pos[b][a] += 0.4 * unif(&r) - 0.2;
+            random_unit_quaternion(&r, sc.quat[b]);
+            assert_int_equal(hgcd_body_set_pose(sc.w, ids[b], sc.pos[b], sc.quat[b]), HGCD_OK);
+            for (v = 0; v < m->vertex_count; ++v)
+                oracle_world_vertex(sc.pos[b], sc.quat[b], sc.scale[b], m->verts + 3 * v, sc.wv[b] + 3 * v);
+        }
+        check_scene(&sc, &r, 10, 0, hits, answers);
+    }
+    scene_free(&sc);
+}
+
 /* An engine's loop (new poses, a query, a detect, a query again) on 4000
  * bodies, moved far on even ticks so that detects renumber storage (and the
  * query tree is rebuilt) and by a little on odd ones (the tree is refitted):
@@ -987,6 +1052,7 @@ static void test_engine_loop(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tree_churn),
         cmocka_unit_test(test_degenerate_rays),     cmocka_unit_test(test_degenerate_boxes_points),
         cmocka_unit_test(test_refusals),            cmocka_unit_test(test_tree_follows_world),
         cmocka_unit_test(test_engine_loop),           cmocka_unit_test(test_body_filters),

@@ -343,8 +343,10 @@ typedef struct hgcd_world_desc {
      *  exactly on the world vertices, with no tolerance but d itself
      *  (docs/semantics.md, "Contact margin"). Default 0: the closed solids
      *  must share a point (today's exact touching, at its speed). Finite,
-     *  >= 0 and <= 1e15. A pair with d > 0 takes the exact margin path of
-     *  the narrow phase: no tetrahedron, convex or libccd shortcut. */
+     *  >= 0 and <= 1e15. Pairs with d > 0 are decided exactly as well:
+     *  touching first (tetrahedra keep their batch), then, for pairs apart,
+     *  certified tests of the distance (no libccd, no convex batch). Set
+     *  later with hgcd_world_set_contact_margin. */
     double contact_margin;
 } hgcd_world_desc;
 
@@ -403,6 +405,20 @@ HGCD_API hgcd_status hgcd_world_set_thread_policy(hgcd_world *world,
  *  (GJK or MPR without libccd). */
 HGCD_API hgcd_status hgcd_world_set_narrow_phase(hgcd_world *world,
                                                  int32_t narrow_phase);
+
+/** Sets the world's contact margin (hgcd_world_desc.contact_margin) from the
+ *  next step/detect. Every body counts as moved (every pair is tested
+ *  again) and the next step/detect rebuilds the broad phase: O(bodies) here
+ *  and then. Setting the same value (bit for bit) changes nothing.
+ *  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (not finite, < 0 or > 1e15; the
+ *  world is left as it was). */
+HGCD_API hgcd_status hgcd_world_set_contact_margin(hgcd_world *world,
+                                                   double contact_margin);
+
+/** Sets *out_margin to the world's contact margin.
+ *  Errors: NULL_ARGUMENT (world or out_margin). Read-only, O(1). */
+HGCD_API hgcd_status hgcd_world_get_contact_margin(const hgcd_world *world,
+                                                   double *out_margin);
 
 /** Switches contact recording on (non-zero) or off for the following
  *  step/detect calls, as hgcd_world_desc.contacts.

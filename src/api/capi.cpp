@@ -433,6 +433,17 @@ hgcd_status hgcd_mesh_set_narrow_phase(hgcd_world *world, hgcd_mesh mesh, int32_
                    [&] { return world->impl.set_mesh_narrow_phase(mesh, narrow_phase); });
 }
 
+hgcd_status hgcd_world_set_contact_margin(hgcd_world *world, double contact_margin) {
+    if (!world) return HGCD_ERROR_NULL_ARGUMENT;
+    return guarded(world, "world_set_contact_margin", [&] { return world->impl.set_contact_margin(contact_margin); });
+}
+
+hgcd_status hgcd_world_get_contact_margin(const hgcd_world *world, double *out_margin) {
+    if (!world || !out_margin) return HGCD_ERROR_NULL_ARGUMENT;
+    *out_margin = world->impl.contact_margin();
+    return HGCD_OK;
+}
+
 hgcd_status hgcd_world_set_contacts(hgcd_world *world, uint32_t enable) {
     if (!world) return HGCD_ERROR_NULL_ARGUMENT;
     world->impl.set_contacts(enable != 0);

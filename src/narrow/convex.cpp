@@ -132,10 +132,61 @@ bool edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double
     return false;
 }
 
+// At most this many triangles of a mesh are tried by any_edge_crosses (the
+// first that reach the region).
+constexpr uint32_t kMaxNear = 64;
+
+// Any edge of mesh me (world vertices we) that reaches the box `region`
+// certainly crossing the interior of a triangle of mt (world vertices wt)
+// that reaches it too? The same certificate as edge_crosses, on every edge
+// (each once) against at most kMaxNear triangles: false proves nothing. A
+// crossing point lies in both bodies' boxes: region is their intersection.
+bool any_edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double *wt, const double *region) {
+    Plane plane[kMaxNear];
+    double box[kMaxNear][6];
+    const double *corner[kMaxNear][3];
+    uint32_t kept = 0;
+    for (uint32_t t = 0; t < mt.triangle_count && kept < kMaxNear; ++t) {
+        const uint32_t *f = &mt.triangles[3 * size_t(t)];
+        triangle_box(wt, f, box[kept]);
+        if (boxes_disjoint(box[kept], region)) continue;
+        for (int i = 0; i < 3; ++i) corner[kept][i] = &wt[3 * size_t(f[i])];
+        plane_of(corner[kept][0], corner[kept][1], corner[kept][2], plane[kept]);
+        ++kept;
+    }
+    if (!kept) return false;
+    const SatData &se = *me.sat;
+    for (uint32_t v = 0; v < me.vertex_count; ++v) {
+        const double *p = &we[3 * size_t(v)];
+        for (uint32_t e = se.vertex_edge_start[v]; e < se.vertex_edge_start[v + 1]; ++e) {
+            const uint32_t w = se.vertex_edges[e];
+            if (w < v) continue;  // (each edge once)
+            const double *q = &we[3 * size_t(w)];
+            const double edge_box[6] = {std::min(p[0], q[0]), std::min(p[1], q[1]), std::min(p[2], q[2]),
+                                        std::max(p[0], q[0]), std::max(p[1], q[1]), std::max(p[2], q[2])};
+            if (boxes_disjoint(edge_box, region)) continue;
+            for (uint32_t k = 0; k < kept; ++k) {
+                if (boxes_disjoint(edge_box, box[k])) continue;
+                const int side_p = plane_side(plane[k], p);
+                if (side_p != 0 && plane_side(plane[k], q) == -side_p && crosses_inside(p, q, corner[k]))
+                    return true;
+            }
+        }
+    }
+    return false;
+}
+
 }  // namespace
 
-bool convex_surfaces_cross(const BodyPose &a, const double *wa, const BodyPose &b, const double *wb) {
-    return edge_crosses(*b.mesh, wb, *a.mesh, wa, a.position) || edge_crosses(*a.mesh, wa, *b.mesh, wb, b.position);
+bool convex_surfaces_cross(const BodyPose &a, const double *wa, const double *box_a, const BodyPose &b,
+                           const double *wb, const double *box_b) {
+    const Mesh &ma = *a.mesh, &mb = *b.mesh;
+    if (edge_crosses(mb, wb, ma, wa, a.position) || edge_crosses(ma, wa, mb, wb, b.position)) return true;
+    // Then every edge in the region where the boxes meet.
+    const double region[6] = {std::max(box_a[0], box_b[0]), std::max(box_a[1], box_b[1]),
+                              std::max(box_a[2], box_b[2]), std::min(box_a[3], box_b[3]),
+                              std::min(box_a[4], box_b[4]), std::min(box_a[5], box_b[5])};
+    return any_edge_crosses(mb, wb, ma, wa, region) || any_edge_crosses(ma, wa, mb, wb, region);
 }
 
 }  // namespace hgcd

@@ -43,6 +43,27 @@ enum class ConvexVerdict {
 // strictly inside the other (containment).
 ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b);
 
+// The kernel's line of centres for a pair (its first step): the rotations
+// (rotation_of), u = fl(c_b - c_a), da = fl(R_a^T u), ub = fl(R_b^T u), db =
+// -ub, each body's range [lo, hi] of fl(l . d) over its vertices and a
+// vertex where hi is reached (range_arg's choice among ties), uu = fl(u . u)
+// and the margin of the comparisons on that line.
+struct ConvexCentres {
+    Rotation ra, rb;
+    double u[3], da[3], ub[3], db[3];
+    double alo, ahi, blo, bhi, uu, cmargin;
+    uint32_t a_toward, b_toward;
+};
+
+// convex_decide for a pair its line of centres does not separate, from that
+// step's values computed by the caller with the same bits (the batch,
+// convex_batch.cpp).
+ConvexVerdict convex_decide_past_centres(const BodyPose &a, const BodyPose &b, const ConvexCentres &c);
+
+// collide_convex after the kernel's verdict v.
+Contact collide_convex_after(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness,
+                             ConvexVerdict v);
+
 // The convex path's one-pair test (collide() of two bodies whose meshes have
 // Mesh::sat): the kernel, then for the pairs it leaves open the world
 // vertices, the search for crossing surfaces and the exact steps
@@ -53,8 +74,11 @@ Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, W
 // interior of a triangle of the other (both its ends strictly on either
 // side of the triangle's plane, the line strictly inside its three edges,
 // every sign certified by a filter)? Tried on the edges at each mesh's
-// vertex nearest the other's position; false proves nothing. wa, wb: the
-// world vertices (world_vertices).
-bool convex_surfaces_cross(const BodyPose &a, const double *wa, const BodyPose &b, const double *wb);
+// vertex nearest the other's position, then on every edge against the
+// triangles (at most 64 of a mesh) that reach the intersection of the two
+// boxes; false proves nothing. wa, wb: the world
+// vertices (world_vertices), box_a, box_b their exact boxes.
+bool convex_surfaces_cross(const BodyPose &a, const double *wa, const double *box_a, const BodyPose &b,
+                           const double *wb, const double *box_b);
 
 }  // namespace hgcd

@@ -111,6 +111,10 @@ struct PairView {
     double scale;   // P + L_a + L_b
     double c[9];    // fl(R_b^T R_a), row-major
     double dq[2];   // |1 - fl(|q|^2)| + 2^-50 of a and b
+    // (The rest is filled in by decide before use: zeroing it first cost a
+    // `rep stos` per pair.)
+    PairView(const BodyPose &pa, const BodyPose &pb, const Rotation &r_a, const Rotation &r_b)
+        : a(pa), b(pb), sa(*pa.mesh->sat), sb(*pb.mesh->sat), ra(r_a), rb(r_b) {}
 };
 
 // A face axis n of mesh a (frame a), for the real world axis N = R_a n
@@ -223,6 +227,38 @@ HGCD_CK_INLINE bool axes_apart(const PairView &p, const double *da, const double
             if (apart_on(p, N)) return true;
         }
     }
+    return false;
+}
+
+// Last, for meshes with more than kEdgeAxisPairs pairs of edge directions
+// (whose edge axes axes_apart skips), the cross products of the edges at
+// each body's vertex reaching furthest towards the other (va, vb): where
+// two such bodies nearly touch without a face axis between them, their
+// nearest features are mostly edges there. (A local edge vector turned
+// into the world frame is as good an axis as any: apart_on's margin covers
+// any vector.)
+constexpr uint32_t kSupportEdges = 8;
+HGCD_CK_INLINE uint32_t support_edges(const BodyPose &body, const Rotation &r, uint32_t v, double (*out)[3]) {
+    const SatData &m = *body.mesh->sat;
+    const double *x = &body.mesh->vertices[3 * size_t(v)];
+    uint32_t n = 0;
+    for (uint32_t e = m.vertex_edge_start[v]; e < m.vertex_edge_start[v + 1] && n < kSupportEdges; ++e, ++n) {
+        const double *y = &body.mesh->vertices[3 * size_t(m.vertex_edges[e])];
+        const double d[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+        rotate(r, d, out[n]);
+    }
+    return n;
+}
+HGCD_CK_INLINE bool support_edges_apart(const PairView &p, uint32_t va, uint32_t vb) {
+    if (uint64_t(p.sa.edges) * p.sb.edges <= kEdgeAxisPairs) return false;  // (all tried already)
+    double ea[kSupportEdges][3], eb[kSupportEdges][3];
+    const uint32_t na = support_edges(p.a, p.ra, va, ea), nb = support_edges(p.b, p.rb, vb, eb);
+    for (uint32_t i = 0; i < na; ++i)
+        for (uint32_t j = 0; j < nb; ++j) {
+            const double *x = ea[i], *y = eb[j];
+            const double N[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+            if (apart_on(p, N)) return true;
+        }
     return false;
 }
 
@@ -360,33 +396,42 @@ HGCD_CK_INLINE bool holds_all(const BodyPose &out, const Rotation &ro, const Sat
     return true;
 }
 
-HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
+// The line of centres: tet_axis_separates's test and margin (tetra.hpp),
+// whose argument holds for any number of vertices (the world vertices are
+// fl(c + fl(R l)) with l = fl(s v) here too, and reach bounds |v|_1 of every
+// vertex), with the projections' other ends for the poke tests of rest().
+// True when it separates.
+HGCD_CK_INLINE bool centres(const BodyPose &a, const BodyPose &b, ConvexCentres &c) {
     const SatData &sa = *a.mesh->sat, &sb = *b.mesh->sat;
-    PairView p{a, b, sa, sb, rotation_of(a.orientation), rotation_of(b.orientation), {}, 0, {}, {}};
+    c.ra = rotation_of(a.orientation);
+    c.rb = rotation_of(b.orientation);
     const double *ca = a.position, *cb = b.position;
-    for (int k = 0; k < 3; ++k) p.u[k] = cb[k] - ca[k];
-    // The line of centres: tet_axis_separates's test and margin (tetra.hpp),
-    // whose argument holds for any number of vertices (the world vertices
-    // are fl(c + fl(R l)) with l = fl(s v) here too, and reach bounds
-    // |v|_1 of every vertex), with the projections' other ends for the poke
-    // tests below.
-    double da[3], db[3], ub[3];
-    rotate_t(p.ra, p.u, da);
-    rotate_t(p.rb, p.u, ub);
-    for (int j = 0; j < 3; ++j) db[j] = -1.0 * ub[j];
-    double alo, ahi, blo, bhi;
-    uint32_t a_toward, b_toward;  // the vertices reaching furthest towards the other body
-    range_arg(sa, a.scale, da, alo, ahi, a_toward);
-    range_arg(sb, b.scale, db, blo, bhi, b_toward);
-    const double uu = (p.u[0] * p.u[0] + p.u[1] * p.u[1]) + p.u[2] * p.u[2];
-    const double reach_ab = ahi + bhi;
-    const double gap = uu - reach_ab;
+    for (int k = 0; k < 3; ++k) c.u[k] = cb[k] - ca[k];
+    rotate_t(c.ra, c.u, c.da);
+    rotate_t(c.rb, c.u, c.ub);
+    for (int j = 0; j < 3; ++j) c.db[j] = -1.0 * c.ub[j];
+    range_arg(sa, a.scale, c.da, c.alo, c.ahi, c.a_toward);
+    range_arg(sb, b.scale, c.db, c.blo, c.bhi, c.b_toward);
+    c.uu = (c.u[0] * c.u[0] + c.u[1] * c.u[1]) + c.u[2] * c.u[2];
+    const double gap = c.uu - (c.ahi + c.bhi);
     const double reach = 2 * (a.scale * sa.reach + b.scale * sb.reach);
-    const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(p.u[0]) +
-                       (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * std::fabs(p.u[1])) +
-                      (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * std::fabs(p.u[2]);
-    const double cmargin = tet::kCentresMargin * (uu + cu) + tet::kUnderflowFloor;
-    if (gap > 0 && gap > cmargin) return ConvexVerdict::ApartOnCentres;
+    const double cu = ((std::fabs(ca[0]) + std::fabs(cb[0]) + reach) * std::fabs(c.u[0]) +
+                       (std::fabs(ca[1]) + std::fabs(cb[1]) + reach) * std::fabs(c.u[1])) +
+                      (std::fabs(ca[2]) + std::fabs(cb[2]) + reach) * std::fabs(c.u[2]);
+    c.cmargin = tet::kCentresMargin * (c.uu + cu) + tet::kUnderflowFloor;
+    return gap > 0 && gap > c.cmargin;
+}
+
+// Everything after the line of centres, for a pair it does not separate.
+HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const ConvexCentres &c) {
+    PairView p(a, b, c.ra, c.rb);
+    const SatData &sa = p.sa, &sb = p.sb;
+    const double *ca = a.position, *cb = b.position;
+    for (int k = 0; k < 3; ++k) p.u[k] = c.u[k];
+    const double *da = c.da, *db = c.db, *ub = c.ub;
+    const double alo = c.alo, ahi = c.ahi, blo = c.blo, bhi = c.bhi, uu = c.uu, cmargin = c.cmargin;
+    const uint32_t a_toward = c.a_toward, b_toward = c.b_toward;
+    const double reach_ab = ahi + bhi;
     // On that line, relative to c_a, a's vertices project to [alo, ahi] and
     // b's to [uu - bhi, uu - blo] (b's range is taken along -R_b^T u): the
     // same sums as the gap above with other ends of the ranges, so the same
@@ -410,23 +455,36 @@ HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
     const double *qa = a.orientation, *qb = b.orientation;
     p.dq[0] = std::fabs(1.0 - (((qa[0] * qa[0] + qa[1] * qa[1]) + qa[2] * qa[2]) + qa[3] * qa[3])) + 0x1p-50;
     p.dq[1] = std::fabs(1.0 - (((qb[0] * qb[0] + qb[1] * qb[1]) + qb[2] * qb[2]) + qb[3] * qb[3])) + 0x1p-50;
-    if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
-    if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
     // One body's stretch of the line of centres inside the other's: try
-    // whether it holds the whole body.
+    // whether it holds the whole body (before the axes, which cannot
+    // separate such a pair).
     if (inside) {
         if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb)) return ConvexVerdict::AHoldsB;
         if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra)) return ConvexVerdict::BHoldsA;
     }
+    if (axes_apart(p, da, ub)) return ConvexVerdict::Apart;
+    if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
+    if (support_edges_apart(p, a_toward, b_toward)) return ConvexVerdict::Apart;
     return ConvexVerdict::Open;
+}
+
+HGCD_CK_INLINE ConvexVerdict decide(const BodyPose &a, const BodyPose &b) {
+    ConvexCentres c;
+    if (centres(a, b, c)) return ConvexVerdict::ApartOnCentres;
+    return rest(a, b, c);
 }
 
 #if HGCD_AVX2
 __attribute__((target("avx2"))) ConvexVerdict decide_avx2(const BodyPose &a, const BodyPose &b) {
     return decide(a, b);
 }
+__attribute__((target("avx2"))) ConvexVerdict rest_avx2(const BodyPose &a, const BodyPose &b,
+                                                        const ConvexCentres &c) {
+    return rest(a, b, c);
+}
 #endif
 ConvexVerdict decide_base(const BodyPose &a, const BodyPose &b) { return decide(a, b); }
+ConvexVerdict rest_base(const BodyPose &a, const BodyPose &b, const ConvexCentres &c) { return rest(a, b, c); }
 
 }  // namespace
 
@@ -435,6 +493,13 @@ ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b) {
     if (use_avx2()) return decide_avx2(a, b);
 #endif
     return decide_base(a, b);
+}
+
+ConvexVerdict convex_decide_past_centres(const BodyPose &a, const BodyPose &b, const ConvexCentres &c) {
+#if HGCD_AVX2
+    if (use_avx2()) return rest_avx2(a, b, c);
+#endif
+    return rest_base(a, b, c);
 }
 
 }  // namespace hgcd

@@ -270,7 +270,11 @@ Contact collide_within_direct(const BodyPose &a, const BodyPose &b, double d, Na
 // separations: its certificates name no triangle pair. exact_tests counts
 // the pairs that pass the line of centres.
 Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness) {
-    const ConvexVerdict v = convex_decide(a, b);
+    return collide_convex_after(a, b, s, witness, convex_decide(a, b));
+}
+
+Contact collide_convex_after(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness,
+                             ConvexVerdict v) {
     if (v == ConvexVerdict::ApartOnCentres) return Contact::None;
     ++s.exact_tests;
     if (v == ConvexVerdict::Apart) return Contact::None;
@@ -283,7 +287,7 @@ Contact collide_convex(const BodyPose &a, const BodyPose &b, NarrowScratch &s, W
     world_vertices(b, s.world_b, box_b);
     if (boxes_disjoint(box_a, box_b)) return Contact::None;
     const double *wa = s.world_a.data(), *wb = s.world_b.data();
-    if (!witness && convex_surfaces_cross(a, wa, b, wb)) return Contact::Surface;
+    if (!witness && convex_surfaces_cross(a, wa, box_a, b, wb, box_b)) return Contact::Surface;
     if (!a.mesh->bvh.empty() || !b.mesh->bvh.empty()) return collide_tree(a, b, s, witness, false);
     return direct_exact(a, wa, box_a, b, wb, box_b, s, witness, false);
 }

@@ -35,16 +35,9 @@ inline BodyPose pose_of(const Mesh *m, const Placement &p) {
     return BodyPose{m, p.position, p.orientation, p.scale};
 }
 
-// A mesh's record for the batched kernels, which read it per body in place
-// of the Mesh (world/mesh_pool.hpp packs the records): record_blocks(m)
-// blocks of 4 doubles, 32-byte aligned. A tetrahedron (Mesh::tetra): its
-// local vertices x0..x3 y0..y3 z0..z3 (tetra_local; 3 blocks). Other meshes
-// have none (0 blocks).
-uint32_t record_blocks(const Mesh &m);
-void write_record(const Mesh &m, double *out);
-
 // A pair of bodies whose meshes are both tetrahedra (Mesh::tetra), with the
-// meshes' records (write_record).
+// meshes' records (world/mesh_pool.hpp: a tetrahedron's is its tetra_local,
+// 32-byte aligned), which the batched kernels read in place of the Mesh.
 struct TetraPair {
     const Mesh *mesh_a, *mesh_b;
     const Placement *a, *b;

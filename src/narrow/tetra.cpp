@@ -246,12 +246,6 @@ HGCD_TET_CLONES Contact collide_tetra_two_lane(const BodyPose &a, const BodyPose
 
 }  // namespace tet
 
-uint32_t record_blocks(const Mesh &m) { return m.tetra ? 3 : 0; }
-
-void write_record(const Mesh &m, double *out) {
-    if (m.tetra) std::copy(m.tetra_local, m.tetra_local + 12, out);
-}
-
 void collide_tetra_batch(const TetraPair *pairs, size_t n, Contact *out, NarrowScratch &scratch) {
 #if HGCD_AVX2
     if (use_avx2()) return tet::collide_tetra_batch_avx2(pairs, n, out, scratch);

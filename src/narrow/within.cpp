@@ -277,8 +277,7 @@ namespace {
 // product and sum, the factors 1 + 1e-12 cover it. Returns 2 when apart by
 // more than d, 1 when apart (not touching) but not shown more than d, 0
 // when not shown apart.
-int centres_apart(const BodyPose &a, const BodyPose &b, double d) {
-    const Rotation ra = rotation_of(a.orientation), rb = rotation_of(b.orientation);
+int centres_apart(const BodyPose &a, const BodyPose &b, const Rotation &ra, const Rotation &rb, double d) {
     const double *ca = a.position, *cb = b.position;
     const double u[3] = {cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
     double h[2];
@@ -302,10 +301,9 @@ int centres_apart(const BodyPose &a, const BodyPose &b, double d) {
     return gap > (margin + need) * (1 + 1e-12) ? 2 : 1;
 }
 
-// World vertices of a tetrahedron (world_vertices' operations: the same
-// bits), 3 doubles each, and their box.
-void tet_world_rows(const BodyPose &p, double *w, double *box) {
-    const Rotation r = rotation_of(p.orientation);
+// World vertices of a tetrahedron of rotation r (world_vertices'
+// operations: the same bits), 3 doubles each, and their box.
+void tet_world_rows(const BodyPose &p, const Rotation &r, double *w, double *box) {
     const double *l = p.mesh->tetra_local;
     for (int v = 0; v < 4; ++v) {
         const double m[3] = {l[v], l[4 + v], l[8 + v]};
@@ -348,10 +346,11 @@ bool tetra_certify(const BodyPose &a, const double *wa, const BodyPose &b, const
 }  // namespace
 
 Contact tetra_within_apart(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &s) {
-    if (centres_apart(a, b, d) == 2) return Contact::None;
+    const Rotation ra = rotation_of(a.orientation), rb = rotation_of(b.orientation);
+    if (centres_apart(a, b, ra, rb, d) == 2) return Contact::None;
     double wa[12], wb[12], box_a[6], box_b[6];
-    tet_world_rows(a, wa, box_a);
-    tet_world_rows(b, wb, box_b);
+    tet_world_rows(a, ra, wa, box_a);
+    tet_world_rows(b, rb, wb, box_b);
     if (boxes_apart(box_a, box_b, d)) return Contact::None;
     bool near;
     if (tetra_certify(a, wa, b, wb, d, &near)) return near ? Contact::Near : Contact::None;
@@ -360,15 +359,16 @@ Contact tetra_within_apart(const BodyPose &a, const BodyPose &b, double d, Narro
 }
 
 Contact collide_tetra_within(const BodyPose &a, const BodyPose &b, double d, NarrowScratch &s) {
-    const int apart = centres_apart(a, b, d);
+    const Rotation ra = rotation_of(a.orientation), rb = rotation_of(b.orientation);
+    const int apart = centres_apart(a, b, ra, rb, d);
     if (apart == 2) return Contact::None;
     if (apart == 0) {
         const Contact touching = collide_tetra(a, b, s);
         if (touching != Contact::None) return touching;
     }
     double wa[12], wb[12], box_a[6], box_b[6];
-    tet_world_rows(a, wa, box_a);
-    tet_world_rows(b, wb, box_b);
+    tet_world_rows(a, ra, wa, box_a);
+    tet_world_rows(b, rb, wb, box_b);
     if (boxes_apart(box_a, box_b, d)) return Contact::None;
     bool near;
     if (tetra_certify(a, wa, b, wb, d, &near)) return near ? Contact::Near : Contact::None;

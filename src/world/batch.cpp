@@ -127,41 +127,36 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         return HGCD_OK;
     }
     // All bodies by index: storage runs in the grid's order, not the
-    // indices', so the pass follows storage (writing the world's arrays in
-    // sequence), a block at a time: first the block's entries are gathered
-    // from the caller's arrays out of order (independent loads, many in
-    // flight), then applied in order (the box of a new orientation is long
-    // work; waiting on a scattered load inside it kept few in flight).
-    constexpr size_t kBlock = 2048;
-    struct Entry {
-        double position[3], orientation[4];
-    };
-    const size_t n = slot_of_.size(), blocks = (n + kBlock - 1) / kBlock;
+    // indices', so the pass follows storage (writing the world's arrays and
+    // reading the meshes' records nearly in sequence) and reads the caller's
+    // arrays out of order, asking for each entry kAhead bodies before its
+    // use: independent loads, many in flight while the boxes are computed.
+    constexpr int64_t kAhead = 32;
+    const size_t n = slot_of_.size();
     const int T = n >= kParallelEntries ? threads() : 1;
-    std::vector<Entry> staging(size_t(T) * kBlock);
-    parallel_for(T, int64_t(blocks), 1, Schedule::Static, [&](int64_t blk0, int64_t blk1, int me) {
-        Entry *in = staging.data() + size_t(me) * kBlock;
-        // (Locals, not the captures: the copies below might write those.)
+    parallel_for(T, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+        // (Locals, not the captures: apply_pose's writes might alias those.)
         const double *const positions_ = positions, *const orientations_ = orientations;
-        const size_t ps_ = ps, os_ = os, count_ = count, n_ = n;
-        for (int64_t blk = blk0; blk < blk1; ++blk) {
-            const size_t begin = size_t(blk) * kBlock, end = std::min(n_, begin + kBlock);
-            for (size_t i = begin; i < end; ++i) {
-                const size_t k = slot_of_[i];
-                if (k >= count_ || !stored_gen_[i]) continue;
-                if (positions_) std::memcpy(in[i - begin].position, entry(positions_, ps_, k), sizeof(Entry::position));
-                if (orientations_) {
-                    std::memcpy(in[i - begin].orientation, entry(orientations_, os_, k), sizeof(Entry::orientation));
-                    __builtin_prefetch(&meshes_[body_mesh_[i]].box_points);  // (scattered where meshes are per body)
+        const size_t ps_ = ps, os_ = os, count_ = count;
+        const uint32_t *const slot_of = slot_of_.data(), *const stored_gen = stored_gen_.data();
+        for (int64_t i = b; i < e; ++i) {
+            if (i + kAhead < e) {
+                const size_t ahead = slot_of[i + kAhead];
+                if (ahead < count_) {  // (both ends: an entry may straddle two cache lines)
+                    if (positions_) {
+                        __builtin_prefetch(entry(positions_, ps_, ahead));
+                        __builtin_prefetch(entry(positions_, ps_, ahead) + 2);
+                    }
+                    if (orientations_) {
+                        __builtin_prefetch(entry(orientations_, os_, ahead));
+                        __builtin_prefetch(entry(orientations_, os_, ahead) + 3);
+                    }
                 }
             }
-            for (size_t i = begin; i < end; ++i) {
-                const size_t k = slot_of_[i];
-                if (k >= count_ || !stored_gen_[i]) continue;
-                if (orientations_ && i + 8 < end) __builtin_prefetch(meshes_[body_mesh_[i + 8]].box_points.data());
-                apply_pose(i, positions_ ? in[i - begin].position : nullptr,
-                           orientations_ ? in[i - begin].orientation : nullptr);
-            }
+            const size_t k = slot_of[i];
+            if (k >= count_ || !stored_gen[i]) continue;
+            apply_pose(size_t(i), positions_ ? entry(positions_, ps_, k) : nullptr,
+                       orientations_ ? entry(orientations_, os_, k) : nullptr);
         }
     });
     return HGCD_OK;

@@ -8,6 +8,7 @@
 #include "broad/float_box.hpp"
 #include "common/ieee.hpp"
 #include "common/transform.hpp"
+#include "world/pose_box.hpp"
 #include "world/world.hpp"
 
 namespace hgcd {
@@ -103,7 +104,6 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
             margin_.reserve(cap);
             point_.reserve(3 * cap);
             at_.reserve(cap);
-            moved_.reserve(cap);
             moved_at_.reserve(cap);
             slot_of_.reserve(cap);
             stored_gen_.reserve(cap);
@@ -124,7 +124,6 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
         margin_.resize(n);
         point_.resize(3 * n);
         at_.push_back(slot);
-        moved_.push_back(1);
         moved_at_.push_back(1);
         slot_of_.push_back(slot);
         stored_gen_.push_back(0);
@@ -132,7 +131,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     if (reuse) body_free_.pop_back();
     query_.stale = query_.rebuild = true;
     const size_t i = at_[slot];
-    moved_[slot] = moved_at_[i] = 1;
+    moved_at_[i] = 1;
     for (int k = 0; k < 3; ++k) {
         place_[i].position[k] = point_[3 * i + k] = d.position[k];
         velocity_[3 * i + k] = d.velocity[k];
@@ -140,7 +139,7 @@ hgcd_status World::create_body(const hgcd_body_desc &d, hgcd_body *out) {
     for (int k = 0; k < 4; ++k) place_[i].orientation[k] = d.orientation[k];
     place_[i].scale = d.scale;
     body_mesh_[i] = uint32_t(mesh);
-    body_record_[i] = pool_.offset(uint32_t(mesh));
+    body_record_[i] = BodyRecord{pool_.offset(uint32_t(mesh)), pool_.groups(uint32_t(mesh))};
     user_data_[slot] = d.user_data;
     filter_[i] = BodyFilter();  // (counted as plain: set_body_filter counts the body's own)
     BodyFilter f;
@@ -176,7 +175,7 @@ hgcd_status World::destroy_body(hgcd_body id) {
     live_gen_[slot] = 0;
     stored_gen_[at_[slot]] = 0;
     query_.stale = query_.rebuild = true;
-    moved_[slot] = moved_at_[at_[slot]] = 1;  // (its last pairs end)
+    moved_at_[at_[slot]] = 1;  // (its last pairs end)
     if (at_[slot] < mover_.size()) mover_[at_[slot]] |= kDead;  // (the grid may still hold it)
     ++mover_marks_;  // (the movers' lists of residents may hold it)
     --mesh_users_[body_mesh_[at_[slot]]];
@@ -199,7 +198,7 @@ void World::apply_pose(size_t i, const double *p, const double *q) {
         set_box_offsets(i);
         moved = true;
     }
-    if (moved) moved_[slot_of_[i]] = moved_at_[i] = 1;
+    if (moved) moved_at_[i] = 1;
 }
 
 hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {
@@ -226,7 +225,26 @@ hgcd_status World::set_margin(hgcd_body id, double margin) {
     set_box_offsets(i);
     grid_stale_ = true;
     query_.stale = true;
-    moved_[slot] = moved_at_[i] = 1;
+    moved_at_[i] = 1;
+    return HGCD_OK;
+}
+
+// As set_margin, for every live body at once.
+hgcd_status World::set_contact_margin(double margin) {
+    if (!margin_ok(margin))
+        return fail(HGCD_ERROR_INVALID_ARGUMENT, "world_set_contact_margin: margin must be finite, >= 0 and <= 1e15");
+    if (std::memcmp(&world_margin_, &margin, sizeof margin) == 0) return HGCD_OK;
+    world_margin_ = margin;
+    for (size_t slot = 0; slot < live_gen_.size(); ++slot) {
+        if (!live_gen_[slot]) continue;
+        const size_t i = at_[slot];
+        r_level_[i] = level_radius(i);
+        set_box_offsets(i);
+        moved_at_[i] = 1;
+    }
+    grid_stale_ = true;
+    query_.stale = true;
+    coherent_ = false;  // (every pair's d changed)
     return HGCD_OK;
 }
 
@@ -284,19 +302,31 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 // operations with a zero position (so c + d is the world vertex as every
 // path computes it, and fl(c + min d) <= fl(c + d): rounding is monotone),
 // rounded outward to float, over the vertices the triangles use (those the
-// mesh's bounding sphere, and so r_level, bounds). Meshes of more triangles
-// than Mesh::kExactBoxTriangles take the cube around their bounding sphere
-// instead (a pose set costs no more than a few hundred vertex transforms),
-// widened past the rounding of R, cut down to the rotated boxes of a few
-// tree nodes where those are tighter.
+// mesh's bounding sphere, and so r_level, bounds), read from the mesh's
+// record (mesh_pool.hpp, pose_box.hpp). Meshes of more triangles than
+// Mesh::kExactBoxTriangles have none: they take the cube around their
+// bounding sphere instead (a pose set costs no more than a few hundred
+// vertex transforms), widened past the rounding of R, cut down to the
+// rotated boxes of a few tree nodes where those are tighter.
 void World::set_box_offsets(size_t s) {
+    const BodyRecord rec = body_record_[s];
+    if (rec.groups == 0 || world_margin_ != 0 || (margin_bodies_ != 0 && margin_[s] != 0))
+        return set_box_offsets_general(s);  // (box_growth(s) != 0)
     const Placement &pl = place_[s];
-    const Mesh &m = meshes_[body_mesh_[s]];
+    record_float_box(rotation_of(pl.orientation), pl.scale, pool_.blocks()[rec.block].d, rec.groups,
+                     &box_off_[6 * s]);
+}
+
+void World::set_box_offsets_general(size_t s) {
+    const Placement &pl = place_[s];
     const Rotation r = rotation_of(pl.orientation);
+    const BodyRecord rec = body_record_[s];
+    const double g = box_growth(s);
     double lo[3], hi[3];
-    if (m.triangle_count <= Mesh::kExactBoxTriangles) {
-        offset_box(r, pl.scale, m.box_points.data(), m.box_points.size() / 3, lo, hi);
+    if (rec.groups) {
+        record_box(r, pl.scale, pool_.blocks()[rec.block].d, rec.groups, lo, hi);
     } else {
+        const Mesh &m = meshes_[body_mesh_[s]];
         const double zero[3] = {0, 0, 0};
         // |R (s v) - R (s c)| <= stretch s radius for every vertex v; each
         // computed offset is within 8 eps (|R| |s v|) of R (s v), |R| <= 2.
@@ -342,7 +372,7 @@ void World::set_box_offsets(size_t s) {
             hi[k] = std::min(hi[k], cut_hi[k]);
         }
     }
-    if (const double g = box_growth(s)) {
+    if (g != 0) {
         // (nextafter: the rounded sum is within an ulp of the exact one.)
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::nextafter(lo[k] - g, -INFINITY);

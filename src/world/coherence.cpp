@@ -45,7 +45,6 @@ World::MovedCount World::count_moved(int threads) {
 }
 
 void World::clear_moved() {
-    std::fill(moved_.begin(), moved_.end(), uint8_t(0));
     std::fill(moved_at_.begin(), moved_at_.end(), uint8_t(0));
 }
 
@@ -65,7 +64,7 @@ void World::reuse_pairs() {
 uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) {
     // Where each slot's pairs start in the last pairs (sorted by (a, b)):
     // a pair (a, b) is looked up among a's few.
-    const size_t slots = moved_.size();
+    const size_t slots = live_gen_.size();
     prev_start_.assign(slots + 1, 0);
     for (const hgcd_pair &p : prev_pairs_) ++prev_start_[p.a.index + 1];
     for (size_t s = 0; s < slots; ++s) prev_start_[s + 1] += prev_start_[s];

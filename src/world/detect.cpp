@@ -394,16 +394,13 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
     // those apart go on to the margin test one at a time: narrow_chunk.)
     plan.margins = world_margin_ > 0 || margin_bodies_ > 0;
     plan.batch = !plan.want_contacts && !plan.any_ccd;
-    plan.all_tetra = plan.batch;
-    for (size_t m = 0; m < meshes_.size() && plan.all_tetra; ++m)
-        plan.all_tetra = !mesh_alive_[m] || meshes_[m].tetra;
+    plan.all_tetra = plan.batch && tetra_meshes_ == live_meshes_;
     if (plan.batch) {
         plan.batch_pairs.reset(new TetraPair[size_t(threads) * kNarrowChunk]);
         plan.batch_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
     }
     // (The convex batch decides touching only: not with margins.)
-    for (size_t m = 0; m < meshes_.size() && plan.batch && !plan.margins && !plan.convex_batch; ++m)
-        plan.convex_batch = mesh_alive_[m] && meshes_[m].sat;
+    plan.convex_batch = plan.batch && !plan.margins && sat_meshes_ > 0;
     if (plan.convex_batch) {
         plan.convex_pairs.reset(new ConvexPair[size_t(threads) * kNarrowChunk]);
         plan.convex_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
@@ -476,11 +473,11 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
         const Placement *place = place_.data();
         const uint32_t *body_mesh = body_mesh_.data();
         const MeshPool::Block *records = pool_.blocks();
-        const uint32_t *record = body_record_.data();
+        const BodyRecord *record = body_record_.data();
         for (size_t k = chunk.begin; k < chunk.end; ++k, ++tetras) {
             const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
             t.tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b,
-                                        records[record[a]].d, records[record[b]].d};
+                                        records[record[a].block].d, records[record[b].block].d};
         }
     } else {
         tetras = narrow_pairs(plan, list, chunk, t);
@@ -570,8 +567,8 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
         const Placement &la = place_[a], &lb = place_[b];
         const Mesh *mesh_a = &meshes_[body_mesh_[a]], *mesh_b = &meshes_[body_mesh_[b]];
         if (batch && mesh_a->tetra && mesh_b->tetra) {
-            t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb, pool_.blocks()[body_record_[a]].d,
-                                          pool_.blocks()[body_record_[b]].d};
+            t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb, pool_.blocks()[body_record_[a].block].d,
+                                          pool_.blocks()[body_record_[b].block].d};
             continue;
         }
         if (plan.convex_batch && mesh_a->sat && mesh_b->sat) {

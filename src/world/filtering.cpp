@@ -30,7 +30,7 @@ void World::set_body_filter(size_t i, const BodyFilter &f) {
     old = f;
     // (Temporal coherence keeps the answers of unmoved pairs: a pair whose
     // filtering changed must be searched and decided again.)
-    moved_[slot_of_[i]] = moved_at_[i] = 1;
+    moved_at_[i] = 1;
 }
 
 hgcd_status World::set_type(hgcd_body id, int32_t type) {

@@ -378,9 +378,6 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     m.triangles.assign(triangles, triangles + 3 * size_t(triangle_count));
     std::vector<char> used(vertex_count, 0);
     for (uint32_t v : m.triangles) used[v] = 1;
-    if (triangle_count <= Mesh::kExactBoxTriangles)
-        for (uint32_t v = 0; v < vertex_count; ++v)
-            if (used[v]) m.box_points.insert(m.box_points.end(), &m.vertices[3 * v], &m.vertices[3 * v] + 3);
     set_bounding_sphere(m, used);
     set_components(m, used);
     m.closed = is_closed(m);

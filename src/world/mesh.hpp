@@ -69,12 +69,12 @@ struct Mesh {
     bool tetra = false;
     double tetra_local[12] = {};  // x0..x3, y0..y3, z0..z3 (mesh frame)
     double tetra_reach = 0;       // max over the 4 vertices of |x| + |y| + |z|
-    // The distinct vertices the triangles use (x y z each), for meshes of at
-    // most kExactBoxTriangles triangles: a body's box is theirs (each
-    // transformed once per new orientation); larger meshes take their
-    // bounding sphere's. A copy, so a pose reads one buffer.
+    // Meshes of at most kExactBoxTriangles triangles: a body's box is the
+    // box of the distinct vertices the triangles use (each transformed once
+    // per new orientation), read from the mesh's record in the world's pool
+    // (world/mesh_pool.hpp, world/pose_box.hpp), not from here; larger meshes
+    // take their bounding sphere's.
     static constexpr uint32_t kExactBoxTriangles = 128;
-    std::vector<double> box_points;
     // For larger meshes: the boxes (centre xyz, half widths xyz, mesh frame)
     // of the tree's nodes kBoxCutDepth below the root (and of shallower
     // leaves), which hold every triangle: a body's box is the union of their

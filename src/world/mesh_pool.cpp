@@ -2,13 +2,50 @@
 #include "common/ieee.hpp"
 #include "world/mesh_pool.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <new>
 
-#include "narrow/narrow.hpp"
 #include "world/memory.hpp"
 
 namespace hgcd {
+
+namespace {
+
+// The distinct vertices the triangles of mesh m (of at most
+// Mesh::kExactBoxTriangles triangles) use, in index order, into `out`;
+// returns their count. No allocation: add() may not throw.
+using UsedVertices = std::array<uint32_t, 3 * Mesh::kExactBoxTriangles>;
+size_t used_vertices(const Mesh &m, UsedVertices &out) {
+    const size_t n = m.triangles.size();
+    std::copy(m.triangles.begin(), m.triangles.end(), out.begin());
+    std::sort(out.begin(), out.begin() + n);
+    return size_t(std::unique(out.begin(), out.begin() + n) - out.begin());
+}
+
+}  // namespace
+
+uint32_t record_groups(const Mesh &m) {
+    if (m.tetra) return 1;
+    if (m.triangle_count > Mesh::kExactBoxTriangles) return 0;
+    UsedVertices v;
+    return uint32_t((used_vertices(m, v) + 3) / 4);
+}
+
+void write_record(const Mesh &m, double *out) {
+    if (m.tetra) {
+        std::copy(m.tetra_local, m.tetra_local + 12, out);
+        return;
+    }
+    UsedVertices v;
+    const size_t count = used_vertices(m, v);
+    for (size_t g = 0; g < count; g += 4, out += 12)
+        for (size_t k = 0; k < 4; ++k) {
+            const double *p = &m.vertices[3 * size_t(v[g + k < count ? g + k : g])];
+            for (int a = 0; a < 3; ++a) out[4 * a + k] = p[a];
+        }
+}
 
 MeshPool::~MeshPool() { free_large(data_, capacity_ * sizeof(Block), alignof(Block)); }
 
@@ -32,11 +69,11 @@ void MeshPool::reserve(uint32_t slot, const Mesh &m) {
     // (Each on its own: a failed resize of the second leaves the first grown.)
     if (offset_.size() <= slot) offset_.resize(size_t(slot) + 1, kNone);
     if (size_.size() <= slot) size_.resize(size_t(slot) + 1, 0);
-    if (!grow(end_ + record_blocks(m))) throw std::bad_alloc();
+    if (!grow(end_ + 3 * size_t(record_groups(m)))) throw std::bad_alloc();
 }
 
 void MeshPool::add(uint32_t slot, const Mesh &m) noexcept {
-    const uint32_t n = record_blocks(m);
+    const uint32_t n = 3 * record_groups(m);
     offset_[slot] = n ? uint32_t(end_) : kNone;
     size_[slot] = n;
     if (!n) return;

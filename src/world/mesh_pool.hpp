@@ -1,10 +1,19 @@
-// The narrow phase's records of small meshes (narrow.hpp, write_record),
-// packed in one array of 32-byte blocks, and laid out again, when the world
-// renumbers its bodies' storage, in the order in which the bodies (in storage
-// order) first use them. A world whose every body has a small mesh of its own
-// then reads the records nearly in sequence, beside the placements, where a
-// Mesh per body (a struct and heap blocks each, in creation order) was a
-// scattered read per body; a shared mesh stays one record, in cache.
+// The records of small meshes, packed in one array of 32-byte blocks, and
+// laid out again, when the world renumbers its bodies' storage, in the order
+// in which the bodies (in storage order) first use them. A mesh's record is
+// what the per-body passes read in place of its Mesh: a world whose every
+// body has a small mesh of its own then reads the records nearly in
+// sequence, beside the placements, where a Mesh per body (a struct and heap
+// blocks each, in creation order) was a scattered read per body; a shared
+// mesh stays one record, in cache.
+//
+// The record of a mesh of at most Mesh::kExactBoxTriangles triangles: the
+// distinct vertices its triangles use (mesh frame), in groups of 4 points, a
+// group being 3 blocks (x of the 4 points, then y, then z), the last group
+// padded with copies of its first point (which change no box). A body's box
+// is theirs (world/pose_box.hpp). A tetrahedron's is its tetra_local (one
+// group), which the narrow phase's batched kernels read (narrow.hpp,
+// TetraPair). Larger meshes have none.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +22,11 @@
 #include "world/mesh.hpp"
 
 namespace hgcd {
+
+// The groups of 4 points of mesh m's record (0: none), and the record itself
+// (3 blocks a group) into out.
+uint32_t record_groups(const Mesh &m);
+void write_record(const Mesh &m, double *out);
 
 class MeshPool {
 public:
@@ -36,6 +50,9 @@ public:
     bool remove(uint32_t slot) noexcept;
     // The first block of the record of the mesh at `slot`, or kNone.
     uint32_t offset(uint32_t slot) const { return offset_[slot]; }
+    // The groups of 4 points of that record (0: none).
+    uint32_t groups(uint32_t slot) const { return size_[slot] / 3; }
+    const uint32_t *sizes() const { return size_.data(); }
     // The record of the mesh at `slot`, or null when it has none.
     const double *record(uint32_t slot) const {
         return slot < offset_.size() && offset_[slot] != kNone ? data_[offset_[slot]].d : nullptr;

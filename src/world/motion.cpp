@@ -193,7 +193,7 @@ bool World::renumber() {
     permute_records<1>(r_level_.data(), perm, n, tmp, T);
     permute_records<1>(margin_.data(), perm, n, tmp, T);
     permute_records<1>(body_mesh_.data(), perm, n, tmp, T);
-    permute_records<1>(body_record_.data(), perm, n, tmp, T);
+    permute_records<1>(reinterpret_cast<uint64_t *>(body_record_.data()), perm, n, tmp, T);
     permute_records<3>(reinterpret_cast<uint64_t *>(filter_.data()), perm, n, tmp, T);
     permute_records<1>(stored_gen_.data(), perm, n, tmp, T);
     permute_records<1>(moved_at_.data(), perm, n, tmp, T);
@@ -212,9 +212,11 @@ bool World::renumber() {
 
 void World::refresh_records() {
     const size_t n = body_mesh_.size();
-    const uint32_t *offset = pool_.offsets();
+    const uint32_t *offset = pool_.offsets(), *size = pool_.sizes();
     parallel_for(threads(), int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
-        for (int64_t k = b; k < e; ++k) body_record_[k] = stored_gen_[k] ? offset[body_mesh_[k]] : MeshPool::kNone;
+        for (int64_t k = b; k < e; ++k)
+            body_record_[k] = stored_gen_[k] ? BodyRecord{offset[body_mesh_[k]], size[body_mesh_[k]] / 3}
+                                             : BodyRecord{MeshPool::kNone, 0};
     });
 }
 

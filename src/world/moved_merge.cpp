@@ -39,7 +39,8 @@ size_t World::merge_moved(int threads) {
     });
     const hgcd_pair *old_pairs = prev_pairs_.data(), *hits = new_hits_.data();
     const size_t n_old = prev_pairs_.size(), n_hits = new_hits_.size();
-    const uint8_t *moved = moved_.data();
+    const uint8_t *moved = moved_at_.data();
+    const uint32_t *at = at_.data();
     // In parts of the key range (splitters from the last pairs, usually the
     // longer list), one a thread: kept pairs counted, then each part's
     // output written in its place, its events apart, joined in order.
@@ -85,7 +86,7 @@ size_t World::merge_moved(int threads) {
                     e.push_back(event(o));
                     b.push_back(event(h));
                 }
-            } else if (!(moved[o.a.index] | moved[o.b.index])) {
+            } else if (!(moved[at[o.a.index]] | moved[at[o.b.index]])) {
                 put(o);  // (kept: no event)
                 ++unmoved;
             } else if (kWrite) {

@@ -78,6 +78,8 @@ class World {
     // Contact margins (bodies.cpp).
     hgcd_status set_margin(hgcd_body id, double margin);
     hgcd_status get_margin(hgcd_body id, double *out) const;
+    hgcd_status set_contact_margin(double margin);
+    double contact_margin() const { return world_margin_; }
     hgcd_status pair_excluded(hgcd_body a, hgcd_body b, uint32_t *out) const;
 
     hgcd_status step();
@@ -142,6 +144,7 @@ class World {
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
+    void set_box_offsets_general(size_t s);  // (with a margin, or no record)
     // How far the box of the body stored at s is grown for the contact
     // margins: at least world margin / 2 + its own margin, so that the
     // boxes of two bodies within their pair's margin overlap (bodies.cpp).
@@ -277,8 +280,11 @@ class World {
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
-    MeshPool pool_;  // the narrow phase's records of small meshes, by slot
+    MeshPool pool_;  // the records of small meshes, by slot (mesh_pool.hpp)
     uint32_t live_meshes_ = 0;
+    // Live meshes that are tetrahedra (Mesh::tetra), and that have Mesh::sat:
+    // what the narrow phase's plan asks, without a pass over the meshes.
+    uint32_t tetra_meshes_ = 0, sat_meshes_ = 0;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)
@@ -300,9 +306,13 @@ class World {
     LargeVector<double> velocity_;     // 3
     LargeVector<uint32_t> body_mesh_;  // mesh slot
     LargeVector<BodyFilter> filter_;   // type, enabled, filter (filter.hpp)
-    // The first block of the mesh's record in pool_ (MeshPool::kNone: none),
-    // read by the narrow phase beside the placements (refresh_records()).
-    LargeVector<uint32_t> body_record_;
+    // The mesh's record in pool_: its first block (MeshPool::kNone: none)
+    // and groups of 4 points (0: none), read by the narrow phase and the
+    // box of a new orientation beside the placements (refresh_records()).
+    struct BodyRecord {
+        uint32_t block, groups;
+    };
+    LargeVector<BodyRecord> body_record_;
     // The body's box less its position, fixed while its orientation is:
     // 6 floats (low x y z, high x y z), rounded outward (grid.hpp, Boxes).
     LargeVector<float> box_off_;
@@ -330,14 +340,15 @@ class World {
     std::unordered_set<uint64_t> excluded_;
     std::unordered_map<uint32_t, std::vector<uint32_t>> excluded_with_;
     std::vector<uint32_t> live_scratch_;  // grid_live
-    // Temporal coherence. Per slot, whether the body was created or its
-    // pose changed since the last detect; whether the last detect's pairs
-    // (prev_pairs_ during a detect) decide the pairs of unmoved bodies: not
-    // after a failed detect, a change of narrow phase, or with contacts on.
-    std::vector<uint8_t> moved_;  // (destroyed bodies count as moved: their pairs end)
+    // Temporal coherence. Per storage index, whether the body there was
+    // created, destroyed (its pairs end) or its pose changed since the last
+    // detect (a slot's flag: moved_at_[at_[slot]]); whether the last
+    // detect's pairs (prev_pairs_ during a detect) decide the pairs of
+    // unmoved bodies: not after a failed detect, a change of narrow phase,
+    // or with contacts on.
+    LargeVector<uint8_t> moved_at_;
     bool coherent_ = false;
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> prev_pairs_;
-    LargeVector<uint8_t> moved_at_;  // moved_ by storage index
     std::vector<uint32_t> prev_start_;  // where each slot's pairs (as a) start in prev_pairs_
     // The batch calls' scratch: each entry's storage index, and the marks
     // (per storage index, of epoch batch_epoch_) that find an id named twice.

@@ -16,6 +16,7 @@
 #include "broad/grid.hpp"
 #include "world/mesh.hpp"
 #include "world/mesh_pool.hpp"
+#include "world/pose_box.hpp"
 #include "world/threads.hpp"
 #include "narrow/narrow.hpp"
 #include "narrow/within.hpp"
@@ -167,20 +168,32 @@ int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint
 
 int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, const double *p, uint32_t points) {
     const hgcd::IeeeMode ieee;
+    // The points as a mesh record holds them (mesh_pool.hpp): groups of 4,
+    // x y z runs, the last padded with copies of its first point; aligned.
+    const uint32_t groups = (points + 3) / 4;
+    std::vector<hgcd::MeshPool::Block> record(3 * size_t(groups));
+    for (uint32_t g = 0; g < groups; ++g)
+        for (uint32_t k = 0; k < 4; ++k) {
+            const uint32_t v = 4 * g + k < points ? 4 * g + k : 4 * g;
+            for (int a = 0; a < 3; ++a) record[3 * g + uint32_t(a)].d[k] = p[3 * v + uint32_t(a)];
+        }
     int64_t differ = 0;
     for (uint32_t i = 0; i < n; ++i) {
         const hgcd::Rotation r = hgcd::rotation_of(q + 4 * size_t(i));
-        double lo[3], hi[3], rlo[3], rhi[3];
+        double lo[3], hi[3], rlo[3], rhi[3], plo[3], phi[3];
         hgcd::offset_box(r, s[i], p, points, lo, hi);
         hgcd::offset_box_scalar(r, s[i], p, points, rlo, rhi);
-        float f[6], g[6];
+        hgcd::record_box(r, s[i], record[0].d, groups, plo, phi);
+        float f[6], g[6], h[6];
         hgcd::broad::round_outward(lo, hi, f, f + 3);
+        hgcd::record_float_box(r, s[i], record[0].d, groups, h);
         for (int k = 0; k < 3; ++k) {
             g[k] = hgcd::float_at_most(rlo[k]);
             g[3 + k] = hgcd::float_at_least(rhi[k]);
         }
         differ += std::memcmp(lo, rlo, sizeof lo) != 0 || std::memcmp(hi, rhi, sizeof hi) != 0 ||
-                  std::memcmp(f, g, sizeof f) != 0;
+                  std::memcmp(plo, rlo, sizeof lo) != 0 || std::memcmp(phi, rhi, sizeof hi) != 0 ||
+                  std::memcmp(f, g, sizeof f) != 0 || std::memcmp(h, g, sizeof h) != 0;
     }
     return differ;
 }

@@ -57,11 +57,13 @@ int64_t hgcdi_grid_pairs(const double *before, const double *after, uint32_t n,
  * rounding, or -1 where that kernel does not run (no AVX2). */
 int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint32_t n);
 
-/* A body's box offsets (src/common/transform.hpp): for each of n cases
- * (quaternion q[4 i .. 4 i + 3], taken as it is, scale s[i], and the
- * `points` points p, 3 doubles each), offset_box against offset_box_scalar
- * and then the rounding to float (round_outward against float_at_most and
- * float_at_least). Returns how many cases differ in any bit. */
+/* A body's box offsets (src/common/transform.hpp, src/world/pose_box.hpp):
+ * for each of n cases (quaternion q[4 i .. 4 i + 3], taken as it is, scale
+ * s[i], and the `points` points p, 3 doubles each), offset_box and
+ * record_box (the points as a mesh record, padded) against
+ * offset_box_scalar, then the rounding to float (round_outward and
+ * record_float_box against float_at_most and float_at_least). Returns how
+ * many cases differ in any bit. */
 int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, const double *p, uint32_t points);
 
 /* The narrow phase's batched tetrahedron test (src/narrow/tetra.cpp,

@@ -408,8 +408,10 @@ pub struct hgcd_world_desc {
     #[doc = "  exactly on the world vertices, with no tolerance but d itself"]
     #[doc = "  (docs/semantics.md, \"Contact margin\"). Default 0: the closed solids"]
     #[doc = "  must share a point (today's exact touching, at its speed). Finite,"]
-    #[doc = "  >= 0 and <= 1e15. A pair with d > 0 takes the exact margin path of"]
-    #[doc = "  the narrow phase: no tetrahedron, convex or libccd shortcut."]
+    #[doc = "  >= 0 and <= 1e15. Pairs with d > 0 are decided exactly as well:"]
+    #[doc = "  touching first (tetrahedra keep their batch), then, for pairs apart,"]
+    #[doc = "  certified tests of the distance (no libccd, no convex batch). Set"]
+    #[doc = "  later with hgcd_world_set_contact_margin."]
     pub contact_margin: f64,
 }
 #[test]
@@ -777,6 +779,26 @@ extern "C" {
     #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (any other value), NOT_SUPPORTED"]
     #[doc = "  (GJK or MPR without libccd)."]
     pub fn hgcd_world_set_narrow_phase(world: *mut hgcd_world, narrow_phase: i32) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets the world's contact margin (hgcd_world_desc.contact_margin) from the"]
+    #[doc = "  next step/detect. Every body counts as moved (every pair is tested"]
+    #[doc = "  again) and the next step/detect rebuilds the broad phase: O(bodies) here"]
+    #[doc = "  and then. Setting the same value (bit for bit) changes nothing."]
+    #[doc = "  Errors: NULL_ARGUMENT, INVALID_ARGUMENT (not finite, < 0 or > 1e15; the"]
+    #[doc = "  world is left as it was)."]
+    pub fn hgcd_world_set_contact_margin(
+        world: *mut hgcd_world,
+        contact_margin: f64,
+    ) -> hgcd_status;
+}
+extern "C" {
+    #[doc = " Sets *out_margin to the world's contact margin."]
+    #[doc = "  Errors: NULL_ARGUMENT (world or out_margin). Read-only, O(1)."]
+    pub fn hgcd_world_get_contact_margin(
+        world: *const hgcd_world,
+        out_margin: *mut f64,
+    ) -> hgcd_status;
 }
 extern "C" {
     #[doc = " Switches contact recording on (non-zero) or off for the following"]

@@ -86,3 +86,19 @@ fn near_contacts_and_refusals() {
         .is_err());
     }
 }
+
+#[test]
+fn world_margin_set_later() {
+    let (mut world, _) = two_cubes(0.0, 0.375, false);
+    assert!(indices(&mut world).is_empty());
+    world.set_contact_margin(0.375).unwrap();
+    assert_eq!(world.contact_margin().unwrap(), 0.375);
+    assert_eq!(indices(&mut world), vec![(0, 1)]);
+    for bad in [-1.0, f64::NAN, f64::INFINITY, 2e15] {
+        let e = world.set_contact_margin(bad).unwrap_err();
+        assert_eq!(e.kind(), ErrorKind::InvalidArgument);
+        assert_eq!(world.contact_margin().unwrap(), 0.375);
+    }
+    world.set_contact_margin(f64::from_bits(0.375f64.to_bits() - 1)).unwrap();
+    assert!(indices(&mut world).is_empty());
+}

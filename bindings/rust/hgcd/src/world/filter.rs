@@ -76,6 +76,24 @@ impl World {
         Ok(m)
     }
 
+    /// Sets the world's contact margin (`hgcd_world_set_contact_margin`):
+    /// finite, >= 0, <= 1e15. Every pair is tested again and the next
+    /// detect rebuilds the broad phase; a refused value changes nothing.
+    pub fn set_contact_margin(&mut self, margin: f64) -> Result<()> {
+        // SAFETY: live world.
+        let s = unsafe { sys::hgcd_world_set_contact_margin(self.as_mut_ptr(), margin) };
+        self.check(s)
+    }
+
+    /// The world's contact margin (`hgcd_world_get_contact_margin`).
+    pub fn contact_margin(&self) -> Result<f64> {
+        let mut m = 0.0;
+        // SAFETY: live world; valid out pointer.
+        let s = unsafe { sys::hgcd_world_get_contact_margin(self.as_ptr(), &mut m) };
+        Self::check_const(s, || "world_get_contact_margin".to_string())?;
+        Ok(m)
+    }
+
     /// Excludes the pair {a, b} from detection (`hgcd_world_exclude_pair`)
     /// until [`World::include_pair`] or either body's destruction.
     pub fn exclude_pair(&mut self, a: BodyId, b: BodyId) -> Result<()> {

@@ -1,0 +1,155 @@
+// A body's box offsets from its mesh's record (pose_box.hpp): the offsets of
+// a group's 4 points lane by lane (4 lanes with AVX2, picked at run time, 2
+// with SSE2), folded into running minima and maxima, reduced across the
+// lanes at the end. Each lane computes transform_point's expression for its
+// point, operation for operation, so every offset has its scalar bits; the
+// box is the same set's minimum and maximum, whatever the order.
+#include "world/pose_box.hpp"
+
+#include <algorithm>
+
+#include "broad/float_box.hpp"
+#include "broad/float_down_avx2.hpp"
+#include "common/cpu.hpp"
+#include "common/ieee.hpp"
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
+namespace hgcd {
+
+namespace {
+
+#if HGCD_AVX2
+// The running bounds of the record's offsets, 4 lanes an axis.
+struct Bounds4 {
+    __m256d lo[3], hi[3];
+};
+
+__attribute__((target("avx2"))) inline Bounds4 record_bounds_avx2(const Rotation &r, double s, const double *rec,
+                                                                   uint32_t groups) {
+    __m256d m[9];
+    for (int k = 0; k < 9; ++k) m[k] = _mm256_set1_pd(r.m[k]);
+    const __m256d scale = _mm256_set1_pd(s), zero = _mm256_setzero_pd();
+    Bounds4 b;
+    for (int a = 0; a < 3; ++a) {
+        b.lo[a] = _mm256_set1_pd(INFINITY);
+        b.hi[a] = _mm256_set1_pd(-INFINITY);
+    }
+    for (uint32_t g = 0; g < groups; ++g, rec += 12) {
+        const __m256d lx = _mm256_mul_pd(scale, _mm256_load_pd(rec));
+        const __m256d ly = _mm256_mul_pd(scale, _mm256_load_pd(rec + 4));
+        const __m256d lz = _mm256_mul_pd(scale, _mm256_load_pd(rec + 8));
+        for (int a = 0; a < 3; ++a) {
+            const __m256d d = _mm256_add_pd(
+                zero, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(m[3 * a], lx), _mm256_mul_pd(m[3 * a + 1], ly)),
+                                    _mm256_mul_pd(m[3 * a + 2], lz)));
+            b.lo[a] = _mm256_min_pd(d, b.lo[a]);
+            b.hi[a] = _mm256_max_pd(d, b.hi[a]);
+        }
+    }
+    return b;
+}
+
+// Lane k of the result: the minimum of the lanes of v[k] (v: 4 vectors).
+__attribute__((target("avx2"))) inline __m256d lane_minima(__m256d v0, __m256d v1, __m256d v2, __m256d v3) {
+    const __m256d a = _mm256_min_pd(_mm256_unpacklo_pd(v0, v1), _mm256_unpackhi_pd(v0, v1));  // v0 01, v1 01, v0 23, v1 23
+    const __m256d b = _mm256_min_pd(_mm256_unpacklo_pd(v2, v3), _mm256_unpackhi_pd(v2, v3));
+    return _mm256_min_pd(_mm256_permute2f128_pd(a, b, 0x20), _mm256_permute2f128_pd(a, b, 0x31));
+}
+
+__attribute__((target("avx2"))) void record_box_avx2(const Rotation &r, double s, const double *rec, uint32_t groups,
+                                                      double *lo, double *hi) {
+    const Bounds4 b = record_bounds_avx2(r, s, rec, groups);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    alignas(32) double t[8];
+    _mm256_store_pd(t, lane_minima(b.lo[0], b.lo[1], b.lo[2], _mm256_xor_pd(b.hi[0], sign)));
+    _mm256_store_pd(t + 4, lane_minima(_mm256_xor_pd(b.hi[1], sign), _mm256_xor_pd(b.hi[2], sign), b.lo[0], b.lo[0]));
+    lo[0] = t[0], lo[1] = t[1], lo[2] = t[2];
+    hi[0] = -t[3], hi[1] = -t[4], hi[2] = -t[5];
+}
+
+// The highs as negated lows (max = -min of the negations, exactly), so that
+// one rounding down (float_down4) serves both: lo[0..2], -hi[0] in one
+// vector, -hi[1], -hi[2] in another, as round_outward pairs them.
+__attribute__((target("avx2"))) void record_float_box_avx2(const Rotation &r, double s, const double *rec,
+                                                            uint32_t groups, float *off) {
+    const Bounds4 b = record_bounds_avx2(r, s, rec, groups);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256d first = lane_minima(b.lo[0], b.lo[1], b.lo[2], _mm256_xor_pd(b.hi[0], sign));
+    const __m256d ny = _mm256_xor_pd(b.hi[1], sign), nz = _mm256_xor_pd(b.hi[2], sign);
+    const __m256d c = _mm256_min_pd(_mm256_unpacklo_pd(ny, nz), _mm256_unpackhi_pd(ny, nz));
+    const __m256d second = _mm256_min_pd(c, _mm256_permute2f128_pd(c, c, 0x01));  // -hi y, -hi z (twice)
+    const __m128 f = broad::float_down4(first), h = broad::float_down4(second);
+    _mm_storeu_ps(off, _mm_xor_ps(f, _mm_setr_ps(0.0f, 0.0f, 0.0f, -0.0f)));
+    _mm_storel_pi(reinterpret_cast<__m64 *>(off + 4), _mm_xor_ps(h, _mm_set1_ps(-0.0f)));
+}
+#endif
+
+// The same on 2 lanes (SSE2) or one (elsewhere).
+void record_box_base(const Rotation &r, double s, const double *rec, uint32_t groups, double *lo, double *hi) {
+#if defined(__SSE2__)
+    __m128d m[9];
+    for (int k = 0; k < 9; ++k) m[k] = _mm_set1_pd(r.m[k]);
+    const __m128d scale = _mm_set1_pd(s), zero = _mm_setzero_pd();
+    __m128d vlo[3], vhi[3];
+    for (int a = 0; a < 3; ++a) {
+        vlo[a] = _mm_set1_pd(INFINITY);
+        vhi[a] = _mm_set1_pd(-INFINITY);
+    }
+    for (uint32_t g = 0; g < groups; ++g, rec += 12)
+        for (int h = 0; h < 4; h += 2) {
+            const __m128d lx = _mm_mul_pd(scale, _mm_load_pd(rec + h));
+            const __m128d ly = _mm_mul_pd(scale, _mm_load_pd(rec + 4 + h));
+            const __m128d lz = _mm_mul_pd(scale, _mm_load_pd(rec + 8 + h));
+            for (int a = 0; a < 3; ++a) {
+                const __m128d d = _mm_add_pd(
+                    zero, _mm_add_pd(_mm_add_pd(_mm_mul_pd(m[3 * a], lx), _mm_mul_pd(m[3 * a + 1], ly)),
+                                     _mm_mul_pd(m[3 * a + 2], lz)));
+                vlo[a] = _mm_min_pd(d, vlo[a]);
+                vhi[a] = _mm_max_pd(d, vhi[a]);
+            }
+        }
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = _mm_cvtsd_f64(_mm_min_sd(vlo[a], _mm_unpackhi_pd(vlo[a], vlo[a])));
+        hi[a] = _mm_cvtsd_f64(_mm_max_sd(vhi[a], _mm_unpackhi_pd(vhi[a], vhi[a])));
+    }
+#else
+    const double zero[3] = {0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = INFINITY;
+        hi[a] = -INFINITY;
+    }
+    for (uint32_t g = 0; g < groups; ++g, rec += 12)
+        for (int k = 0; k < 4; ++k) {
+            const double v[3] = {rec[k], rec[4 + k], rec[8 + k]};
+            double d[3];
+            transform_point(r, zero, s, v, d);
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], d[a]);
+                hi[a] = std::max(hi[a], d[a]);
+            }
+        }
+#endif
+}
+
+}  // namespace
+
+void record_box(const Rotation &r, double s, const double *record, uint32_t groups, double *lo, double *hi) {
+#if HGCD_AVX2
+    if (use_avx2()) return record_box_avx2(r, s, record, groups, lo, hi);
+#endif
+    record_box_base(r, s, record, groups, lo, hi);
+}
+
+void record_float_box(const Rotation &r, double s, const double *record, uint32_t groups, float *off) {
+#if HGCD_AVX2
+    if (use_avx2()) return record_float_box_avx2(r, s, record, groups, off);
+#endif
+    double lo[3], hi[3];
+    record_box_base(r, s, record, groups, lo, hi);
+    broad::round_outward(lo, hi, off, off + 3);
+}
+
+}  // namespace hgcd

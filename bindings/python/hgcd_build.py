@@ -65,6 +65,7 @@ typedef struct hgcd_world_desc {
     uint32_t contacts;
     int32_t thread_policy;
     uint32_t kinematic_pairs;
+    double contact_margin;
     ...;
 } hgcd_world_desc;
 hgcd_world_desc hgcd_world_desc_default(void);
@@ -77,6 +78,8 @@ hgcd_status hgcd_world_set_thread_count(hgcd_world *world, uint32_t thread_count
 hgcd_status hgcd_world_set_narrow_phase(hgcd_world *world, int32_t narrow_phase);
 hgcd_status hgcd_world_set_contacts(hgcd_world *world, uint32_t enable);
 hgcd_status hgcd_world_set_thread_policy(hgcd_world *world, int32_t thread_policy);
+hgcd_status hgcd_world_set_contact_margin(hgcd_world *world, double contact_margin);
+hgcd_status hgcd_world_get_contact_margin(const hgcd_world *world, double *out_margin);
 hgcd_status hgcd_world_step(hgcd_world *world);
 hgcd_status hgcd_world_detect(hgcd_world *world);
 hgcd_status hgcd_world_pairs(const hgcd_world *world, const hgcd_pair **out_pairs,
@@ -248,6 +251,7 @@ typedef struct hgcd_py_body_columns {
     const int32_t *types;
     const uint8_t *enabled;
     const hgcd_filter *filters;
+    const double *margins;
 } hgcd_py_body_columns;
 hgcd_status hgcd_py_create_bodies(hgcd_world *world, const hgcd_mesh *meshes, size_t mesh_count,
                                   size_t count, const hgcd_py_body_columns *columns,
@@ -269,6 +273,10 @@ hgcd_status hgcd_py_get_bodies(const hgcd_world *world, const hgcd_body *bodies,
                                size_t *out_failed);
 size_t hgcd_py_validate_bodies(const hgcd_world *world, const hgcd_body *bodies, size_t count,
                                uint8_t *out_live);
+hgcd_status hgcd_py_set_margins(hgcd_world *world, const hgcd_body *bodies, size_t count,
+                                const double *margins, double *scratch, size_t *out_failed);
+hgcd_status hgcd_py_get_margins(const hgcd_world *world, const hgcd_body *bodies, size_t count,
+                                double *margins, size_t *out_failed);
 int hgcd_py_gil_held(void);
 """
 

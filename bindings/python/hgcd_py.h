@@ -19,6 +19,7 @@ typedef struct hgcd_py_body_columns {
     const int32_t *types;
     const uint8_t *enabled;
     const hgcd_filter *filters;
+    const double *margins;
 } hgcd_py_body_columns;
 
 /* Creates count bodies in order; entry k takes meshes[k] (or meshes[0] when
@@ -42,6 +43,7 @@ static hgcd_status hgcd_py_create_bodies(hgcd_world *world, const hgcd_mesh *mes
         if (c->types) desc.type = c->types[k];
         if (c->enabled) desc.enabled = c->enabled[k];
         if (c->filters) desc.filter = c->filters[k];
+        if (c->margins) desc.margin = c->margins[k];
         const hgcd_status s = hgcd_body_create(world, &desc, &out_bodies[k]);
         if (s != HGCD_OK) {
             *out_failed = k;
@@ -194,6 +196,44 @@ static hgcd_status hgcd_py_get_bodies(const hgcd_world *world, const hgcd_body *
         if (velocities) s = hgcd_body_get_velocity(world, bodies[k], velocities + 3 * k);
         if (s == HGCD_OK && meshes) s = hgcd_body_get_mesh(world, bodies[k], meshes + k);
         if (s == HGCD_OK && user_data) s = hgcd_body_get_user_data(world, bodies[k], user_data + k);
+        if (s != HGCD_OK) {
+            *out_failed = k;
+            return s;
+        }
+    }
+    return HGCD_OK;
+}
+
+/* Sets the contact margins of count bodies (entry k for body k). The ids are
+ * checked first; a margin the library refuses undoes the ones set before it
+ * (their old values were read first), so a refusal changes nothing.
+ * *out_failed is the entry refused. */
+static hgcd_status hgcd_py_set_margins(hgcd_world *world, const hgcd_body *bodies, size_t count,
+                                       const double *margins, double *scratch, size_t *out_failed) {
+    for (size_t k = 0; k < count; ++k) {
+        *out_failed = k;
+        if (hgcd_body_get_margin(world, bodies[k], scratch + k) != HGCD_OK) return HGCD_ERROR_STALE_ID;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        const hgcd_status s = hgcd_body_set_margin(world, bodies[k], margins[k]);
+        if (s != HGCD_OK) {
+            *out_failed = k;
+            while (k > 0) {
+                --k;
+                hgcd_body_set_margin(world, bodies[k], scratch[k]);
+            }
+            return s;
+        }
+    }
+    return HGCD_OK;
+}
+
+/* Reads the contact margins of count bodies; nothing is written past a stale
+ * id, whose entry goes to *out_failed. Read-only. */
+static hgcd_status hgcd_py_get_margins(const hgcd_world *world, const hgcd_body *bodies, size_t count,
+                                       double *margins, size_t *out_failed) {
+    for (size_t k = 0; k < count; ++k) {
+        const hgcd_status s = hgcd_body_get_margin(world, bodies[k], margins + k);
         if (s != HGCD_OK) {
             *out_failed = k;
             return s;

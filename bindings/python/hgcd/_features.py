@@ -1,5 +1,6 @@
 """What engines need around the pairs: body types, enabling, filters, pair
-exclusions and begin/end events, each over whole arrays of bodies or pairs."""
+exclusions, begin/end events and contact margins, each over whole arrays of
+bodies or pairs."""
 import numpy as np
 
 from . import _arrays as A
@@ -39,7 +40,7 @@ def type_values(types, n, call):
 
 
 class EngineFeatures:
-    """Mixed into World: types, enabling, filters, exclusions and events."""
+    """Mixed into World: types, enabling, filters, exclusions, events and margins."""
 
     def _flags_call(self, bodies, call, types=None, enabled=None, filters=None):
         b = A.ids(bodies, None, "bodies", call)
@@ -141,3 +142,52 @@ class EngineFeatures:
                 raise Error(Status(status), "events: refused")
             return tuple(np.frombuffer(ffi.buffer(p[0], n[0] * PAIR_EVENT.itemsize), dtype=PAIR_EVENT).copy()
                          if n[0] else np.empty(0, dtype=PAIR_EVENT) for p, n in ((began, began_n), (ended, ended_n)))
+
+    @property
+    def contact_margin(self):
+        """The world's contact margin (hgcd_world_desc.contact_margin)."""
+        out = ffi.new("double *")
+        with self._lock:
+            self._const_check(lib.hgcd_world_get_contact_margin(self._live(), out), "contact_margin")
+        return out[0]
+
+    def set_contact_margin(self, margin):
+        """Sets the world's contact margin d from the next step/detect: two bodies
+        a, b are reported when their closed solids come within d + margin_a +
+        margin_b of each other (Euclidean distance, decided exactly), so resting
+        contacts do not flicker under a solver's noise. Finite, >= 0 and
+        <= 1e15; every pair is tested again at the next detect."""
+        try:
+            value = float(margin)
+        except (TypeError, ValueError):
+            raise argument_error(f"set_contact_margin: margin must be a float, not {margin!r}") from None
+        with self._lock:
+            self._check(lib.hgcd_world_set_contact_margin(self._live(), value), "set_contact_margin: ")
+
+    def set_margins(self, bodies, margins):
+        """Sets the bodies' own contact margins (one float for all, or (N,)),
+        added to the world's, from the next step/detect; all or nothing. Each
+        change makes the next detect rebuild the broad phase: give margins at
+        create_bodies where possible."""
+        call = "set_margins"
+        b = A.ids(bodies, None, "bodies", call)
+        m = per_body(margins, len(b), np.float64, "margins", call)
+        scratch = np.empty(len(b), dtype=np.float64)
+        failed = ffi.new("size_t *")
+        with self._lock:
+            status = lib.hgcd_py_set_margins(self._live(), A.ptr("hgcd_body *", b), len(b),
+                                             A.ptr("double *", m), A.ptr("double *", scratch), failed)
+            if status == lib.HGCD_ERROR_STALE_ID:
+                raise Error(status, f"{call}: entry {failed[0]} is not a live body of this world")
+            self._check(status, f"{call}: entry {failed[0]}: ")
+
+    def get_margins(self, bodies):
+        """The bodies' own contact margins, a (N,) float64 array."""
+        b = A.ids(bodies, None, "bodies", "get_margins")
+        out = np.empty(len(b), dtype=np.float64)
+        failed = ffi.new("size_t *")
+        with self._lock:
+            status = lib.hgcd_py_get_margins(self._live(), A.ptr("hgcd_body *", b), len(b),
+                                             A.ptr("double *", out), failed)
+            self._const_check(status, f"get_margins: entry {failed[0]}")
+        return out

@@ -104,12 +104,15 @@ class World(EngineFeatures, QueryMixin):
     ((min xyz, max xyz): step() reflects bodies there; None = no reflection),
     time_step, min_cell_size, max_cell_size, narrow_phase (NarrowPhase),
     contacts (record what each pair is made of: contacts()), kinematic_pairs
-    (also report kinematic-kinematic and kinematic-static pairs: BodyType).
+    (also report kinematic-kinematic and kinematic-static pairs: BodyType),
+    contact_margin (report two bodies within this distance of each other, plus
+    their own margins; 0, the default, reports touching solids only: see
+    set_contact_margin).
     """
 
     def __init__(self, *, threads=0, bounds=None, time_step=1.0, min_cell_size=0.0,
                  max_cell_size=0.0, narrow_phase=NarrowPhase.EXACT, contacts=False,
-                 thread_policy=ThreadPolicy.ADAPTIVE, kinematic_pairs=False):
+                 thread_policy=ThreadPolicy.ADAPTIVE, kinematic_pairs=False, contact_margin=0.0):
         self._lock = threading.Lock()
         self._w = ffi.NULL
         desc = ffi.new("hgcd_world_desc *", lib.hgcd_world_desc_default())
@@ -120,6 +123,7 @@ class World(EngineFeatures, QueryMixin):
             desc.max_cell_size = max_cell_size
             desc.narrow_phase = _narrow(narrow_phase, "world_create")
             desc.thread_policy = _enum(ThreadPolicy, thread_policy, "world_create")
+            desc.contact_margin = contact_margin
         except (TypeError, ValueError, OverflowError) as e:
             raise argument_error(f"world_create: {e}")
         desc.contacts = 1 if contacts else 0
@@ -135,7 +139,8 @@ class World(EngineFeatures, QueryMixin):
         if status != lib.HGCD_OK:
             # No world, so no message: say which fields the header checks.
             raise Error(status, "world_create: refused (threads <= 4096, time_step and cell sizes finite "
-                                "and >= 0, bounds finite with min < max, narrow phase available)")
+                                "and >= 0, bounds finite with min < max, narrow phase available, "
+                                "contact_margin finite, >= 0 and <= 1e15)")
         self._w = out[0]
 
     # -- lifetime ---------------------------------------------------------
@@ -262,17 +267,18 @@ class World(EngineFeatures, QueryMixin):
     # -- bodies -----------------------------------------------------------
 
     def create_bodies(self, mesh, positions=None, orientations=None, velocities=None, scales=None,
-                      user_data=None, *, count=None, types=None, enabled=None, filters=None):
+                      user_data=None, *, count=None, types=None, enabled=None, filters=None, margins=None):
         """Creates bodies in one call and returns their ids, a (N,) BODY_ID array.
 
         mesh: a Mesh for all, or one per body (a list of Mesh, or a MESH_ID
         array); positions (N, 3), orientations (N, 4) unit quaternions
         (x, y, z, w), velocities (N, 3), scales (N,) float64; user_data (N,)
         uint64; types (BodyType, one or (N,)), enabled (bool, one or (N,)),
-        filters (a FILTER from make_filter, one or (N,)). An argument left
-        None takes the library's default (origin, identity, at rest, 1, 0,
-        DYNAMIC, enabled, the default filter); count gives N when every array
-        is None.
+        filters (a FILTER from make_filter, one or (N,)), margins (float, one
+        or (N,): each body's own contact margin, finite, >= 0, <= 1e15). An
+        argument left None takes the library's default (origin, identity, at
+        rest, 1, 0, DYNAMIC, enabled, the default filter, margin 0); count
+        gives N when every array is None.
         Bodies are created in order; if one is refused, those made are
         destroyed again and the error names the entry."""
         given = [a for a in (positions, orientations, velocities, scales, user_data) if a is not None]
@@ -301,10 +307,11 @@ class World(EngineFeatures, QueryMixin):
             None if enabled is None else per_body(np.asarray(enabled, dtype=bool).astype(np.uint8), n,
                                                   np.uint8, "enabled", call),
             None if filters is None else per_body(filters, n, FILTER, "filters", call),
+            None if margins is None else per_body(margins, n, np.float64, "margins", call),
         ]
         meshes = self._mesh_ids(mesh, None if isinstance(mesh, Mesh) else n)
         ctypes = ("double *", "double *", "double *", "double *", "uint64_t *", "int32_t *", "uint8_t *",
-                  "hgcd_filter *")
+                  "hgcd_filter *", "double *")
         columns = ffi.new("hgcd_py_body_columns *",
                           [ffi.NULL if a is None else A.ptr(t, a) for a, t in zip(arrays, ctypes)])
         out = np.empty(n, dtype=BODY_ID)

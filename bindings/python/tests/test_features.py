@@ -3,6 +3,8 @@ checked against a model written here: the pairs of the same world with every
 feature off, kept or dropped by the documented rules (Box2D v3's filter,
 the type table, exclusions), and events as the difference of consecutive
 pair sets."""
+from fractions import Fraction
+
 import numpy as np
 import pytest
 
@@ -159,3 +161,81 @@ def test_refusals_change_nothing():
         with pytest.raises(hgcd.Error) as e:
             w.exclude_pairs(np.zeros((2, 3), dtype=hgcd.BODY_ID))
         assert "(N, 2)" in e.value.message
+
+
+def cube_mesh():
+    """The axis-aligned cube [-1/2, 1/2]^3, 12 triangles facing out."""
+    v = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+    t = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]], dtype=np.uint32)
+    return v, t
+
+
+def margin_model(positions, world_margin, margins):
+    """Index pairs of unit cubes (axis-aligned, at positions) within world_margin +
+    (margin_a + margin_b), rounded as the library rounds it: the squared
+    distance of two boxes (exact: the positions are multiples of 1/8) against
+    the squared margin in rationals."""
+    gap = np.maximum(np.abs(positions[:, None, :] - positions[None, :, :]) - 1.0, 0.0)
+    dist2 = (gap ** 2).sum(axis=2)
+    n = len(positions)
+    return [(a, b) for a in range(n) for b in range(a + 1, n)
+            if Fraction(dist2[a, b]) <= Fraction(float(world_margin + (margins[a] + margins[b]))) ** 2]
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_margins_equal_the_model(threads):
+    rng = np.random.default_rng(11 + threads)
+    n = 120
+    positions = rng.integers(0, 48, (n, 3)) / 8.0  # cubes on a 1/8 lattice in [0, 6]^3
+    margins = rng.integers(0, 3, n) / 16.0
+    with hgcd.World(threads=threads, contact_margin=0.125) as w:
+        assert w.contact_margin == 0.125
+        mesh = w.create_mesh(*cube_mesh())
+        bodies = w.create_bodies(mesh, positions=positions, margins=margins)
+        assert np.array_equal(w.get_margins(bodies), margins)
+        for d in (0.125, 0.0, 0.375, np.nextafter(0.25, 0.0), 0.25):
+            w.set_contact_margin(d)
+            w.detect()
+            got = sorted(map(tuple, w.pairs(ids=False).tolist()))
+            assert got == margin_model(positions, d, margins), d
+        margins = rng.integers(0, 5, n) / 16.0
+        w.set_margins(bodies, margins)
+        w.detect()
+        assert sorted(map(tuple, w.pairs(ids=False).tolist())) == margin_model(positions, 0.25, margins)
+
+
+def test_margin_refusals_change_nothing():
+    with hgcd.World(threads=1) as w:
+        mesh = w.create_mesh(*cube_mesh())
+        bodies = w.create_bodies(mesh, positions=[[0, 0, 0], [1.5, 0, 0], [3, 0, 0]], margins=0.25)
+        gone = w.create_bodies(mesh, count=1)
+        w.destroy_bodies(gone)
+        w.detect()
+        pairs = w.pairs(ids=False).tolist()
+        assert pairs == [[0, 1], [1, 2]]
+        for call, status, word in (
+                (lambda: w.set_margins(bodies, [0.0, 1.0, np.nan]), hgcd.Status.INVALID_ARGUMENT, "entry 2"),
+                (lambda: w.set_margins(bodies, [0.0, -1.0, 0.0]), hgcd.Status.INVALID_ARGUMENT, "entry 1"),
+                (lambda: w.set_margins(bodies, [0.0, 0.0, 2e15]), hgcd.Status.INVALID_ARGUMENT, "entry 2"),
+                (lambda: w.set_margins(np.concatenate([bodies, gone]), 0.0), hgcd.Status.STALE_ID, "entry 3"),
+                (lambda: w.set_margins(bodies, [0.0, 0.0]), hgcd.Status.INVALID_ARGUMENT, "margins"),
+                (lambda: w.set_contact_margin(np.inf), hgcd.Status.INVALID_ARGUMENT, "margin"),
+                (lambda: w.set_contact_margin(-0.5), hgcd.Status.INVALID_ARGUMENT, "margin"),
+                (lambda: w.set_contact_margin("x"), hgcd.Status.INVALID_ARGUMENT, "float")):
+            with pytest.raises(hgcd.Error) as e:
+                call()
+            assert e.value.status == status and word in e.value.message, e.value
+            assert np.array_equal(w.get_margins(bodies), [0.25] * 3) and w.contact_margin == 0.0
+            w.detect()
+            assert w.pairs(ids=False).tolist() == pairs
+        with pytest.raises(hgcd.Error) as e:
+            w.get_margins(gone)
+        assert e.value.status == hgcd.Status.STALE_ID
+        with pytest.raises(hgcd.Error) as e:
+            w.create_bodies(mesh, count=2, margins=[0.0, np.nan])
+        assert e.value.status == hgcd.Status.INVALID_ARGUMENT and "entry 1" in e.value.message
+        assert w.body_count == 3
+    with pytest.raises(hgcd.Error) as e:
+        hgcd.World(contact_margin=-1.0)
+    assert e.value.status == hgcd.Status.BAD_DESCRIPTOR or e.value.status == hgcd.Status.INVALID_ARGUMENT

@@ -101,6 +101,20 @@ hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, si
     return HGCD_OK;
 }
 
+inline void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes) {
+    apply_pose_with(i, p, q, [&](const double *q_) {
+        const BodyRecord rec = body_record_[i];
+        // (set_box_offsets' own test for record_float_box, and a bound on
+        // the groups: a lane of the kernel takes as many as the largest.
+        // q_, not the placement: a load spanning the stores just made to
+        // it waits for them.)
+        if (rec.groups - 1 < kQueuedGroups && world_margin_ == 0 && (margin_bodies_ == 0 || margin_[i] == 0))
+            boxes.push(BoxJob{q_, place_[i].scale, pool_.blocks()[rec.block].d, rec.groups, &box_off_[6 * i]});
+        else
+            set_box_offsets(i);
+    });
+}
+
 hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
                              const double *orientations, size_t orientation_stride) {
     const char *what = "world_set_poses";

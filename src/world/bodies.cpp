@@ -184,41 +184,9 @@ hgcd_status World::destroy_body(hgcd_body id) {
     return HGCD_OK;
 }
 
-// The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
-// keep it; the body counts as moved when a bit changes (hgcd_body_set_pose
-// and hgcd_world_set_poses alike). box(q) brings box_off_ to a new
-// orientation q.
-template <class Box>
-inline void World::apply_pose_with(size_t i, const double *p, const double *q, Box &&box) {
-    bool moved = false;
-    if (p) {
-        moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
-        for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
-    }
-    if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
-        std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
-        box(q);
-        moved = true;
-    }
-    if (moved) moved_at_[i] = 1;
-}
-
+// (apply_pose_with: world.hpp)
 void World::apply_pose(size_t i, const double *p, const double *q) {
     apply_pose_with(i, p, q, [&](const double *) { set_box_offsets(i); });
-}
-
-void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes) {
-    apply_pose_with(i, p, q, [&](const double *q_) {
-        const BodyRecord rec = body_record_[i];
-        // (set_box_offsets' own test for record_float_box, and a bound on
-        // the groups: a lane of the kernel takes as many as the largest.
-        // q_, not the placement: a load spanning the stores just made to
-        // it waits for them.)
-        if (rec.groups - 1 < kQueuedGroups && world_margin_ == 0 && (margin_bodies_ == 0 || margin_[i] == 0))
-            boxes.push(BoxJob{q_, place_[i].scale, pool_.blocks()[rec.block].d, rec.groups, &box_off_[6 * i]});
-        else
-            set_box_offsets(i);
-    });
 }
 
 hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {

@@ -3,6 +3,7 @@
 // the world unchanged when it fails, and records the reason in last_error.
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <string>
@@ -450,5 +451,24 @@ class World {
     std::vector<Grave> graves_;
     mutable std::string last_error_;
 };
+
+// The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
+// keep it; the body counts as moved when a bit changes (hgcd_body_set_pose
+// and hgcd_world_set_poses alike). box(q) brings box_off_ to a new
+// orientation q.
+template <class Box>
+inline void World::apply_pose_with(size_t i, const double *p, const double *q, Box &&box) {
+    bool moved = false;
+    if (p) {
+        moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
+        for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
+    }
+    if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
+        std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
+        box(q);
+        moved = true;
+    }
+    if (moved) moved_at_[i] = 1;
+}
 
 }  // namespace hgcd

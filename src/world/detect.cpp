@@ -357,7 +357,7 @@ size_t World::find_candidates(int threads, bool keep_unmoved) {
     return total;
 }
 
-void World::test_candidates(int threads) {
+void World::test_candidates(int threads, bool moved_only) {
     NarrowPlan plan;
     // The narrow phase runs straight over every thread's candidate list.
     const std::vector<PairBuffer> &found = candidates_;
@@ -369,6 +369,11 @@ void World::test_candidates(int threads) {
     std::vector<std::vector<hgcd_contact>> hit_contacts(static_cast<size_t>(threads));  // per thread, parallel to hits_
     std::vector<NodeWitness> fresh;
     narrow_phase(threads, plan, hit_contacts, fresh);
+    if (moved_only) {
+        stats_.unmoved_pairs = merge_moved(threads);
+        keep_witnesses(fresh);
+        return;
+    }
     merge_hits(threads, plan.want_contacts, hit_contacts);
     keep_witnesses(fresh);
     find_events(threads);

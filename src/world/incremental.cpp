@@ -180,37 +180,16 @@ size_t World::find_moved_candidates(int threads) {
     return total;
 }
 
-// The last pairs of two bodies neither of which moved (destroyed bodies
-// count as moved), as sorted shares of hits_ past the threads' own (one a
-// part of prev_pairs_, each sorted as prev_pairs_ is); returns their count.
-size_t World::keep_unmoved_colliding(int threads) {
-    const size_t parts = size_t(threads), total = prev_pairs_.size();
-    hits_.resize(size_t(threads) + parts);
-    for (auto &h : hits_) h.clear();
-    parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
-        for (int64_t p = p0; p < p1; ++p) {
-            std::vector<uint64_t> &kept = hits_[size_t(threads) + size_t(p)];
-            const size_t b = total * size_t(p) / parts, e = total * size_t(p + 1) / parts;
-            for (size_t k = b; k < e; ++k) {
-                const uint32_t a = prev_pairs_[k].a.index, c = prev_pairs_[k].b.index;
-                if (!(moved_at_[at_[a]] | moved_at_[at_[c]])) kept.push_back(pair_key(a, c));
-            }
-        }
-    });
-    size_t kept = 0;
-    for (size_t p = 0; p < parts; ++p) kept += hits_[size_t(threads) + p].size();
-    return kept;
-}
-
 void World::detect_incremental(int threads, const MovedCount &moved, double t0) {
     list_moved(threads, moved.moved);
     const uint64_t changed_cell = update_movers(threads);
     const double t1 = omp_get_wtime();
     const size_t searched = find_moved_candidates(threads);
     if (special_bodies_) stats_.filtered_pairs = drop_filtered_pairs(threads, candidates_);
-    const size_t kept = keep_unmoved_colliding(threads);
+    hits_.resize(size_t(threads));
+    for (std::vector<uint64_t> &h : hits_) h.clear();
     const double t2 = omp_get_wtime();
-    test_candidates(threads);
+    test_candidates(threads, true);  // (the last pairs of unmoved bodies: merge_moved)
     const double t3 = omp_get_wtime();
 
     stats_.level_count = grid_.level_count();
@@ -218,8 +197,7 @@ void World::detect_incremental(int threads, const MovedCount &moved, double t0) 
     stats_.thread_count = uint32_t(threads);
     stats_.moved_bodies = changed_cell;
     stats_.searched_bodies = moved.moved;
-    stats_.candidate_pairs = uint64_t(searched + kept);
-    stats_.unmoved_pairs = uint64_t(kept);
+    stats_.candidate_pairs = uint64_t(searched) + stats_.unmoved_pairs;
     stats_.colliding_pairs = pairs_.size();
     stats_.update_seconds = t1 - t0;
     stats_.broad_seconds = t2 - t1;

@@ -174,8 +174,15 @@ class World {
     // kept); returns their count.
     size_t find_candidates(int threads, bool keep_unmoved);
     // The narrow phase over candidates_, its hits merged with those in
-    // hits_ into pairs_.
-    void test_candidates(int threads);
+    // hits_ into pairs_, and the events; moved_only: a detect around the
+    // moved bodies, whose hits are merged with the last pairs of unmoved
+    // bodies instead (merge_moved).
+    void test_candidates(int threads, bool moved_only = false);
+    // pairs_ and the events from the threads' hits (all with a body moved
+    // since the last detect) and the last pairs (moved_merge.cpp); returns
+    // how many last pairs were kept untested.
+    size_t merge_moved(int threads);
+    std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> new_hits_;  // (its scratch)
     // Temporal coherence (coherence.cpp): removes from the candidates the
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.
@@ -221,7 +228,6 @@ class World {
     // residents near it (resident_cache.cpp).
     void find_resident_candidates(int threads, std::vector<Grid::QueryCursors> &cursors_of);
     void forget_resident_cache() noexcept;  // (the grid or storage changed, or the lists lack memory)
-    size_t keep_unmoved_colliding(int threads);
     // Forgets the movers (before the grid is updated, or dropped). No throw.
     void drop_movers() noexcept;
     void plan_narrow(int threads, NarrowPlan &plan) const;

@@ -175,6 +175,7 @@ class World {
     // how many last pairs were kept untested.
     size_t merge_moved(int threads);
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> new_hits_;  // (its scratch)
+    std::vector<uint64_t> moved_slots_;                            // (and its bits by slot)
     // Temporal coherence (coherence.cpp): removes from the candidates the
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.

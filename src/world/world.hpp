@@ -390,6 +390,7 @@ class World {
     std::vector<PairBuffer> side_found_;
     std::vector<uint32_t> moved_list_;
     std::vector<size_t> moved_parts_;  // count_moved's counts by range (empty after a renumbering)
+    std::vector<uint32_t, UninitAllocator<uint32_t>> moved_found_;  // and what it found, by range
     // Per mover (by its index in the second grid), the grid's residents
     // that met its fat box when it last searched the grid, with their boxes
     // (resident_cache.cpp): a run of one of the arenas (one per worker that

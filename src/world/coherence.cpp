@@ -15,9 +15,10 @@ namespace hgcd {
 // In equal ranges of storage, one a worker, without a branch a body (a
 // share of them moved, in no pattern) but one a word of eight moved flags
 // (storage where nothing moved, static bodies' for one, is read eight
-// flags at a time). Each range's moved bodies are written as it goes into
-// moved_found_ from the range's start (no more of them than it has
-// bodies), for list_moved.
+// flags at a time). Each range's first moved bodies are written as it goes
+// into moved_found_ from the range's start, for list_moved: up to a quarter
+// of the range (more means too many for a search around them, and list_moved
+// finds them again), the others over the last of those, in cache.
 World::MovedCount World::count_moved(int threads) {
     const size_t n = stored_gen_.size(), known = mover_.size(), parts = size_t(threads);
     moved_found_.resize(n);
@@ -26,10 +27,11 @@ World::MovedCount World::count_moved(int threads) {
         for (size_t p = size_t(p0); p < size_t(p1); ++p) {
             const size_t b = n * p / parts, e = n * (p + 1) / parts;
             uint32_t *const to = moved_found_.data() + b;
+            const size_t room = (e - b) / 4;
             size_t moved = 0, fresh = 0;
             auto one = [&](size_t i) {
                 const size_t m = size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
-                to[moved] = uint32_t(i);
+                to[std::min(moved, room)] = uint32_t(i);
                 moved += m;
                 fresh += m & size_t(i >= known || !(mover_[i] & kMover));
             };

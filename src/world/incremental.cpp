@@ -51,8 +51,8 @@ void World::drop_movers() noexcept {
 // moved since the last detect, ascending: storage follows the grid's sweep
 // order, so consecutive queries meet nearby rows and entries.
 void World::list_moved(int threads, size_t count) {
-    // Ranges of storage in order, one a worker, as count_moved found them
-    // (again if storage was renumbered since), each copied into its place.
+    // Ranges of storage in order, one a worker, as count_moved counted and
+    // found them (again if storage was renumbered since), each put in its place.
     const size_t parts = size_t(threads);
     if (moved_parts_.size() != parts) count_moved(threads);
     moved_list_.resize(count);
@@ -61,9 +61,21 @@ void World::list_moved(int threads, size_t count) {
     for (size_t p = 0; p < parts; ++p) first[p + 1] = first[p] + moved_parts_[p];
     moved_parts_.clear();
     parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
-        for (size_t p = size_t(p0); p < size_t(p1); ++p)
-            std::memcpy(moved_list_.data() + first[p], moved_found_.data() + n * p / parts,
-                        (first[p + 1] - first[p]) * sizeof(uint32_t));
+        for (size_t p = size_t(p0); p < size_t(p1); ++p) {
+            const size_t b = n * p / parts, e = n * (p + 1) / parts, want = first[p + 1] - first[p];
+            uint32_t *to = moved_list_.data() + first[p];
+            if (want <= (e - b) / 4) {
+                std::memcpy(to, moved_found_.data() + b, want * sizeof(uint32_t));
+                continue;
+            }
+            // (More than count_moved kept: found again, every index written,
+            // the next one over it unless it moved.)
+            size_t written = 0;
+            for (size_t i = b; written < want && i < e; ++i) {
+                to[written] = uint32_t(i);
+                written += size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
+            }
+        }
     });
 }
 

@@ -102,7 +102,7 @@ if [ ! -f "$out/build.ninja" ]; then
     CC=clang CXX=clang++ meson setup "$out" --buildtype=debugoptimized \
         -Db_sanitize=thread -Db_lundef=false >/dev/null
 fi
-tests=(api world grid threads validation bvh batch coherence incremental parallel queries)
+tests=(api world grid threads validation bvh batch coherence incremental parallel queries margin convex)
 listed=$(meson test -C "$out" --no-rebuild --list 2>/dev/null)
 if grep -qx ccd <<<"$listed"; then tests+=(ccd); fi  # when libccd is found
 ninja -C "$out" $(printf 'tests/test_%s ' "${tests[@]}") >/dev/null

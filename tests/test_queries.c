@@ -505,32 +505,37 @@ static void random_mesh_poses(rng *r, hgcd_mesh_pose *poses, size_t count, doubl
 
 /* Every query kind on the scene against the oracle (hits and answers
  * counted, so that a scene that tests nothing is seen). */
+/* Queries per check_scene are divided by this (the churn test checks often). */
+static size_t query_share = 1;
+
 static void check_scene(scene *sc, rng *r, double side, int snap, size_t *hits, size_t *answers) {
     enum { RAYS = 400, BOXES = 120, POINTS = 200, POSES = 24 };
+    const size_t nr = RAYS / query_share, nb = BOXES / query_share, np = POINTS / query_share;
+    const size_t nm = POSES / query_share;
     hgcd_ray rays[RAYS];
     double boxes[6 * BOXES], pts[3 * POINTS];
     hgcd_mesh_pose poses[POSES];
     hgcd_query_results res;
     int shape;
-    random_rays(r, rays, RAYS, side, snap);
-    check_rays(sc, rays, RAYS, &hits[0]);
-    random_boxes(r, boxes, BOXES, side, snap);
+    random_rays(r, rays, nr, side, snap);
+    check_rays(sc, rays, nr, &hits[0]);
+    random_boxes(r, boxes, nb, side, snap);
     {
-        batch b = {boxes, BOXES};
+        batch b = {boxes, nb};
         same_on_two_threads(sc, run_boxes, &b, &res);
-        answers[0] = check_results(sc, &res, BOXES, box_test, boxes);
+        answers[0] = check_results(sc, &res, nb, box_test, boxes);
     }
-    random_points(r, sc, pts, POINTS, side, snap);
+    random_points(r, sc, pts, np, side, snap);
     {
-        batch b = {pts, POINTS};
+        batch b = {pts, np};
         same_on_two_threads(sc, run_points, &b, &res);
-        answers[1] = check_results(sc, &res, POINTS, point_test, pts);
+        answers[1] = check_results(sc, &res, np, point_test, pts);
     }
     for (shape = 0; shape < SHAPE_COUNT; shape += 3) {
-        mesh_batch mb = {shape, poses, POSES};
-        random_mesh_poses(r, poses, POSES, side, snap);
+        mesh_batch mb = {shape, poses, nm};
+        random_mesh_poses(r, poses, nm, side, snap);
         same_on_two_threads(sc, run_meshes, &mb, &res);
-        check_results(sc, &res, POSES, mesh_test, &mb);
+        check_results(sc, &res, nm, mesh_test, &mb);
     }
 }
 
@@ -913,7 +918,8 @@ static void test_tree_follows_world(void **state) {
  * queries, with every query against the oracle after each change (the
  * query tree is built again after bodies come or go, refitted after moves). */
 static void test_tree_churn(void **state) {
-    enum { N = 100, ROUNDS = 6 };
+    enum { N = 48, ROUNDS = 4 };
+    const double side = 8;
     scene sc;
     rng r = {4242};
     size_t hits[1], answers[2], round, b;
@@ -922,10 +928,11 @@ static void test_tree_churn(void **state) {
     const double everywhere[6] = {-1e9, -1e9, -1e9, 1e9, 1e9, 1e9};
     (void)state;
     scene_init(&sc, 2);
-    scene_random(&sc, &r, N, 10, 0);
+    scene_random(&sc, &r, N, side, 0);
     assert_int_equal(hgcd_world_query_box(sc.w, everywhere, 1, 0, NULL, &res), HGCD_OK);
     for (b = 0; b < N; ++b) ids[b] = res.bodies[b];
-    check_scene(&sc, &r, 10, 0, hits, answers);
+    query_share = 4;
+    check_scene(&sc, &r, side, 0, hits, answers);
     for (round = 0; round < (getenv("HGCD_SKIP_SLOW_TESTS") ? 2 : ROUNDS); ++round) {
         size_t freed[4], nf = 0, k;
         while (nf < 4) { /* destroy 4 live bodies */
@@ -935,21 +942,21 @@ static void test_tree_churn(void **state) {
             sc.skip[b] = 1;
             freed[nf++] = b;
         }
-        check_scene(&sc, &r, 10, 0, hits, answers);
+        check_scene(&sc, &r, side, 0, hits, answers);
         for (k = 0; k < 4; ++k) { /* 4 created again, in the last freed indices first */
             double p[3], q[4];
             int a;
-            for (a = 0; a < 3; ++a) p[a] = 10 * unif(&r);
+            for (a = 0; a < 3; ++a) p[a] = side * unif(&r);
             random_unit_quaternion(&r, q);
             ids[freed[3 - k]] = scene_put(&sc, freed[3 - k], (int)(next(&r) % SHAPE_COUNT), p, q, 0.3 + unif(&r));
         }
         if (sc.n < 256) { /* and one at a new index */
-            double p[3] = {10 * unif(&r), 10 * unif(&r), 10 * unif(&r)}, q[4];
+            double p[3] = {side * unif(&r), side * unif(&r), side * unif(&r)}, q[4];
             random_unit_quaternion(&r, q);
             ids[sc.n] = scene_put(&sc, sc.n, (int)(next(&r) % SHAPE_COUNT), p, q, 0.3 + unif(&r));
             sc.n++;
         }
-        check_scene(&sc, &r, 10, 0, hits, answers);
+        check_scene(&sc, &r, side, 0, hits, answers);
         for (b = 0; b < sc.n; ++b) { /* every live body moved a little */
             const oracle_mesh *m = &shapes[sc.shape[b]];
             uint32_t v;
@@ -961,8 +968,9 @@ static void test_tree_churn(void **state) {
             for (v = 0; v < m->vertex_count; ++v)
                 oracle_world_vertex(sc.pos[b], sc.quat[b], sc.scale[b], m->verts + 3 * v, sc.wv[b] + 3 * v);
         }
-        check_scene(&sc, &r, 10, 0, hits, answers);
+        check_scene(&sc, &r, side, 0, hits, answers);
     }
+    query_share = 1;
     scene_free(&sc);
 }
 
@@ -1059,5 +1067,6 @@ int main(void) {
         cmocka_unit_test(test_random_scenes),       cmocka_unit_test(test_snapped_scenes),
         cmocka_unit_test(test_task_system),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,6 +9,7 @@
 
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
+#include "world/pose_box.hpp"
 #include "world/world.hpp"
 
 namespace hgcd {
@@ -100,6 +101,20 @@ hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, si
     return HGCD_OK;
 }
 
+inline void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes) {
+    apply_pose_with(i, p, q, [&](const double *q_) {
+        const BodyRecord rec = body_record_[i];
+        // (set_box_offsets' own test for record_float_box, and a bound on
+        // the groups: a lane of the kernel takes as many as the largest.
+        // q_, not the placement: a load spanning the stores just made to
+        // it waits for them.)
+        if (rec.groups - 1 < kQueuedGroups && world_margin_ == 0 && (margin_bodies_ == 0 || margin_[i] == 0))
+            boxes.push(BoxJob{q_, place_[i].scale, pool_.blocks()[rec.block].d, rec.groups, &box_off_[6 * i]});
+        else
+            set_box_offsets(i);
+    });
+}
+
 hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
                              const double *orientations, size_t orientation_stride) {
     const char *what = "world_set_poses";
@@ -109,9 +124,20 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
                     std::string(what) + ": a stride must be 0 or a multiple of 8 bytes holding its entry");
     // (By index, the apply pass follows storage and needs no storage indices.)
     if (hgcd_status s = resolve_entries(what, bodies, count, false)) return s;
-    const int64_t bad = first_failing(count, [&](size_t k) {
+    const auto ok = [&](size_t k) {
         return (!positions || position_ok(entry(positions, ps, k))) &&
                (!orientations || orientation_ok(entry(orientations, os, k)));
+    };
+    // By index, each entry is copied to pose_stage_ as it is checked (see
+    // below); a refusal leaves only that scratch written.
+    if (!bodies && pose_stage_.size() < count) pose_stage_.resize(count);
+    StagedPose *const stage = pose_stage_.data();
+    const int64_t bad = bodies ? first_failing(count, ok) : first_failing(count, [&](size_t k) {
+        if (!ok(k)) return false;
+        if (positions) std::memcpy(stage[k].position, entry(positions, ps, k), sizeof stage[k].position);
+        if (orientations)
+            std::memcpy(stage[k].orientation, entry(orientations, os, k), sizeof stage[k].orientation);
+        return true;
     });
     if (bad != kNone) {  // the message of hgcd_body_set_pose, for that entry
         const std::string at = std::string(what) + ": entry " + std::to_string(bad);
@@ -120,44 +146,47 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     }
     query_.stale = true;
     if (bodies) {
-        for_entries(count, [&](size_t k) {
-            apply_pose(batch_at_[k], positions ? entry(positions, ps, k) : nullptr,
-                       orientations ? entry(orientations, os, k) : nullptr);
+        const int T = count >= kParallelEntries ? threads() : 1;
+        parallel_for(T, int64_t(count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
+            BoxQueue boxes;
+            for (int64_t k = b; k < e; ++k)
+                apply_pose_queued(batch_at_[size_t(k)], positions ? entry(positions, ps, size_t(k)) : nullptr,
+                                  orientations ? entry(orientations, os, size_t(k)) : nullptr, boxes);
+            boxes.flush();
         });
         return HGCD_OK;
     }
     // All bodies by index: storage runs in the grid's order, not the
     // indices', so the pass follows storage (writing the world's arrays and
-    // reading the meshes' records nearly in sequence) and reads the caller's
-    // arrays out of order, asking for each entry kAhead bodies before its
-    // use: independent loads, many in flight while the boxes are computed.
+    // reading the meshes' records nearly in sequence) and reads the entries
+    // out of order, from the copy in pose_stage_: the caller's arrays
+    // usually sit in 4 KiB pages, and reads at random over them missed the
+    // TLB nearly every time (750k bodies, 1 thread: a copy in sequence and
+    // reads from huge pages took 9 ms, the reads from the caller's arrays
+    // 13 to 17). Each entry is asked for kAhead bodies before its use: one
+    // line, many in flight while the boxes are computed.
     constexpr int64_t kAhead = 32;
     const size_t n = slot_of_.size();
     const int T = n >= kParallelEntries ? threads() : 1;
+    const bool has_p = positions, has_q = orientations;
     parallel_for(T, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
         // (Locals, not the captures: apply_pose's writes might alias those.)
-        const double *const positions_ = positions, *const orientations_ = orientations;
-        const size_t ps_ = ps, os_ = os, count_ = count;
+        const StagedPose *const stage_ = stage;
+        const size_t count_ = count;
+        const bool has_p_ = has_p, has_q_ = has_q;
         const uint32_t *const slot_of = slot_of_.data(), *const stored_gen = stored_gen_.data();
+        BoxQueue boxes;
         for (int64_t i = b; i < e; ++i) {
             if (i + kAhead < e) {
                 const size_t ahead = slot_of[i + kAhead];
-                if (ahead < count_) {  // (both ends: an entry may straddle two cache lines)
-                    if (positions_) {
-                        __builtin_prefetch(entry(positions_, ps_, ahead));
-                        __builtin_prefetch(entry(positions_, ps_, ahead) + 2);
-                    }
-                    if (orientations_) {
-                        __builtin_prefetch(entry(orientations_, os_, ahead));
-                        __builtin_prefetch(entry(orientations_, os_, ahead) + 3);
-                    }
-                }
+                if (ahead < count_) __builtin_prefetch(&stage_[ahead]);
             }
             const size_t k = slot_of[i];
             if (k >= count_ || !stored_gen[i]) continue;
-            apply_pose(size_t(i), positions_ ? entry(positions_, ps_, k) : nullptr,
-                       orientations_ ? entry(orientations_, os_, k) : nullptr);
+            apply_pose_queued(size_t(i), has_p_ ? stage_[k].position : nullptr,
+                              has_q_ ? stage_[k].orientation : nullptr, boxes);
         }
+        boxes.flush();
     });
     return HGCD_OK;
 }

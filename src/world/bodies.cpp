@@ -184,21 +184,9 @@ hgcd_status World::destroy_body(hgcd_body id) {
     return HGCD_OK;
 }
 
-// The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
-// keep it; the body counts as moved when a bit changes (hgcd_body_set_pose
-// and hgcd_world_set_poses alike).
+// (apply_pose_with: world.hpp)
 void World::apply_pose(size_t i, const double *p, const double *q) {
-    bool moved = false;
-    if (p) {
-        moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
-        for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
-    }
-    if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
-        std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
-        set_box_offsets(i);
-        moved = true;
-    }
-    if (moved) moved_at_[i] = 1;
+    apply_pose_with(i, p, q, [&](const double *) { set_box_offsets(i); });
 }
 
 hgcd_status World::set_pose(hgcd_body id, const double *position, const double *orientation) {

@@ -85,6 +85,76 @@ __attribute__((target("avx2"))) void record_float_box_avx2(const Rotation &r, do
     _mm_storeu_ps(off, _mm_xor_ps(f, _mm_setr_ps(0.0f, 0.0f, 0.0f, -0.0f)));
     _mm_storel_pi(reinterpret_cast<__m64 *>(off + 4), _mm_xor_ps(h, _mm_set1_ps(-0.0f)));
 }
+
+// Four bodies at once, one a lane: the quaternions transposed,
+// rotation_entries and transform_point's
+// expression lane by lane (the same bits as rotation_of and the one-body
+// kernels), each lane's running bounds over its own record's points (a
+// record with fewer groups repeats its last: a repeated point changes no
+// minimum or maximum), then the bounds of all four rounded down as one
+// vector an axis (the highs negated) and transposed into the offsets.
+__attribute__((target("avx2"))) inline void transpose4_pd(__m256d &r0, __m256d &r1, __m256d &r2, __m256d &r3) {
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+    r0 = _mm256_permute2f128_pd(t0, t2, 0x20);
+    r1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+    r2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+    r3 = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+__attribute__((target("avx2"))) void record_float_boxes4_avx2(const BoxJob *job) {
+    typedef double v4 __attribute__((vector_size(32)));
+    __m256d q[4];  // x y z w of each body, then each of the four bodies'
+    for (int k = 0; k < 4; ++k) q[k] = _mm256_loadu_pd(job[k].orientation);
+    transpose4_pd(q[0], q[1], q[2], q[3]);
+    v4 m[9];
+    rotation_entries((v4)q[0], (v4)q[1], (v4)q[2], (v4)q[3], m);
+    const __m256d scale = _mm256_setr_pd(job[0].scale, job[1].scale, job[2].scale, job[3].scale);
+    const __m256d zero = _mm256_setzero_pd();
+    __m256d lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = _mm256_set1_pd(INFINITY);
+        hi[a] = _mm256_set1_pd(-INFINITY);
+    }
+    const uint32_t groups = std::max(std::max(job[0].groups, job[1].groups), std::max(job[2].groups, job[3].groups));
+    for (uint32_t g = 0; g < groups; ++g) {
+        __m256d c[3][4];  // c[axis][lane]: then c[axis][point], across the lanes
+        for (int k = 0; k < 4; ++k) {
+            const double *rec = job[k].record + 12 * size_t(std::min(g, job[k].groups - 1));
+            for (int a = 0; a < 3; ++a) c[a][k] = _mm256_load_pd(rec + 4 * a);
+        }
+        for (int a = 0; a < 3; ++a) transpose4_pd(c[a][0], c[a][1], c[a][2], c[a][3]);
+        for (int p = 0; p < 4; ++p) {
+            const __m256d lx = _mm256_mul_pd(scale, c[0][p]);
+            const __m256d ly = _mm256_mul_pd(scale, c[1][p]);
+            const __m256d lz = _mm256_mul_pd(scale, c[2][p]);
+            for (int a = 0; a < 3; ++a) {
+                const __m256d d = _mm256_add_pd(
+                    zero, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd((__m256d)m[3 * a], lx),
+                                                      _mm256_mul_pd((__m256d)m[3 * a + 1], ly)),
+                                        _mm256_mul_pd((__m256d)m[3 * a + 2], lz)));
+                lo[a] = _mm256_min_pd(d, lo[a]);
+                hi[a] = _mm256_max_pd(d, hi[a]);
+            }
+        }
+    }
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m128 nsign = _mm_set1_ps(-0.0f);
+    __m128 r0 = broad::float_down4(lo[0]), r1 = broad::float_down4(lo[1]), r2 = broad::float_down4(lo[2]);
+    __m128 r3 = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[0], sign)), nsign);
+    const __m128 hy = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[1], sign)), nsign);
+    const __m128 hz = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[2], sign)), nsign);
+    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);  // body k: low x y z, high x
+    const __m128 yz01 = _mm_unpacklo_ps(hy, hz), yz23 = _mm_unpackhi_ps(hy, hz);
+    _mm_storeu_ps(job[0].off, r0);
+    _mm_storeu_ps(job[1].off, r1);
+    _mm_storeu_ps(job[2].off, r2);
+    _mm_storeu_ps(job[3].off, r3);
+    _mm_storel_pi(reinterpret_cast<__m64 *>(job[0].off + 4), yz01);
+    _mm_storeh_pi(reinterpret_cast<__m64 *>(job[1].off + 4), yz01);
+    _mm_storel_pi(reinterpret_cast<__m64 *>(job[2].off + 4), yz23);
+    _mm_storeh_pi(reinterpret_cast<__m64 *>(job[3].off + 4), yz23);
+}
 #endif
 
 // The same on 2 lanes (SSE2) or one (elsewhere).
@@ -150,6 +220,14 @@ void record_float_box(const Rotation &r, double s, const double *record, uint32_
     double lo[3], hi[3];
     record_box_base(r, s, record, groups, lo, hi);
     broad::round_outward(lo, hi, off, off + 3);
+}
+
+void record_float_boxes4(const BoxJob *job) {
+#if HGCD_AVX2
+    if (use_avx2()) return record_float_boxes4_avx2(job);
+#endif
+    for (int k = 0; k < 4; ++k)
+        record_float_box(rotation_of(job[k].orientation), job[k].scale, job[k].record, job[k].groups, job[k].off);
 }
 
 }  // namespace hgcd

@@ -19,4 +19,42 @@ void record_box(const Rotation &r, double s, const double *record, uint32_t grou
 // off[0..2] the low corner, off[3..5] the high one.
 void record_float_box(const Rotation &r, double s, const double *record, uint32_t groups, float *off);
 
+// One body's part in record_float_boxes4: its orientation (x y z w) and
+// scale, its mesh's record of `groups` groups (at least 1), and where its
+// offsets go.
+struct BoxJob {
+    const double *orientation;
+    double scale;
+    const double *record;
+    uint32_t groups;
+    float *off;
+};
+
+// record_float_box for four bodies at once, the same bits for each (a
+// set_poses with many new orientations: one lane a body, where one body's
+// points fill the lanes only for meshes of 4 or more distinct vertices and
+// the lanes' reduction cost as much as the transforms).
+void record_float_boxes4(const BoxJob *job);
+
+// The boxes of one thread's run of new orientations, four at a time: push
+// a body (its box is written at once or by a later push), flush at the end
+// (the last few, padded with copies of the last: same offsets, written twice).
+struct BoxQueue {
+    BoxJob job[4];
+    int count = 0;
+    void push(const BoxJob &j) {
+        job[count++] = j;
+        if (count == 4) {
+            record_float_boxes4(job);
+            count = 0;
+        }
+    }
+    void flush() {
+        if (count == 0) return;
+        for (int k = count; k < 4; ++k) job[k] = job[count - 1];
+        record_float_boxes4(job);
+        count = 0;
+    }
+};
+
 }  // namespace hgcd

@@ -3,6 +3,7 @@
 // the world unchanged when it fails, and records the reason in last_error.
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <string>
@@ -17,6 +18,7 @@
 #include "world/filter.hpp"
 #include "world/mesh.hpp"
 #include "world/mesh_pool.hpp"
+#include "world/pose_box.hpp"
 #include "world/threads.hpp"
 #include "world/memory.hpp"
 #include "narrow/narrow.hpp"
@@ -141,6 +143,12 @@ class World {
     void for_entries(size_t count, Apply &&apply);
     hgcd_status resolve_entries(const char *what, const hgcd_body *bodies, size_t count, bool storage);
     void apply_pose(size_t i, const double *position, const double *orientation);
+    // The same, the box of a new orientation taken by boxes when its kernel
+    // can (batch.cpp: a record of at most kQueuedGroups groups, no margin).
+    static constexpr uint32_t kQueuedGroups = 4;
+    void apply_pose_queued(size_t i, const double *position, const double *orientation, BoxQueue &boxes);
+    template <class Box>
+    void apply_pose_with(size_t i, const double *position, const double *orientation, Box &&box);
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
@@ -355,6 +363,12 @@ class World {
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
     std::vector<uint32_t> batch_at_, batch_mark_;
     uint32_t batch_epoch_ = 0;
+    // hgcd_world_set_poses by index: entry k's pose, copied from the
+    // caller's arrays in index order (batch.cpp), one cache line each.
+    struct alignas(64) StagedPose {
+        double position[3], orientation[4];
+    };
+    LargeVector<StagedPose> pose_stage_;
 
     // Scene queries (src/query): the tree over the bodies and the last
     // results; its helpers.
@@ -445,5 +459,24 @@ class World {
     std::vector<Grave> graves_;
     mutable std::string last_error_;
 };
+
+// The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
+// keep it; the body counts as moved when a bit changes (hgcd_body_set_pose
+// and hgcd_world_set_poses alike). box(q) brings box_off_ to a new
+// orientation q.
+template <class Box>
+inline void World::apply_pose_with(size_t i, const double *p, const double *q, Box &&box) {
+    bool moved = false;
+    if (p) {
+        moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
+        for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
+    }
+    if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {
+        std::memcpy(place_[i].orientation, q, sizeof place_[i].orientation);
+        box(q);
+        moved = true;
+    }
+    if (moved) moved_at_[i] = 1;
+}
 
 }  // namespace hgcd

@@ -177,7 +177,35 @@ int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, con
             const uint32_t v = 4 * g + k < points ? 4 * g + k : 4 * g;
             for (int a = 0; a < 3; ++a) record[3 * g + uint32_t(a)].d[k] = p[3 * v + uint32_t(a)];
         }
+    // The four-body kernel's lanes: lane j takes the first points - j
+    // points (at least 1: a record of fewer groups among more), its own
+    // record, against the one-body kernel on that record.
+    std::vector<hgcd::MeshPool::Block> lane_record[4];
+    uint32_t lane_groups[4];
+    for (uint32_t j = 0; j < 4; ++j) {
+        const uint32_t c = points > j ? points - j : 1, gs = (c + 3) / 4;
+        lane_groups[j] = gs;
+        lane_record[j].resize(3 * size_t(gs));
+        for (uint32_t g = 0; g < gs; ++g)
+            for (uint32_t k = 0; k < 4; ++k) {
+                const uint32_t v = 4 * g + k < c ? 4 * g + k : 4 * g;
+                for (int a = 0; a < 3; ++a) lane_record[j][3 * g + uint32_t(a)].d[k] = p[3 * v + uint32_t(a)];
+            }
+    }
     int64_t differ = 0;
+    for (uint32_t i = 0; i + 4 <= n; i += 4) {
+        hgcd::BoxJob job[4];
+        float out[4][6], want[4][6];
+        for (uint32_t j = 0; j < 4; ++j) {
+            // (lanes in a rotating order: every lane sees every record)
+            const uint32_t l = (i / 4 + j) % 4;
+            job[j] = hgcd::BoxJob{q + 4 * size_t(i + j), s[i + j], lane_record[l][0].d, lane_groups[l], out[j]};
+            hgcd::record_float_box(hgcd::rotation_of(q + 4 * size_t(i + j)), s[i + j], lane_record[l][0].d,
+                                   lane_groups[l], want[j]);
+        }
+        hgcd::record_float_boxes4(job);
+        for (uint32_t j = 0; j < 4; ++j) differ += std::memcmp(out[j], want[j], sizeof want[j]) != 0;
+    }
     for (uint32_t i = 0; i < n; ++i) {
         const hgcd::Rotation r = hgcd::rotation_of(q + 4 * size_t(i));
         double lo[3], hi[3], rlo[3], rhi[3], plo[3], phi[3];

@@ -62,8 +62,10 @@ int64_t hgcdi_float_boxes_check(const double *points, const float *offsets, uint
  * s[i], and the `points` points p, 3 doubles each), offset_box and
  * record_box (the points as a mesh record, padded) against
  * offset_box_scalar, then the rounding to float (round_outward and
- * record_float_box against float_at_most and float_at_least). Returns how
- * many cases differ in any bit. */
+ * record_float_box against float_at_most and float_at_least), and
+ * record_float_boxes4 four cases at a time (lanes on records of the first
+ * points, points - 1, ... points: 1 at least) against record_float_box.
+ * Returns how many cases differ in any bit. */
 int64_t hgcdi_offset_box_check(const double *q, const double *s, uint32_t n, const double *p, uint32_t points);
 
 /* The narrow phase's batched tetrahedron test (src/narrow/tetra.cpp,

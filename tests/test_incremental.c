@@ -380,6 +380,49 @@ static void run_static(int n, double side, uint32_t threads, int ticks, int orac
     scene_free(&sc);
 }
 
+/* Moved bodies crowded into one part of storage: bodies created in one
+ * go take storage at its end, so that on 2 threads the second range holds
+ * more moved bodies than count_moved keeps (a quarter of a range) and
+ * list_moved finds them again; then those bodies and a few others move by
+ * small steps (the second range still the crowded one). A's pairs equal
+ * B's and the oracle's every tick, each detect a search around the moved
+ * bodies. */
+static void run_crowded(int n, int born, double side, uint32_t threads, uint64_t seed) {
+    static scene sc;
+    static int moved[kMaxBodies];
+    scene_init(&sc, n + born, side, threads, seed);
+    sc.n = n;
+    for (int k = 0; k < 2; ++k) /* (a small world would get one thread) */
+        assert_int_equal(hgcd_world_set_thread_policy(sc.w[k], HGCD_THREADS_FIXED), HGCD_OK);
+    for (int i = 0; i < n; ++i) create(&sc, i);
+    for (int k = 0; k < 2; ++k) assert_int_equal(hgcd_world_detect(sc.w[k]), HGCD_OK);
+    for (int tick = 0; tick < 4; ++tick) {
+        if (tick == 0) {
+            for (int i = n; i < n + born; ++i) create(&sc, i);
+            sc.n = n + born;
+        } else {
+            for (int i = 0; i < sc.n; ++i) {
+                moved[i] = i >= n || i % 50 == 0;
+                if (moved[i]) new_pose(&sc, i, 1);
+            }
+            push_poses(&sc, moved, 2);
+        }
+        assert_int_equal(hgcd_world_set_narrow_phase(sc.w[1], HGCD_NARROW_EXACT), HGCD_OK);
+        for (int k = 0; k < 2; ++k) assert_int_equal(hgcd_world_detect(sc.w[k]), HGCD_OK);
+        same_pairs(&sc);
+        oracle_check(&sc);
+        const hgcd_stats sa = stats_of(sc.w[0]), sb = stats_of(sc.w[1]);
+        assert_true(sa.searched_bodies > 0 && sa.searched_bodies < sb.searched_bodies);
+    }
+    scene_free(&sc);
+}
+
+static void test_incremental_crowded(void **state) {
+    (void)state;
+    run_crowded(600, 120, 10, 2, 7);
+    run_crowded(600, 120, 10, 1, 8);
+}
+
 static void test_incremental_static(void **state) {
     (void)state;
     run_static(slow() ? 1600 : 600, slow() ? 20 : 14, 1, slow() ? 48 : 24, 3, 5);
@@ -410,6 +453,7 @@ int main(void) {
         cmocka_unit_test(test_incremental_two_threads),
         cmocka_unit_test(test_incremental_oracle),
         cmocka_unit_test(test_incremental_static),
+        cmocka_unit_test(test_incremental_crowded),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

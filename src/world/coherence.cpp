@@ -13,24 +13,37 @@
 namespace hgcd {
 
 // In equal ranges of storage, one a worker, without a branch a body (a
-// share of them moved, in no pattern).
+// share of them moved, in no pattern) but one a word of eight moved flags
+// (storage where nothing moved, static bodies' for one, is read eight
+// flags at a time). Each range's first moved bodies are written as it goes
+// into moved_found_ from the range's start, for list_moved: up to a quarter
+// of the range (more means too many for a search around them, and list_moved
+// finds them again), the others over the last of those, in cache.
 World::MovedCount World::count_moved(int threads) {
     const size_t n = stored_gen_.size(), known = mover_.size(), parts = size_t(threads);
+    moved_found_.resize(n);
     std::vector<MovedCount> of(parts);
     parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
         for (size_t p = size_t(p0); p < size_t(p1); ++p) {
-            const size_t b = n * p / parts, e = n * (p + 1) / parts, mid = std::min(std::max(known, b), e);
+            const size_t b = n * p / parts, e = n * (p + 1) / parts;
+            uint32_t *const to = moved_found_.data() + b;
+            const size_t room = (e - b) / 4;
             size_t moved = 0, fresh = 0;
-            for (size_t i = b; i < mid; ++i) {
+            auto one = [&](size_t i) {
                 const size_t m = size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
+                to[std::min(moved, room)] = uint32_t(i);
                 moved += m;
-                fresh += m & size_t(!(mover_[i] & kMover));
+                fresh += m & size_t(i >= known || !(mover_[i] & kMover));
+            };
+            size_t i = b;
+            for (; i < e && (i & 7); ++i) one(i);
+            for (; i + 8 <= e; i += 8) {
+                uint64_t word;
+                std::memcpy(&word, &moved_at_[i], sizeof word);
+                if (!word) continue;
+                for (size_t k = i; k < i + 8; ++k) one(k);
             }
-            for (size_t i = mid; i < e; ++i) {
-                const size_t m = size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
-                moved += m;
-                fresh += m;
-            }
+            for (; i < e; ++i) one(i);
             of[p] = MovedCount{moved, fresh};
         }
     });

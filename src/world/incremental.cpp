@@ -51,8 +51,8 @@ void World::drop_movers() noexcept {
 // moved since the last detect, ascending: storage follows the grid's sweep
 // order, so consecutive queries meet nearby rows and entries.
 void World::list_moved(int threads, size_t count) {
-    // Ranges of storage in order, one a worker, as count_moved counted them
-    // (again if storage was renumbered since), each written into its place.
+    // Ranges of storage in order, one a worker, as count_moved counted and
+    // found them (again if storage was renumbered since), each put in its place.
     const size_t parts = size_t(threads);
     if (moved_parts_.size() != parts) count_moved(threads);
     moved_list_.resize(count);
@@ -62,13 +62,16 @@ void World::list_moved(int threads, size_t count) {
     moved_parts_.clear();
     parallel_for(threads, int64_t(parts), 1, Schedule::Static, [&](int64_t p0, int64_t p1, int) {
         for (size_t p = size_t(p0); p < size_t(p1); ++p) {
-            // Every index written, the next one over it unless it moved
-            // (no branch a body); the range ends where its last moved one
-            // is written.
+            const size_t b = n * p / parts, e = n * (p + 1) / parts, want = first[p + 1] - first[p];
             uint32_t *to = moved_list_.data() + first[p];
-            const size_t want = first[p + 1] - first[p];
+            if (want <= (e - b) / 4) {
+                std::memcpy(to, moved_found_.data() + b, want * sizeof(uint32_t));
+                continue;
+            }
+            // (More than count_moved kept: found again, every index written,
+            // the next one over it unless it moved.)
             size_t written = 0;
-            for (size_t i = n * p / parts, end = n * (p + 1) / parts; written < want && i < end; ++i) {
+            for (size_t i = b; written < want && i < e; ++i) {
                 to[written] = uint32_t(i);
                 written += size_t(stored_gen_[i] != 0) & size_t(moved_at_[i] != 0);
             }
@@ -101,6 +104,16 @@ uint64_t World::update_movers(int threads) {
     side_now_.resize(k_count);
     parallel_for(threads, int64_t(k_count), 4096, Schedule::Static, [&](int64_t k0, int64_t k1, int) {
         for (int64_t k = k0; k < k1; ++k) {
+            // The movers are spread over storage (one line each of the
+            // arrays read): their lines asked for 16 movers ahead.
+            if (k + 16 < k1) {
+                const uint32_t ahead = side_storage_[size_t(k + 16)];
+                __builtin_prefetch(&stored_gen_[ahead]);
+                __builtin_prefetch(&moved_at_[ahead]);
+                __builtin_prefetch(&point_[3 * size_t(ahead)]);
+                __builtin_prefetch(&box_off_[6 * size_t(ahead)]);
+                __builtin_prefetch(&r_level_[ahead]);
+            }
             const uint32_t i = side_storage_[size_t(k)];
             const uint32_t gen = stored_gen_[i];
             const bool now = gen && moved_at_[i];

@@ -183,6 +183,7 @@ class World {
     // how many last pairs were kept untested.
     size_t merge_moved(int threads);
     std::vector<hgcd_pair, UninitAllocator<hgcd_pair>> new_hits_;  // (its scratch)
+    std::vector<uint64_t> moved_slots_;                            // (and its bits by slot)
     // Temporal coherence (coherence.cpp): removes from the candidates the
     // pairs of two bodies unmoved since the last detect, their result taken
     // from its pairs (prev_pairs_) into hits_; returns how many.
@@ -403,6 +404,7 @@ class World {
     std::vector<PairBuffer> side_found_;
     std::vector<uint32_t> moved_list_;
     std::vector<size_t> moved_parts_;  // count_moved's counts by range (empty after a renumbering)
+    std::vector<uint32_t, UninitAllocator<uint32_t>> moved_found_;  // and what it found, by range
     // Per mover (by its index in the second grid), the grid's residents
     // that met its fat box when it last searched the grid, with their boxes
     // (resident_cache.cpp): a run of one of the arenas (one per worker that

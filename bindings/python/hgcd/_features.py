@@ -54,11 +54,9 @@ class EngineFeatures:
         failed = ffi.new("size_t *")
         with self._lock:
             status = lib.hgcd_py_set_flags(self._live(), A.ptr("hgcd_body *", b), n, *ptrs, failed)
-            if status == lib.HGCD_ERROR_STALE_ID:
-                raise Error(status, f"{call}: entry {failed[0]} is not a live body of this world")
             if status == lib.HGCD_ERROR_INVALID_ARGUMENT:
                 raise Error(status, f"{call}: entry {failed[0]}: a filter's reserved field must be 0")
-            self._check(status, f"{call}: entry {failed[0]}: ")
+            self._check_entry(status, call, failed[0])
 
     def set_types(self, bodies, types):
         """Sets the BodyType of the bodies of a BODY_ID array (one type for all,
@@ -177,9 +175,7 @@ class EngineFeatures:
         with self._lock:
             status = lib.hgcd_py_set_margins(self._live(), A.ptr("hgcd_body *", b), len(b),
                                              A.ptr("double *", m), A.ptr("double *", scratch), failed)
-            if status == lib.HGCD_ERROR_STALE_ID:
-                raise Error(status, f"{call}: entry {failed[0]} is not a live body of this world")
-            self._check(status, f"{call}: entry {failed[0]}: ")
+            self._check_entry(status, call, failed[0])
 
     def get_margins(self, bodies):
         """The bodies' own contact margins, a (N,) float64 array."""

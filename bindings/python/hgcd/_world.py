@@ -184,6 +184,12 @@ class World(EngineFeatures, QueryMixin):
         if status != lib.HGCD_OK:
             raise Error(status, prefix + ffi.string(lib.hgcd_world_last_error(self._w)).decode())
 
+    def _check_entry(self, status, call, entry):
+        """Raise for a refused call over many bodies, naming the entry refused."""
+        if status == lib.HGCD_ERROR_STALE_ID:
+            raise Error(status, f"{call}: entry {entry} is not a live body of this world")
+        self._check(status, f"{call}: entry {entry}: ")
+
     @staticmethod
     def _const_check(status, call, why="refused"):
         """Raise for a refused read-only call: those record no message, so the
@@ -331,9 +337,7 @@ class World(EngineFeatures, QueryMixin):
         failed = ffi.new("size_t *")
         with self._lock:
             status = lib.hgcd_py_destroy_bodies(self._live(), A.ptr("hgcd_body *", b), len(b), failed)
-            if status == lib.HGCD_ERROR_STALE_ID:
-                raise Error(status, f"destroy_bodies: entry {failed[0]} is not a live body of this world")
-            self._check(status, f"destroy_bodies: entry {failed[0]}: ")
+            self._check_entry(status, "destroy_bodies", failed[0])
 
     def bodies_alive(self, bodies):
         """A (N,) bool array: whether each id is a live body of this world."""

@@ -104,11 +104,10 @@ hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, si
 inline void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes) {
     apply_pose_with(i, p, q, [&](const double *q_) {
         const BodyRecord rec = body_record_[i];
-        // (set_box_offsets' own test for record_float_box, and a bound on
-        // the groups: a lane of the kernel takes as many as the largest.
-        // q_, not the placement: a load spanning the stores just made to
-        // it waits for them.)
-        if (rec.groups - 1 < kQueuedGroups && world_margin_ == 0 && (margin_bodies_ == 0 || margin_[i] == 0))
+        // (A bound on the groups: a lane of the kernel takes as many as the
+        // largest. q_, not the placement: a load spanning the stores just
+        // made to it waits for them.)
+        if (float_record_box(i) && rec.groups <= kQueuedGroups)
             boxes.push(BoxJob{q_, place_[i].scale, pool_.blocks()[rec.block].d, rec.groups, &box_off_[6 * i]});
         else
             set_box_offsets(i);

@@ -297,9 +297,8 @@ hgcd_status World::get_user_data(hgcd_body id, uint64_t *out) const {
 // vertex transforms), widened past the rounding of R, cut down to the
 // rotated boxes of a few tree nodes where those are tighter.
 void World::set_box_offsets(size_t s) {
+    if (!float_record_box(s)) return set_box_offsets_general(s);
     const BodyRecord rec = body_record_[s];
-    if (rec.groups == 0 || world_margin_ != 0 || (margin_bodies_ != 0 && margin_[s] != 0))
-        return set_box_offsets_general(s);  // (box_growth(s) != 0)
     const Placement &pl = place_[s];
     record_float_box(rotation_of(pl.orientation), pl.scale, pool_.blocks()[rec.block].d, rec.groups,
                      &box_off_[6 * s]);

@@ -153,6 +153,11 @@ class World {
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
     void set_box_offsets_general(size_t s);  // (with a margin, or no record)
+    // Whether that box comes from the mesh's record in floats
+    // (record_float_box): a record, and no margin to grow the box by.
+    bool float_record_box(size_t s) const {
+        return body_record_[s].groups != 0 && world_margin_ == 0 && (margin_bodies_ == 0 || margin_[s] == 0);
+    }
     // How far the box of the body stored at s is grown for the contact
     // margins: at least world margin / 2 + its own margin, so that the
     // boxes of two bodies within their pair's margin overlap (bodies.cpp).

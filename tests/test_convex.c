@@ -2,7 +2,9 @@
  * along the line of centres, face normals and edge pairs, certified, before
  * the exact test) against the independent oracle: random scenes of boxes,
  * icosahedra, 80-triangle icospheres and convex hulls mixed with
- * tetrahedra and a non-convex mesh, and hand-built touching faces, edges
+ * tetrahedra and a non-convex mesh (the boxes and hulls also off centre: their
+ * vertices then lack the symmetry about the origin the kernel's projections
+ * use when they have it), and hand-built touching faces, edges
  * and vertices, gaps of one ulp, containment, and faces a hair apart at
  * random orientations. */
 #include <math.h>
@@ -23,12 +25,12 @@
 #include "scene_shapes.h"
 #include "test_rng.h"
 
-enum { BOX, SLAB, ICOSAHEDRON, ICOSPHERE, HULL, PARALLELEPIPED, TETRA, DENTED, SHAPE_COUNT };
+enum { BOX, SLAB, ICOSAHEDRON, ICOSPHERE, HULL, PARALLELEPIPED, OFFBOX, OFFHULL, TETRA, DENTED, SHAPE_COUNT };
 /* The shapes that must be convex (and so take the convex path together). */
-static const int must_be_convex[SHAPE_COUNT] = {1, 1, 1, 1, 1, 1, 1, 0};
+static const int must_be_convex[SHAPE_COUNT] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
 
 
-static double box_v[24], slab_v[24], par_v[24], ico_v[36], hull_v[36], sphere_v[3 * 42];
+static double box_v[24], slab_v[24], par_v[24], ico_v[36], hull_v[36], sphere_v[3 * 42], offbox_v[24], offhull_v[36];
 static uint32_t box_t[36], ico_t[60], sphere_t[3 * 80];
 static oracle_mesh shapes[SHAPE_COUNT];
 
@@ -55,9 +57,17 @@ static void make_shapes(void) {
         hull_v[3 * i + 1] = 0.2 * p[0] + 0.6 * p[1] - 0.1 * p[2];
         hull_v[3 * i + 2] = 0.4 * p[1] + 1.1 * p[2];
     }
+    /* The box and the hull moved off their centre (the origin still inside):
+     * no longer symmetric about the origin. */
+    const double off[3] = {0.5, -0.25, 0.125};
+    for (int i = 0; i < 8; ++i)
+        for (int k = 0; k < 3; ++k) offbox_v[3 * i + k] = box_v[3 * i + k] + off[k];
+    for (int i = 0; i < 12; ++i)
+        for (int k = 0; k < 3; ++k) offhull_v[3 * i + k] = hull_v[3 * i + k] + 0.75 * off[k];
     const oracle_mesh m[SHAPE_COUNT] = {
         {box_v, box_t, 8, 12, 1},       {slab_v, box_t, 8, 12, 1},       {ico_v, ico_t, 12, 20, 1},
         {sphere_v, sphere_t, 42, 80, 1}, {hull_v, ico_t, 12, 20, 1},     {par_v, box_t, 8, 12, 1},
+        {offbox_v, box_t, 8, 12, 1},    {offhull_v, ico_t, 12, 20, 1},
         {tetra_v, tetra_t, 4, 4, 1},    {dented_v, dented_t, 9, 14, 1},
     };
     memcpy(shapes, m, sizeof m);
@@ -210,13 +220,13 @@ static void test_random_scenes(void **state) {
  * others, random and grid-snapped (touching), on 1 and 2 threads. */
 static void test_one_shape(void **state) {
     (void)state;
-    const int one[] = {BOX, PARALLELEPIPED, HULL, SLAB};
+    const int one[] = {BOX, PARALLELEPIPED, HULL, SLAB, OFFBOX, OFFHULL};
     size_t total = 0;
     for (uint64_t seed = 1; seed <= 8; ++seed) {
         rng r = {seed * 104729};
         scene sc;
         scene_init(&sc, 160, (uint32_t)(seed % 2) + 1);
-        fill_with(&sc, &r, 160, 11, (int)(seed / 2 % 2), one[seed % 4]);
+        fill_with(&sc, &r, 160, 11, (int)(seed / 2 % 2), one[seed % 6]);
         total += check_against_oracle(&sc);
         scene_free(&sc);
     }
@@ -307,12 +317,12 @@ static void test_near_touching(void **state) {
     (void)state;
     rng r = {99};
     scene sc;
-    const int convex_shapes[] = {BOX, SLAB, ICOSAHEDRON, HULL, PARALLELEPIPED, TETRA, ICOSPHERE};
+    const int convex_shapes[] = {BOX, SLAB, ICOSAHEDRON, HULL, PARALLELEPIPED, TETRA, OFFBOX, OFFHULL, ICOSPHERE};
     scene_init(&sc, 200, 1);
     int flips = 0;
     for (int k = 0; k < 24; ++k) {
         /* (the icosphere only every third time: the oracle is slow on it) */
-        const int sa = convex_shapes[next(&r) % (k % 3 ? 6 : 7)], sb = convex_shapes[next(&r) % (k % 3 ? 6 : 7)];
+        const int sa = convex_shapes[next(&r) % (k % 3 ? 8 : 9)], sb = convex_shapes[next(&r) % (k % 3 ? 8 : 9)];
         double qa[4], qb[4], dir[3] = {2 * unif(&r) - 1, 2 * unif(&r) - 1, 2 * unif(&r) - 1};
         random_unit_quaternion(&r, qa);
         random_unit_quaternion(&r, qb);
@@ -443,10 +453,10 @@ static void test_edge_crossing(void **state) {
      * normal to a's edge midpoint m (so b's copy of that edge faces a's) and
      * twisted about m first (so the two edges cross at an angle). */
     rng r = {2718};
-    const int shapes_e[] = {BOX, SLAB, PARALLELEPIPED, HULL, ICOSAHEDRON};
+    const int shapes_e[] = {BOX, SLAB, PARALLELEPIPED, HULL, ICOSAHEDRON, OFFBOX};
     scene_init(&sc, 200, 2);
     for (int k = 0; k < 24; ++k) {
-        const int shape = shapes_e[next(&r) % 5];
+        const int shape = shapes_e[next(&r) % 6];
         const oracle_mesh *m = &shapes[shape];
         const uint32_t *t = &m->tris[3 * (next(&r) % m->triangle_count)];
         const double *v0 = &m->verts[3 * t[0]], *v1 = &m->verts[3 * t[1]];

@@ -15,10 +15,20 @@ namespace hgcd {
 // of edge directions (box and box: 9).
 constexpr uint32_t kEdgeAxisPairs = 36;
 
+// The face axes tried: those nearest the line of centres, at most this many
+// per mesh.
+constexpr int kFaceAxes = 6;
+
+// The margin of a face axis's test, argued in convex_kernel.cpp (face_apart).
+constexpr double kFaceMargin = 0x1p-42;
+
 // Pairs whose bodies reach along the line of centres past each other by
 // more than kDeep - 1 times the distance between their positions most
-// likely collide: the certificates that they do go first.
-constexpr double kDeep = 1.0;
+// likely collide: the certificates that they do go first. Those reaching
+// past each other by more than kMiddling - 1 times it, and not separated
+// by a face axis, collide more often than an edge axis separates them.
+constexpr double kDeep = 1.2;
+constexpr double kMiddling = 1.1;
 
 enum class ConvexVerdict {
     ApartOnCentres,  // a separating axis along the line of centres
@@ -31,18 +41,22 @@ enum class ConvexVerdict {
 
 // The kernel, for two bodies whose meshes have Mesh::sat: in order, the
 // separating axis along the line between their positions (tested on the
-// meshes' vertex runs, four vertices per vector, AVX2 where use_avx2());
-// for deep pairs (kDeep) the poke certificate (the vertex of one body
+// meshes' vertex runs, four vertices per vector, AVX2 where use_avx2(), half
+// of them for meshes symmetric about their origin); the vertex of one body
 // reaching furthest towards the other strictly inside it, by its face
 // planes with a certified margin, while another vertex lies strictly
-// outside it on that line); separating axes along the face normals nearest
-// that line (six of each mesh at most) and, for meshes with at most
-// kEdgeAxisPairs pairs of edge directions, the edge cross products; for
-// other pairs the poke certificate last; then a point of an edge of one
-// body strictly inside the other while a vertex of it lies strictly outside
-// (bodies crossing edge to edge); before the axes, when one body's stretch
-// of that line lies within the other's, whether every vertex of it lies
-// strictly inside the other (containment).
+// outside it on that line; for deep pairs (kDeep) a point strictly inside
+// both; when one body's stretch of that line lies within the other's,
+// whether every vertex of it lies strictly inside the other (containment);
+// then a point of an edge of one body strictly inside the other while a
+// vertex of it lies strictly outside (bodies crossing edge to edge) first
+// for deep pairs, after the face axes for middling ones (kMiddling), last
+// for the others; separating axes along the face normals nearest that line
+// (kFaceAxes of each mesh at most, nearest first), for meshes with at most
+// kEdgeAxisPairs pairs of edge directions the edge cross products, for the
+// pairs not deep the point inside both, and for meshes with more edge
+// directions the cross products of the edges at the two vertices reaching
+// furthest.
 ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b);
 
 // The kernel's line of centres for a pair (its first step): the rotations
@@ -56,6 +70,7 @@ struct ConvexCentres {
     double alo, ahi, blo, bhi, uu, cmargin;
     uint32_t a_toward, b_toward;
     bool pokes_tried = false;  // the vertex pokes of the later steps were tried (by the batch)
+    bool faces_tried = false;  // and the face axes
 };
 
 // convex_decide for a pair its line of centres does not separate, from that

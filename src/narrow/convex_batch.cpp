@@ -1,8 +1,9 @@
 // The convex path's batch (collide_convex_batch, narrow.hpp): many pairs of
 // small convex meshes, the kernel's first step (the separating axis along
 // the line of centres, with the projections the later steps use) and, when
-// each side of four pairs shares one mesh, its vertex pokes four pairs at a
-// time, one per lane, then the kernel's later steps and the one-pair test's
+// each side of four pairs shares one mesh, its vertex pokes and, for the
+// pairs not deep (kDeep), its face axes four pairs at a time, one per lane,
+// then the kernel's later steps and the one-pair test's
 // (collide_convex_after) on those values for the pairs it leaves.
 #include "common/ieee.hpp"
 #include "narrow/convex.hpp"
@@ -64,10 +65,36 @@ HGCD_CB_INLINE f64x4 vmin4(f64x4 a, f64x4 b) { return a < b ? a : b; }
 // first lane; so the vertices are visited here lane by lane, keeping the
 // first of the largest. The padded runs repeat vertex 0, so a lane whose
 // run is shorter reads vertex 0 past its end (never kept: it came first).
+// For four lanes of one symmetric mesh (SatData::half_padded), the same
+// values from its half run: the largest magnitude h, -h (range's argument),
+// and range_arg's vertex (the half run's first of the largest magnitude in
+// that order, or its negation when its value is negative).
+HGCD_CB_INLINE void range4_half(const Side &s, const f64x4 *d, f64x4 &lo, f64x4 &hi, i64x4 &arg) {
+    const SatData &m = *s.sat[0];
+    const uint32_t n = m.half_padded;
+    const double *x = m.half_soa.data(), *y = x + n, *z = y + n;
+    f64x4 mx = f64x4{} - 1.0, sign = f64x4{};
+    i64x4 best = i64x4{};
+    for (uint32_t lane = 0; lane < SatData::kLanes; ++lane)
+        for (uint32_t i = lane; i < n; i += SatData::kLanes) {
+            const f64x4 p = ((s.scale * x[i]) * d[0] + (s.scale * y[i]) * d[1]) + (s.scale * z[i]) * d[2];
+            const f64x4 a = vabs4(p);
+            const i64x4 more = a > mx;
+            best = more ? i64x4{} + int64_t(i) : best;
+            sign = more ? p : sign;
+            mx = vmax4(mx, a);
+        }
+    hi = mx;
+    lo = -1.0 * mx;
+    const i64x4 at = 2 * best - (sign < 0.0);  // (a true lane is -1)
+    for (int k = 0; k < 4; ++k) arg[k] = m.half_arg[size_t(at[k])];
+}
+
 HGCD_CB_INLINE void range4(const Side &s, const f64x4 *d, f64x4 &lo, f64x4 &hi, i64x4 &arg) {
     f64x4 mx = f64x4{} - INFINITY, mn = f64x4{} + INFINITY;
     i64x4 best = i64x4{};
     const SatData *const *m = s.sat;
+    if (m[1] == m[0] && m[2] == m[0] && m[3] == m[0] && m[0]->half_padded) return range4_half(s, d, lo, hi, arg);
     const double *x[4], *y[4], *z[4];
     uint32_t padded[4], most = 0;
     for (int k = 0; k < 4; ++k) {
@@ -180,6 +207,73 @@ HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, 
     return (in_ball | ~mask_of(outside)) & want;
 }
 
+// Per lane, the smallest and largest fl(l . d) over the vertices l =
+// fl(s v) of the lanes' one mesh m, by range's operations (convex_kernel.cpp:
+// the same values, also from the half run of a symmetric mesh).
+HGCD_CB_INLINE void shared_range4(const SatData &m, f64x4 scale, const f64x4 *d, f64x4 &lo, f64x4 &hi) {
+    if (m.half_padded) {
+        const uint32_t n = m.half_padded;
+        const double *x = m.half_soa.data(), *y = x + n, *z = y + n;
+        f64x4 mx = f64x4{};
+        for (uint32_t i = 0; i < n; ++i)
+            mx = vmax4(mx, vabs4(((scale * x[i]) * d[0] + (scale * y[i]) * d[1]) + (scale * z[i]) * d[2]));
+        hi = mx;
+        lo = -1.0 * mx;
+        return;
+    }
+    const uint32_t n = m.padded;
+    const double *x = m.soa.data(), *y = x + n, *z = y + n;
+    f64x4 mx = f64x4{} - INFINITY, mn = f64x4{} + INFINITY;
+    for (uint32_t i = 0; i < n; ++i) {
+        const f64x4 p = ((scale * x[i]) * d[0] + (scale * y[i]) * d[1]) + (scale * z[i]) * d[2];
+        mx = vmax4(mx, p);
+        mn = vmin4(mn, p);
+    }
+    lo = mn;
+    hi = mx;
+}
+
+// The kernel's face axes (convex_kernel.cpp: face_axes_apart, face_apart)
+// four pairs at a time, for pairs whose sides each share one mesh of at
+// most kFaceAxes face axes (all of them tried, a's first): lane by lane
+// face_apart's operations on the same values, so its argument and margin
+// hold in each lane. The lanes a face axis separates, among `want` (the
+// axes stop once all of those are).
+HGCD_CB_INLINE unsigned faces4(const Side &A, const Side &B, const Centres4 &c, unsigned want) {
+    const SatData &sa = *A.sat[0], &sb = *B.sat[0];
+    f64x4 C[9];  // fl(R_b^T R_a), row-major
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) C[3 * i + j] = (B.m[i] * A.m[j] + B.m[3 + i] * A.m[3 + j]) + B.m[6 + i] * A.m[6 + j];
+    const f64x4 ninf_a = vmax4(vmax4(vabs4(A.c[0]), vabs4(A.c[1])), vabs4(A.c[2]));
+    const f64x4 ninf_b = vmax4(vmax4(vabs4(B.c[0]), vabs4(B.c[1])), vabs4(B.c[2]));
+    const f64x4 La = A.scale * sa.reach, Lb = B.scale * sb.reach;
+    const f64x4 P = ((ninf_a + ninf_b) + La) + Lb;
+    const f64x4 dqa = vabs4(1.0 - A.n2) + 0x1p-50, dqb = vabs4(1.0 - B.n2) + 0x1p-50;
+    const f64x4 ma = kFaceMargin * P + 8 * dqa * La, mb = kFaceMargin * P + 8 * dqb * Lb;
+    unsigned apart = 0;
+    const uint32_t most = std::max(sa.faces, sb.faces);
+    for (uint32_t k = 0; k < most && (apart & want) != want; ++k)
+        for (int side = 0; side < 2; ++side) {
+            const SatData &own = side ? sb : sa, &other = side ? sa : sb;
+            if (k >= own.faces) continue;
+            const double *n = &own.axes[3 * k];
+            f64x4 d[3], olo, ohi;
+            for (int j = 0; j < 3; ++j)
+                d[j] = side ? (C[j] * n[0] + C[3 + j] * n[1]) + C[6 + j] * n[2]
+                            : (C[3 * j] * n[0] + C[3 * j + 1] * n[1]) + C[3 * j + 2] * n[2];
+            const f64x4 s_own = side ? B.scale : A.scale;
+            shared_range4(other, side ? A.scale : B.scale, d, olo, ohi);
+            const f64x4 alo = s_own * own.face_range[2 * k], ahi = s_own * own.face_range[2 * k + 1];
+            // (b's faces take a's offset along -ub = db)
+            const f64x4 *t = side ? c.db : c.da;
+            const f64x4 o = (t[0] * n[0] + t[1] * n[1]) + t[2] * n[2];
+            const double n1 = (std::fabs(n[0]) + std::fabs(n[1])) + std::fabs(n[2]);
+            const f64x4 margin = (side ? mb : ma) * n1 + tet::kUnderflowFloor;
+            apart |= mask_of(((o + olo) - ahi > margin) | (alo - (o + ohi) > margin));
+        }
+    return apart & want;
+}
+
 // Lane k of the four pairs' values, as the one-pair kernel's.
 HGCD_CB_INLINE void lane_of(const Side &A, const Side &B, const Centres4 &c, int k, ConvexCentres &out) {
     for (int j = 0; j < 9; ++j) {
@@ -228,7 +322,7 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
         // with planes (inside_test).
         const bool shared = ma[1] == ma[0] && ma[2] == ma[0] && ma[3] == ma[0] && mb[1] == mb[0] &&
                             mb[2] == mb[0] && mb[3] == mb[0] && A.sat[0]->inside_test && B.sat[0]->inside_test;
-        unsigned surface = 0;
+        unsigned surface = 0, faces = 0, face_apart = 0;
         if (shared && apart != 15) {
             // (a vertex of b beyond a's far end, of a before b's near end:
             // the kernel's b_out and a_out)
@@ -237,6 +331,12 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
             const unsigned open = ~apart & 15;
             if (open & bo) surface = pokes4(A, B, c.b_toward, open & bo);
             if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward, open & ~surface & ao);
+            // Then the face axes, for the pairs the kernel would try them on
+            // first (not deep: kDeep).
+            if (A.sat[0]->faces <= uint32_t(kFaceAxes) && B.sat[0]->faces <= uint32_t(kFaceAxes)) {
+                faces = open & ~surface & ~mask_of(c.ahi + c.bhi > kDeep * c.uu);
+                if (faces) face_apart = faces4(A, B, c, faces);
+            }
         }
         for (size_t l = 0; l < 4 && k + l < n; ++l) {
             out[k + l] = Contact::None;
@@ -246,9 +346,14 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
                 out[k + l] = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Surface);
                 continue;
             }
+            if (face_apart >> l & 1) {
+                out[k + l] = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Apart);
+                continue;
+            }
             ConvexCentres one;
             lane_of(A, B, c, int(l), one);
             one.pokes_tried = shared;
+            one.faces_tried = faces >> l & 1;
             out[k + l] = collide_convex_after(a, b, scratch, nullptr, convex_decide_past_centres(a, b, one));
         }
     }

@@ -38,12 +38,27 @@ HGCD_CK_INLINE f64x4 vmin4(f64x4 a, f64x4 b) { return a < b ? a : b; }
 HGCD_CK_INLINE double hmax4(f64x4 a) { return std::max(std::max(a[0], a[1]), std::max(a[2], a[3])); }
 HGCD_CK_INLINE double hmin4(f64x4 a) { return std::min(std::min(a[0], a[1]), std::min(a[2], a[3])); }
 
+HGCD_CK_INLINE f64x4 vabs(f64x4 a) { return (f64x4)((i64x4)a & (i64x4{} + INT64_MAX)); }
+
 // The smallest and largest of fl(s v) . d over the vertices v of mesh d:
 // the local vertices l = fl(s v) as transform_point rounds them, projected
-// as (lx dx + ly dy) + lz dz.
+// as (lx dx + ly dy) + lz dz. For a symmetric mesh (SatData::half_padded)
+// -h and h, h the largest magnitude over the half run: the same values (up
+// to the sign of a zero, which no comparison sees).
 HGCD_CK_INLINE void range(const SatData &m, double s, const double *d, double &lo, double &hi) {
-    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
     const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s);
+    if (m.half_padded) {
+        const double *x = m.half_soa.data(), *y = x + m.half_padded, *z = y + m.half_padded;
+        f64x4 mx = splat(0);
+        for (uint32_t i = 0; i < m.half_padded; i += SatData::kLanes) {
+            const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
+            mx = vmax4(mx, vabs(p));
+        }
+        hi = hmax4(mx);
+        lo = -hi;
+        return;
+    }
+    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
     f64x4 mx = splat(-INFINITY), mn = splat(INFINITY);
     for (uint32_t i = 0; i < m.padded; i += SatData::kLanes) {
         const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
@@ -54,10 +69,31 @@ HGCD_CK_INLINE void range(const SatData &m, double s, const double *d, double &l
     hi = hmax4(mx);
 }
 
-// range, and a vertex where the largest is reached.
+// range, and a vertex where the largest is reached (for a symmetric mesh
+// the half run's vertex of largest magnitude, or its negation when its
+// value is negative).
 HGCD_CK_INLINE void range_arg(const SatData &m, double s, const double *d, double &lo, double &hi, uint32_t &arg) {
-    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
     const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s), step = splat(SatData::kLanes);
+    if (m.half_padded) {
+        const double *x = m.half_soa.data(), *y = x + m.half_padded, *z = y + m.half_padded;
+        f64x4 mx = splat(-1), at = {0, 1, 2, 3}, best = at, sign = splat(0);
+        for (uint32_t i = 0; i < m.half_padded; i += SatData::kLanes, at += step) {
+            const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
+            const f64x4 a = vabs(p);
+            const auto more = a > mx;
+            best = more ? at : best;
+            sign = more ? p : sign;
+            mx = vmax4(mx, a);
+        }
+        hi = hmax4(mx);
+        lo = -hi;
+        const int k = mx[0] == hi ? 0 : mx[1] == hi ? 1 : mx[2] == hi ? 2 : 3;
+        const double b = k == 0 ? best[0] : k == 1 ? best[1] : k == 2 ? best[2] : best[3];
+        const double sg = k == 0 ? sign[0] : k == 1 ? sign[1] : k == 2 ? sign[2] : sign[3];
+        arg = m.half_arg[2 * uint32_t(b) + (sg < 0)];
+        return;
+    }
+    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
     f64x4 mx = splat(-INFINITY), mn = splat(INFINITY), at = {0, 1, 2, 3}, best = at;
     for (uint32_t i = 0; i < m.padded; i += SatData::kLanes, at += step) {
         const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
@@ -131,9 +167,8 @@ struct PairView {
 //    R_b^T R_a n by 20 eps |n|_1 (C's entries by 12 eps), so with the
 //    range's rounding and e_b . N at most 60 eps L_b |n|_1 + 25 eps P |n|_1;
 //  - the final sums, 20 eps (P + L_a + L_b) |n|_1.
-// kFaceMargin = 2^-42 = 2048 eps of (P + L_a + L_b) |n|_1 and 8 dq_a L_a |n|_1
-// (dq >= |delta| + 24 eps) cover that many times over.
-constexpr double kFaceMargin = 0x1p-42;
+// kFaceMargin (convex.hpp) = 2^-42 = 2048 eps of (P + L_a + L_b) |n|_1 and
+// 8 dq_a L_a |n|_1 (dq >= |delta| + 24 eps) cover that many times over.
 
 HGCD_CK_INLINE void mul3(const double *m, const double *v, double *out) {  // m v
     for (int j = 0; j < 3; ++j) out[j] = (m[3 * j] * v[0] + m[3 * j + 1] * v[1]) + m[3 * j + 2] * v[2];
@@ -173,14 +208,10 @@ HGCD_CK_INLINE bool apart_on(const PairView &p, const double *N) {
 }
 
 // The face axes of m worth trying first: those most nearly along d (the
-// direction to the other body in m's frame), at most kFaceAxes of them.
-constexpr int kFaceAxes = 6;
+// direction to the other body in m's frame), at most kFaceAxes of them,
+// nearest first.
 HGCD_CK_INLINE int pick_faces(const SatData &m, const double *d, uint32_t *out) {
     const uint32_t n = m.faces;
-    if (n <= uint32_t(kFaceAxes)) {
-        for (uint32_t k = 0; k < n; ++k) out[k] = k;
-        return int(n);
-    }
     double score[kFaceAxes];
     int count = 0;
     for (uint32_t k = 0; k < n; ++k) {
@@ -450,18 +481,22 @@ HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatDa
         for (uint32_t e = sb.vertex_edge_start[p]; e < sb.vertex_edge_start[p + 1]; ++e) {
             const uint32_t q = sb.vertex_edges[e];
             if (q < p) continue;  // (each edge once)
-            f64x4 lo = zero, hi = one;
+            // (First whether both ends are outside one plane, most edges'
+            // case, without the divisions.)
             i64x4 none = i64x4{};
+            for (uint32_t i = 0; i < np; i += SatData::kLanes)
+                none |= (load4(&g[p * np + i]) >= zero) & (load4(&g[q * np + i]) >= zero);
+            if ((none[0] | none[1]) | (none[2] | none[3])) continue;
+            f64x4 lo = zero, hi = one;
             for (uint32_t i = 0; i < np; i += SatData::kLanes) {
                 const f64x4 gp = load4(&g[p * np + i]), gq = load4(&g[q * np + i]);
                 const i64x4 p_out = gp >= zero, q_out = gq >= zero;
                 const f64x4 r = gp / (gp - gq);  // (used only where the signs differ)
                 lo = vmax4(lo, (p_out & ~q_out) ? r : zero);
                 hi = vmin4(hi, (q_out & ~p_out) ? r : one);
-                none |= p_out & q_out;
             }
             const double tlo = hmax4(lo), thi = hmin4(hi);
-            if ((none[0] | none[1]) | (none[2] | none[3]) || !(tlo < thi)) continue;
+            if (!(tlo < thi)) continue;
             const double t = 0.5 * (tlo + thi);
             const double z[3] = {zx[p] + t * (zx[q] - zx[p]), zy[p] + t * (zy[q] - zy[p]),
                                  zz[p] + t * (zz[q] - zz[p])};
@@ -553,11 +588,21 @@ HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const Co
         if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb)) return ConvexVerdict::AHoldsB;
         if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra)) return ConvexVerdict::BHoldsA;
     }
-    if (face_axes_apart(p, da, ub) || edge_axes_apart(p)) return ConvexVerdict::Apart;
-    if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
-    if (support_edges_apart(p, a_toward, b_toward)) return ConvexVerdict::Apart;
-    if (inside && (edge_poke(a, p.ra, sa, b, p.rb, sb, b_out) || edge_poke(b, p.rb, sb, a, p.ra, sa, a_out)))
-        return ConvexVerdict::Surface;
+    // The edge crossing test (step cross_at): before the axes for deep pairs,
+    // between the face and the edge axes for middling ones, last for the
+    // others. (One call site: it is inlined.)
+    const int cross_at = deep ? 0 : reach_ab > kMiddling * uu ? 1 : 2;
+    for (int step = 0; step < 3; ++step) {
+        if (step == cross_at && inside &&
+            (edge_poke(a, p.ra, sa, b, p.rb, sb, b_out) || edge_poke(b, p.rb, sb, a, p.ra, sa, a_out)))
+            return ConvexVerdict::Surface;
+        if (step == 0 && !c.faces_tried && face_axes_apart(p, da, ub)) return ConvexVerdict::Apart;
+        if (step == 1) {
+            if (edge_axes_apart(p)) return ConvexVerdict::Apart;
+            if (!deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
+            if (support_edges_apart(p, a_toward, b_toward)) return ConvexVerdict::Apart;
+        }
+    }
     return ConvexVerdict::Open;
 }
 

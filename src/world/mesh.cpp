@@ -238,6 +238,27 @@ void set_soa(const Mesh &m, SatData &d) {
     d.soa.resize(3 * size_t(p));
     for (uint32_t i = 0; i < p; ++i)
         for (int k = 0; k < 3; ++k) d.soa[k * size_t(p) + i] = m.vertices[3 * size_t(i < n ? i : 0) + k];
+    // The symmetric half (SatData::half_padded): each vertex paired with
+    // its exact negation, the first of each pair kept (n is small).
+    const double *x = m.vertices.data();
+    std::vector<uint32_t> mirror(n, UINT32_MAX);
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t j = 0; j < n && mirror[i] == UINT32_MAX; ++j)
+            if (x[3 * j] == -x[3 * i] && x[3 * j + 1] == -x[3 * i + 1] && x[3 * j + 2] == -x[3 * i + 2]) mirror[i] = j;
+    std::vector<uint32_t> half;
+    for (uint32_t i = 0; i < n; ++i) {
+        if (mirror[i] == UINT32_MAX) return;  // (not symmetric)
+        if (mirror[i] >= i) half.push_back(i);
+    }
+    const uint32_t h = uint32_t(half.size()), hp = (h + SatData::kLanes - 1) / SatData::kLanes * SatData::kLanes;
+    if (hp >= p) return;
+    d.half_padded = hp;
+    d.half_soa.resize(3 * size_t(hp));
+    for (uint32_t i = 0; i < hp; ++i) {
+        const uint32_t v = half[i < h ? i : 0];
+        for (int k = 0; k < 3; ++k) d.half_soa[k * size_t(hp) + i] = x[3 * size_t(v) + k];
+        d.half_arg.insert(d.half_arg.end(), {v, mirror[v]});
+    }
 }
 
 // The planes of the deep-inside test (SatData::inside_test). It needs a

@@ -31,6 +31,17 @@ struct SatData {
     static constexpr uint32_t kLanes = 4;
     uint32_t padded = 0;
     std::vector<double> soa;
+    // When the vertices are symmetric about the origin (the negation of each
+    // is one too, exactly: boxes and icospheres about their centre) and half
+    // of them fill fewer runs: one of each pair v, -v as runs like soa's,
+    // `half_padded` long (0: not used), padded with copies of its first, and
+    // the indices of each and of its negation (half_arg[2 i], [2 i + 1]). Rounding commutes with
+    // negation, so fl(s (-v)) = -fl(s v) and the sums of products
+    // fl(l . d) of -v are those of v negated: over every vertex they range
+    // over [-h, h], h their largest magnitude over these.
+    uint32_t half_padded = 0;
+    std::vector<double> half_soa;
+    std::vector<uint32_t> half_arg;
     // Outward face planes for the test of a point deep inside the solid,
     // when `inside_test` holds (see set_planes in mesh.cpp): unit normal n
     // and offset k = n . (a vertex of the face) per triangle, exact

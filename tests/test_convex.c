@@ -25,12 +25,13 @@
 #include "scene_shapes.h"
 #include "test_rng.h"
 
-enum { BOX, SLAB, ICOSAHEDRON, ICOSPHERE, HULL, PARALLELEPIPED, OFFBOX, OFFHULL, TETRA, DENTED, SHAPE_COUNT };
+enum { BOX, SLAB, ICOSAHEDRON, ICOSPHERE, HULL, PARALLELEPIPED, OFFBOX, OFFHULL, NUDGED, TETRA, DENTED, SHAPE_COUNT };
 /* The shapes that must be convex (and so take the convex path together). */
-static const int must_be_convex[SHAPE_COUNT] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
+static const int must_be_convex[SHAPE_COUNT] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
 
 
-static double box_v[24], slab_v[24], par_v[24], ico_v[36], hull_v[36], sphere_v[3 * 42], offbox_v[24], offhull_v[36];
+static double box_v[24], slab_v[24], par_v[24], ico_v[36], hull_v[36], sphere_v[3 * 42], offbox_v[24], offhull_v[36],
+    nudged_v[36];
 static uint32_t box_t[36], ico_t[60], sphere_t[3 * 80];
 static oracle_mesh shapes[SHAPE_COUNT];
 
@@ -64,10 +65,14 @@ static void make_shapes(void) {
         for (int k = 0; k < 3; ++k) offbox_v[3 * i + k] = box_v[3 * i + k] + off[k];
     for (int i = 0; i < 12; ++i)
         for (int k = 0; k < 3; ++k) offhull_v[3 * i + k] = hull_v[3 * i + k] + 0.75 * off[k];
+    /* The icosahedron with vertex 3, (1, -phi, 0) / |.|, pushed out by 2^-30
+     * of its length: symmetric about the origin but for that vertex. */
+    memcpy(nudged_v, ico_v, sizeof nudged_v);
+    for (int k = 0; k < 3; ++k) nudged_v[9 + k] *= 1 + 0x1p-30;
     const oracle_mesh m[SHAPE_COUNT] = {
         {box_v, box_t, 8, 12, 1},       {slab_v, box_t, 8, 12, 1},       {ico_v, ico_t, 12, 20, 1},
         {sphere_v, sphere_t, 42, 80, 1}, {hull_v, ico_t, 12, 20, 1},     {par_v, box_t, 8, 12, 1},
-        {offbox_v, box_t, 8, 12, 1},    {offhull_v, ico_t, 12, 20, 1},
+        {offbox_v, box_t, 8, 12, 1},    {offhull_v, ico_t, 12, 20, 1},  {nudged_v, ico_t, 12, 20, 1},
         {tetra_v, tetra_t, 4, 4, 1},    {dented_v, dented_t, 9, 14, 1},
     };
     memcpy(shapes, m, sizeof m);
@@ -350,6 +355,40 @@ static void test_near_touching(void **state) {
     scene_free(&sc);
 }
 
+/* The nearly symmetric icosahedron (NUDGED) over a box, turned about axes
+ * that keep its pushed vertex 3 and the vertex 2 it was level with equally
+ * low over the box's top face: the box moved down to where the oracle's
+ * answer flips (touching at vertex 3 alone), then set an ulp either side.
+ * Projections taken from half the vertices, as if the mesh were symmetric,
+ * would miss vertex 3 and see these pairs apart. */
+static void test_nearly_symmetric(void **state) {
+    (void)state;
+    scene sc;
+    scene_init(&sc, 64, 1);
+    const double *v3 = &nudged_v[9];
+    for (int k = 0; k < 12; ++k) {
+        const double ang = 0.15 * (k / 2), s = sin(0.5 * ang), c = cos(0.5 * ang);
+        const double qb[4] = {k % 2 ? 0 : s, k % 2 ? s : 0, 0, c}; /* about x, or about y */
+        const double qa[4] = {0, 0, 0, 1}, pa[3] = {100.0 * k, 0, 0};
+        double lo = -0.5, hi = 1; /* the box's top 0.5 over vertex 3 at t = -0.5, 1 under it at t = 1 */
+        for (int it = 0; it < 80; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            if (mid == lo || mid == hi) break;
+            const double pb[3] = {pa[0] + v3[0], v3[1] - 1 - mid, v3[2]};
+            if (oracle_pair(NUDGED, pa, qa, 1, BOX, pb, qb, 1)) lo = mid;
+            else hi = mid;
+        }
+        add(&sc, NUDGED, pa, qa, 1);
+        const double ts[2] = {lo, hi};
+        for (int j = 0; j < 2; ++j) {
+            const double pb[3] = {pa[0] + v3[0], v3[1] - 1 - ts[j], v3[2]};
+            add(&sc, BOX, pb, qb, 1);
+        }
+    }
+    assert_true(check_against_oracle(&sc) >= 24); /* each touching box, and the two boxes */
+    scene_free(&sc);
+}
+
 /* Quaternion product a b (x, y, z, w). */
 static void qmul(const double *a, const double *b, double *out) {
     out[0] = a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1];
@@ -566,6 +605,7 @@ int main(void) {
         cmocka_unit_test(test_tip_to_tip),
         cmocka_unit_test(test_kernel_decides),
         cmocka_unit_test(test_edge_crossing),
+        cmocka_unit_test(test_nearly_symmetric),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -71,6 +71,7 @@ runs=(
     "convex test_hand_built"
     "convex test_kernel_decides"
     "convex test_edge_crossing"
+    "convex test_nearly_symmetric"
     "margin test_scene_cases"
     "margin test_margin_refusals"
     "margin_tetra test_tetra_gaps"

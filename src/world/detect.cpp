@@ -331,6 +331,7 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
     // (On a step that is the world's first detect, grid_limits estimates the
     // density from the positions before this tick's moves, which run inside
     // the update: a heuristic, off by one tick's motion.)
+    grid_.set_split(static_from_);
     const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), grid_live(threads),
                                             uint32_t(stored_gen_.size()), grid_limits(threads), threads, motion);
     grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)

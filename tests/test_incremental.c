@@ -538,5 +538,6 @@ int main(void) {
         cmocka_unit_test(test_incremental_crowded),
         cmocka_unit_test(test_incremental_static_runs),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

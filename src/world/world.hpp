@@ -137,8 +137,12 @@ class World {
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
     // The batch calls' passes (batch.cpp).
+    template <class Check, class Done>
+    int64_t first_failing(size_t count, Check &&check, Done &&done) const;
     template <class Check>
-    int64_t first_failing(size_t count, Check &&check) const;
+    int64_t first_failing(size_t count, Check &&check) const {
+        return first_failing(count, check, [] {});
+    }
     template <class Apply>
     void for_entries(size_t count, Apply &&apply);
     hgcd_status resolve_entries(const char *what, const hgcd_body *bodies, size_t count, bool storage);
@@ -368,8 +372,9 @@ class World {
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
     std::vector<uint32_t> batch_at_, batch_mark_;
     uint32_t batch_epoch_ = 0;
-    // hgcd_world_set_poses by index: entry k's pose, copied from the
-    // caller's arrays in index order (batch.cpp), one cache line each.
+    // hgcd_world_set_poses by index: each entry's pose at its body's storage
+    // index, copied from the caller's arrays in index order (batch.cpp), one
+    // cache line each.
     struct alignas(64) StagedPose {
         double position[3], orientation[4];
     };

@@ -10,7 +10,13 @@ cd "$(dirname "$0")/.."
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 jobs=$(nproc 2>/dev/null || echo 2)
 
-step() { printf '\n== %s\n' "$*"; }
+# Each step's wall time is printed after it.
+step_end() { [ -z "${step_name:-}" ] || printf '(%s...: %d s)\n' "${step_name:0:40}" $((SECONDS - step_start)); }
+step() {
+    step_end
+    step_name=$1 step_start=$SECONDS
+    printf '\n== %s\n' "$*"
+}
 
 # The sanitizers of clang 14 and GCC 12 fail at random ("unexpected memory
 # mapping") where the kernel randomises more than 28 bits of mmap addresses
@@ -177,4 +183,5 @@ if [ -x bindings/rust/test.sh ]; then
     bindings/rust/test.sh
 fi
 
+step_end
 printf '\nall hgcd tests passed\n'

@@ -83,9 +83,15 @@ run_one() {
         echo "  $exe missing"
         return 1
     fi
+    # A program that ignored the filter would run all its tests (slowly).
+    if [ "$filter" != "*" ] && ! grep -q HGCD_TEST_FILTER tests/test_"$prog".c*; then
+        echo "  tests/test_$prog: does not read HGCD_TEST_FILTER"
+        return 1
+    fi
     local log="$logs/${prog}_${filter//[^A-Za-z0-9_]/_}.log"
+    local start=$SECONDS
     if HGCD_TEST_FILTER="$filter" "${vg[@]}" "$exe" >"$log" 2>&1; then
-        echo "  test_$prog [$filter]: clean"
+        echo "  test_$prog [$filter]: clean ($((SECONDS - start)) s)"
     else
         tail -n 40 "$log"
         echo "  test_$prog [$filter]: FAILED (log: $log)"

@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -786,5 +787,6 @@ int main(void) {
         cmocka_unit_test(test_scene_tetra_populate),
         cmocka_unit_test_setup_teardown(test_box_ignores_unused_vertices, setup, teardown),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -177,5 +177,6 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_events_are_the_difference),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

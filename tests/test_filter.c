@@ -407,5 +407,6 @@ int main(void) {
         cmocka_unit_test(test_step_by_type),
         cmocka_unit_test(test_refusals),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -455,5 +455,6 @@ int main(void) {
         cmocka_unit_test(test_incremental_static),
         cmocka_unit_test(test_incremental_crowded),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

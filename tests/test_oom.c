@@ -536,5 +536,6 @@ int main(void) {
         cmocka_unit_test(test_system_refuses_large_arrays),
 #endif
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -563,5 +563,6 @@ int main(void) {
         cmocka_unit_test(test_task_system_same_pairs),  cmocka_unit_test(test_inline_task_system_same_pairs),
         cmocka_unit_test(test_task_system_misuse),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -307,5 +307,6 @@ int main(void) {
         cmocka_unit_test(test_worlds_on_threads),
         cmocka_unit_test(test_const_calls_overlap),
     };
+    if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

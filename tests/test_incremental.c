@@ -417,6 +417,88 @@ static void run_crowded(int n, int born, double side, uint32_t threads, uint64_t
     scene_free(&sc);
 }
 
+/* Static bodies stored after the moving ones: world A's storage is
+ * renumbered with its static bodies after the others (src/world/motion.cpp)
+ * and its dynamic bodies, slots 0 .. d-1, get their poses by index
+ * (hgcd_world_set_poses without ids, count d), whose pass skips eight
+ * stored bodies at a time when none is named; B gets them by id. A third
+ * of the dynamic bodies (half the world) move each tick, so that searches
+ * around the moved bodies and grid updates alternate; now and then half
+ * of them jump (a grid update that leaves its order far from storage's,
+ * so that A renumbers again); between detects static
+ * bodies are moved, destroyed and created (their indices reused), made
+ * dynamic for a while (stored among the static ones until the next
+ * renumbering) and back, disabled and enabled. A's pairs equal B's every
+ * tick and the oracle's every other tick, on 1 and 2 threads. */
+static void run_static_runs(int n, int d, double side, uint32_t threads, int ticks, uint64_t seed) {
+    static scene sc;
+    static int moved[kMaxBodies];
+    scene_init(&sc, n, side, threads, seed);
+    for (int k = 0; k < 2; ++k) /* (a small world would get one thread) */
+        assert_int_equal(hgcd_world_set_thread_policy(sc.w[k], HGCD_THREADS_FIXED), HGCD_OK);
+    for (int i = 0; i < n; ++i) {
+        sc.is_static[i] = i >= d;
+        create(&sc, i);
+    }
+    int jumps = 0, flips = 0, incremental = 0;
+    for (int tick = 0; tick < ticks; ++tick) {
+        rng *r = &sc.r;
+        const int jump = tick % 7 == 3;
+        for (int i = 0; i < d; ++i) {
+            moved[i] = tick > 0 && (jump ? next(r) % 2 : next(r) % 3 == 0);
+            if (moved[i]) new_pose(&sc, i, !jump);
+        }
+        jumps += jump;
+        assert_int_equal(hgcd_world_set_poses(sc.w[0], NULL, (size_t)d, sc.pos[0], 0, sc.ori[0], 0), HGCD_OK);
+        { /* B: the moved ones by id */
+            static hgcd_body ids[kMaxBodies];
+            static double p[kMaxBodies][3], q[kMaxBodies][4];
+            size_t count = 0;
+            for (int i = 0; i < d; ++i)
+                if (moved[i]) {
+                    ids[count] = sc.id[1][i];
+                    memcpy(p[count], sc.pos[i], sizeof p[count]);
+                    memcpy(q[count++], sc.ori[i], sizeof q[0]);
+                }
+            assert_int_equal(hgcd_world_set_poses(sc.w[1], ids, count, p[0], 0, q[0], 0), HGCD_OK);
+        }
+        /* The static bodies change between detects. */
+        const int a = d + (int)(next(r) % (uint64_t)(n - d)), b = d + (int)(next(r) % (uint64_t)(n - d));
+        const int c = d + (int)(next(r) % (uint64_t)(n - d));
+        if (sc.live[a] && sc.is_static[a] == 1) { /* moved */
+            new_pose(&sc, a, (int)(next(r) % 2));
+            for (int k = 0; k < 2; ++k)
+                assert_int_equal(hgcd_body_set_pose(sc.w[k], sc.id[k][a], sc.pos[a], sc.ori[a]), HGCD_OK);
+        }
+        if (tick % 2 && sc.live[b] && sc.is_static[b] == 1) {
+            destroy(&sc, b);
+        } else if (!sc.live[b]) {
+            sc.is_static[b] = 1;
+            create(&sc, b);
+        }
+        if (sc.live[c]) {
+            if (tick % 3 == 0) set_enabled(&sc, c, sc.disabled[c]);
+            else if (sc.is_static[c] == 1) set_type(&sc, c, 0), ++flips;
+            else set_type(&sc, c, 1);
+        }
+        assert_int_equal(hgcd_world_set_narrow_phase(sc.w[1], HGCD_NARROW_EXACT), HGCD_OK);
+        for (int k = 0; k < 2; ++k) assert_int_equal(hgcd_world_detect(sc.w[k]), HGCD_OK);
+        same_pairs(&sc);
+        if (tick % 2 == 0) oracle_check(&sc);
+        const hgcd_stats sa = stats_of(sc.w[0]), sb = stats_of(sc.w[1]);
+        assert_int_equal(sa.colliding_pairs, sb.colliding_pairs);
+        incremental += sa.searched_bodies < sb.searched_bodies;
+    }
+    assert_true(jumps > 0 && flips > 0 && incremental > 0);
+    scene_free(&sc);
+}
+
+static void test_incremental_static_runs(void **state) {
+    (void)state;
+    run_static_runs(slow() ? 1600 : 600, slow() ? 800 : 300, slow() ? 20 : 14, 1, slow() ? 40 : 20, 9);
+    run_static_runs(slow() ? 1600 : 600, slow() ? 800 : 300, slow() ? 20 : 14, 2, slow() ? 40 : 20, 10);
+}
+
 static void test_incremental_crowded(void **state) {
     (void)state;
     run_crowded(600, 120, 10, 2, 7);
@@ -454,6 +536,7 @@ int main(void) {
         cmocka_unit_test(test_incremental_oracle),
         cmocka_unit_test(test_incremental_static),
         cmocka_unit_test(test_incremental_crowded),
+        cmocka_unit_test(test_incremental_static_runs),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -283,7 +283,7 @@ GridUpdateStats Grid::update(const Boxes &boxes, const double *r_level, const ui
     } else {
         stats.moved = apply_moves(census, threads);
     }
-    disorder_ = gather(all_lists(), boxes, threads);
+    disorder_ = gather(all_lists(), boxes, split_, threads);
     oversize_.clear();
     for (const auto &local : census.oversize) oversize_.insert(oversize_.end(), local.begin(), local.end());
     if (!std::is_sorted(oversize_.begin(), oversize_.end())) std::sort(oversize_.begin(), oversize_.end());  // (as changed)

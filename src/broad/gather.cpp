@@ -48,9 +48,10 @@ void copy_boxes(const Boxes &boxes, const GatherArrays &A, size_t k, size_t e, s
 // x so far; returns false when the row would take long (many bodies
 // entering one row): the caller then sorts it outright. count_jumps: 1
 // where the row's slot jumps count to the disorder (residents), else 0;
-// prev: the slot before the row's first in sweep order.
-inline bool insertion_sort_row(const GatherArrays &A, size_t row_b, size_t row_e, uint32_t count_jumps, uint32_t &prev,
-                               uint64_t &jumps) {
+// prev: the slot before the row's first in sweep order, below the split
+// and from it on (Grid::set_split).
+inline bool insertion_sort_row(const GatherArrays &A, size_t row_b, size_t row_e, uint32_t count_jumps,
+                               uint32_t split, uint32_t *prev, uint64_t &jumps) {
     float *low_x = A.low_x, *high_x = A.high_x, *low_y = A.low_y, *high_y = A.high_y, *low_z = A.low_z,
           *high_z = A.high_z, *reach = A.reach;
     uint32_t *slots = A.slot;
@@ -59,10 +60,11 @@ inline bool insertion_sort_row(const GatherArrays &A, size_t row_b, size_t row_e
     float most = -INFINITY;  // the row's largest high x so far
     for (size_t k = row_b; k < row_e; ++k) {
         const uint32_t slot = slots[k];
-        // A resident more than 64 slots from the one before it (its box is
-        // in another stretch of memory).
-        jumps += count_jumps & (uint32_t(slot - prev + 64) > 128);
-        prev = slot;
+        // A resident more than 64 slots from the one before it on its side
+        // of the split (its box is in another stretch of memory).
+        const size_t side = slot >= split;
+        jumps += count_jumps & (uint32_t(slot - prev[side] + 64) > 128);
+        prev[side] = slot;
         budget += 8;
         if (whole || k == row_b || !(low_x[k] < low_x[k - 1])) {
             reach[k] = most = std::max(most, high_x[k]);
@@ -104,7 +106,7 @@ inline bool insertion_sort_row(const GatherArrays &A, size_t row_b, size_t row_e
 // time while they are in cache: first every entry's box (reads by slot,
 // nearly in sequence while storage follows the sweep order), then each
 // row's order by low x.
-uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int threads) {
+uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, uint32_t split, int threads) {
     constexpr size_t kPart = 16384;  // entries
     constexpr size_t kBlock = 512;   // entries
     struct Part {
@@ -138,13 +140,13 @@ uint64_t Grid::gather(const std::vector<List *> &lists, const Boxes &boxes, int 
             const uint32_t *start = list.row_start.data();
             const size_t end = start[part.row_e];
             uint64_t jumps = 0;
-            uint32_t prev = A.slot[start[part.row_b]];
+            uint32_t prev[2] = {A.slot[start[part.row_b]], A.slot[start[part.row_b]]};
             for (size_t r0 = part.row_b; r0 < part.row_e;) {
                 size_t r1 = r0 + 1;
                 while (r1 < part.row_e && start[r1] - start[r0] < kBlock) ++r1;
                 copy_boxes(boxes, A, start[r0], start[r1], end);
                 for (size_t r = r0; r < r1; ++r)
-                    if (!insertion_sort_row(A, start[r], start[r + 1], part.residents, prev, jumps))
+                    if (!insertion_sort_row(A, start[r], start[r + 1], part.residents, split, prev, jumps))
                         sort_row(list, start[r], start[r + 1]);  // (and its largest high x)
                 r0 = r1;
             }

@@ -194,9 +194,14 @@ class Grid {
     void renumber(const std::vector<uint32_t> &old_of_new, const std::vector<uint32_t> &new_of_old,
                   void *scratch, int threads);
     // Residents whose slot, at the last update, was far from the slot of the
-    // resident before them in sweep order: how much memory order the sweep
-    // order has lost (order() and renumber() restore it).
+    // resident before them in sweep order among the slots on their side of
+    // the split (below): how much memory order the sweep order has lost
+    // (order() and renumber() restore it).
     uint64_t disorder() const { return disorder_; }
+    // Slots from `split` on form a second run in sweep order of their own
+    // (the world stores its static bodies after the others): the disorder
+    // then follows each run apart, or every step between them would count.
+    void set_split(uint32_t split) { split_ = split; }
 
     uint32_t level_count() const { return uint32_t(levels_.size()); }
     uint32_t oversize_count() const { return uint32_t(oversize_.size()); }
@@ -301,7 +306,7 @@ class Grid {
                       const std::vector<Moved> &changed, int threads);
     // gather.cpp: the box arrays brought to the current boxes; returns the
     // residents' disorder (see disorder()).
-    static uint64_t gather(const std::vector<List *> &lists, const Boxes &boxes, int threads);
+    static uint64_t gather(const std::vector<List *> &lists, const Boxes &boxes, uint32_t split, int threads);
     static void sort_row(List &list, size_t begin, size_t end);
     // The residents of level k / 2 for even k, its guests for odd k (the
     // order of all_lists()).
@@ -337,6 +342,7 @@ class Grid {
     int exponent_floor_ = 0;          // the min_exponent exponent_ was computed with
     std::vector<int16_t> level_of_;   // level index of each exponent (+ kExponentBias), as of the last update
     uint64_t disorder_ = 0;
+    uint32_t split_ = UINT32_MAX;  // (set_split)
     bool built_ = false;
 };
 

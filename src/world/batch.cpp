@@ -160,15 +160,20 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     };
     // By index, each entry is copied to pose_stage_ as it is checked, at its
     // body's storage index (see below); a refusal leaves only that scratch
-    // written.
+    // written. (The stage reaches as far as the last storage index named:
+    // static bodies are stored after the others, and a call for the moving
+    // ones does not name them.)
     const size_t n = slot_of_.size();
-    if (!bodies && pose_stage_.size() < n) pose_stage_.resize(n);
+    if (!bodies && count) {
+        const size_t last = *std::max_element(at_.begin(), at_.begin() + ptrdiff_t(count));
+        if (pose_stage_.size() <= last) pose_stage_.resize(last + 1);
+    }
     StagedPose *const stage = pose_stage_.data();
     const uint32_t *const at = at_.data();
     const int64_t bad = bodies ? first_failing(count, ok) : first_failing(
         count,
         [&](size_t k) {
-        if (!ok(k)) return false;
+            if (!ok(k)) return false;
             stage_pose(&stage[at[k]], positions ? entry(positions, ps, k) : nullptr,
                        orientations ? entry(orientations, os, k) : nullptr);
             return true;
@@ -204,6 +209,16 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         const uint32_t *const slot_of = slot_of_.data(), *const stored_gen = stored_gen_.data();
         BoxQueue boxes;
         for (int64_t i = b; i < e; ++i) {
+            // Eight bodies at a time skipped when none is named: a few
+            // bodies by index among many (static ones stored after them).
+            if (!(i & 7) && i + 8 <= e) {
+                bool named = false;
+                for (int64_t j = i; j < i + 8; ++j) named |= slot_of[j] < count_;
+                if (!named) {
+                    i += 7;
+                    continue;
+                }
+            }
             if (slot_of[i] >= count_ || !stored_gen[i]) continue;
             apply_pose_queued(size_t(i), has_p_ ? stage_[i].position : nullptr,
                               has_q_ ? stage_[i].orientation : nullptr, boxes);

@@ -331,6 +331,7 @@ GridUpdateStats World::update_grid(int threads, const SlotPass *motion) {
     // (On a step that is the world's first detect, grid_limits estimates the
     // density from the positions before this tick's moves, which run inside
     // the update: a heuristic, off by one tick's motion.)
+    grid_.set_split(static_from_);
     const GridUpdateStats us = grid_.update(boxes(), r_level_.data(), grid_live(threads),
                                             uint32_t(stored_gen_.size()), grid_limits(threads), threads, motion);
     grid_rebuilt_ = us.rebuilt && !first_detect;  // (renumber need not wait after the first)
@@ -474,7 +475,23 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
         const uint32_t *body_mesh = body_mesh_.data();
         const MeshPool::Block *records = pool_.blocks();
         const BodyRecord *record = body_record_.data();
+        const uint32_t *slot_of = slot_of_.data();
         for (size_t k = chunk.begin; k < chunk.end; ++k, ++tetras) {
+            // The lines of the pair 16 ahead asked for (around moved
+            // bodies the other body of a pair is anywhere in storage, the
+            // static ones of a large world in tens of megabytes); the
+            // slots for the hits below, the placements for the batch.
+            if (k + 16 < chunk.end) {
+                const uint32_t a2 = uint32_t(list[k + 16] >> 32), b2 = uint32_t(list[k + 16]);
+                __builtin_prefetch(&record[a2]);
+                __builtin_prefetch(&record[b2]);
+                __builtin_prefetch(&body_mesh[a2]);
+                __builtin_prefetch(&body_mesh[b2]);
+                __builtin_prefetch(&slot_of[a2]);
+                __builtin_prefetch(&slot_of[b2]);
+                __builtin_prefetch(place + a2);
+                __builtin_prefetch(place + b2);
+            }
             const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
             t.tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b,
                                         records[record[a].block].d, records[record[b].block].d};

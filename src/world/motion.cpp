@@ -148,9 +148,10 @@ void World::renumber_if_disordered() {
 
 bool World::renumber() {
     const size_t n = stored_gen_.size();
-    std::vector<uint32_t> old_of_new, new_of_old;
+    std::vector<uint32_t> sweep, old_of_new, new_of_old;
     std::unique_ptr<unsigned char[]> scratch;
     try {
+        sweep.reserve(n);
         old_of_new.reserve(n);
         new_of_old.resize(n);
         scratch.reset(new unsigned char[kPermuteScratch * std::max<size_t>(n, 1)]);
@@ -161,17 +162,25 @@ bool World::renumber() {
     } catch (const std::bad_alloc &) {
         return false;  // renumbering only saves time; nothing has changed
     }
-    // The grid's order (as of the last detect), then everything else:
-    // bodies made since, and free storage. new_of_old marks what is placed.
-    grid_.order(old_of_new);
+    // The grid's order (as of the last detect), its bodies that are not
+    // static first and the static ones after, then everything else: bodies
+    // made since, and free storage. new_of_old marks what is placed. (The
+    // bodies that move then share a short stretch of every array, which
+    // the passes over moved bodies read, however many static bodies the
+    // world holds.)
+    grid_.order(sweep);
     std::fill(new_of_old.begin(), new_of_old.end(), UINT32_MAX);
-    size_t placed = 0;
-    for (const uint32_t i : old_of_new)
-        if (new_of_old[i] == UINT32_MAX) {
-            new_of_old[i] = uint32_t(placed);
-            old_of_new[placed++] = i;
-        }
-    old_of_new.resize(placed);
+    uint32_t static_from = UINT32_MAX;
+    for (const bool statics : {false, true}) {
+        for (const uint32_t i : sweep)
+            if (new_of_old[i] == UINT32_MAX && (filter_[i].type == HGCD_BODY_STATIC) == statics) {
+                new_of_old[i] = uint32_t(old_of_new.size());
+                old_of_new.push_back(i);
+            }
+        if (!statics) static_from = uint32_t(old_of_new.size());
+    }
+    // (No static body in the grid: one run, as without the split.)
+    static_from_ = static_from < old_of_new.size() ? static_from : UINT32_MAX;
     for (size_t i = 0; i < n; ++i)
         if (new_of_old[i] == UINT32_MAX) {
             new_of_old[i] = uint32_t(old_of_new.size());

@@ -266,9 +266,13 @@ class World {
                                 bool want_contacts, NarrowThread &t, hgcd_contact *contact);
     // The threads' hits into pairs_ (and contacts_).
     void merge_hits(int threads, bool want_contacts, const std::vector<std::vector<hgcd_contact>> &hit_contacts);
-    // Moves every body's storage to the grid's sweep order (see at_); false,
-    // changing nothing, when there is no memory for it.
+    // Moves every body's storage to the grid's sweep order (see at_), the
+    // static bodies after the others; false, changing nothing, when there
+    // is no memory for it.
     bool renumber();
+    // Where the static bodies' run begins in storage since the last
+    // renumbering (UINT32_MAX: none), for the grid's disorder (set_split).
+    uint32_t static_from_ = UINT32_MAX;
     // body_record_ again from the pool, after it moved its records.
     void refresh_records();
     int32_t effective_narrow_phase(uint32_t mesh_slot) const;

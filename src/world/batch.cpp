@@ -132,7 +132,7 @@ hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, si
     return HGCD_OK;
 }
 
-inline void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes) {
+inline void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes, bool stream) {
     apply_pose_with(i, p, q, [&](const double *q_) {
         const BodyRecord rec = body_record_[i];
         // (A bound on the groups: a lane of the kernel takes as many as the
@@ -142,7 +142,7 @@ inline void World::apply_pose_queued(size_t i, const double *p, const double *q,
             boxes.push(BoxJob{q_, place_[i].scale, pool_.blocks()[rec.block].d, rec.groups, &box_off_[6 * i]});
         else
             set_box_offsets(i);
-    });
+    }, stream);
 }
 
 hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
@@ -208,6 +208,7 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         const bool has_p_ = has_p, has_q_ = has_q;
         const uint32_t *const slot_of = slot_of_.data(), *const stored_gen = stored_gen_.data();
         BoxQueue boxes;
+        boxes.stream = true;  // (points and offsets written in sequence: see apply_pose_with)
         for (int64_t i = b; i < e; ++i) {
             // Eight bodies at a time skipped when none is named: a few
             // bodies by index among many (static ones stored after them).
@@ -221,9 +222,10 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
             }
             if (slot_of[i] >= count_ || !stored_gen[i]) continue;
             apply_pose_queued(size_t(i), has_p_ ? stage_[i].position : nullptr,
-                              has_q_ ? stage_[i].orientation : nullptr, boxes);
+                              has_q_ ? stage_[i].orientation : nullptr, boxes, true);
         }
         boxes.flush();
+        stage_fence();
     });
     return HGCD_OK;
 }

@@ -1,4 +1,6 @@
 /* Large meshes in motion against the brute-force oracle of tests/oracle.c:
+ * the tree nodes' fitted (oriented) boxes, which must hold every rounded
+ * world vertex under them;
  * the broad phase's box of a mesh above 128 triangles (the union of the
  * rotated boxes of a few tree nodes, where tighter than its bounding
  * sphere's), which must never miss a pair, and the first-tried witness (the
@@ -26,7 +28,7 @@
 #include "oracle.h"
 #include "test_rng.h"
 
-enum { M_LONG, M_ROUND, M_BOX, M_COUNT };
+enum { M_LONG, M_ROUND, M_BOX, M_PLATE, M_LENS, M_COUNT };
 static struct {
     double *v;
     uint32_t *t;
@@ -45,6 +47,15 @@ static void blob(int k, uint32_t nu, uint32_t nv, double stretch) {
     for (uint32_t i = 0; i < meshes[k].nv; ++i) meshes[k].v[3 * i] *= stretch;
 }
 
+/* The rotation of quaternion (1, 2, 2, 4) / 5, applied to a mesh vertex in
+ * its own frame (its z axis goes to (0.8, 0, 0.6)). */
+static void turn_in_frame(double *v) {
+    const double x = v[0], y = v[1], z = v[2];
+    v[0] = 0.36 * x - 0.48 * y + 0.8 * z;
+    v[1] = 0.8 * x + 0.6 * y;
+    v[2] = -0.48 * x + 0.64 * y + 0.6 * z;
+}
+
 static int setup(void **state) {
     (void)state;
     blob(M_LONG, 16, 10, 5.0);  /* 288 triangles, 10 x 2.9 x 2.9 */
@@ -54,6 +65,29 @@ static int setup(void **state) {
     meshes[M_BOX].v = malloc(24 * sizeof(double));
     meshes[M_BOX].t = malloc(36 * sizeof(uint32_t));
     hgcd_box_mesh(1, 0.5, 0.25, meshes[M_BOX].v, meshes[M_BOX].t);
+    /* A plate 6 x 6 x 0.2 (480 triangles), turned in its own mesh frame
+     * about a skew axis: its tree's mesh-frame boxes are loose, the fitted
+     * boxes of its flat patches thin, so near contact they decide. */
+    blob(M_PLATE, 24, 11, 3.0);
+    for (uint32_t i = 0; i < meshes[M_PLATE].nv; ++i) {
+        double *v = &meshes[M_PLATE].v[3 * i];
+        v[1] *= 3.0;
+        v[2] *= 0.1;
+        turn_in_frame(v);
+    }
+    /* A smooth lens 6 x 4 x 0.8 (16 x 12 bands, 352 triangles), turned the
+     * same way: symmetric, so the fitted boxes of its root and caps have a
+     * face through each pole. */
+    blob(M_LENS, 16, 12, 1.0);
+    for (uint32_t i = 0; i < meshes[M_LENS].nv; ++i) {
+        double *v = &meshes[M_LENS].v[3 * i];
+        const uint32_t j = i == 0 ? 0 : i == meshes[M_LENS].nv - 1 ? 12 : 1 + (i - 1) / 16, k = i == 0 ? 0 : (i - 1) % 16;
+        const double theta = (3.14159265358979323846 * j) / 12, phi = (2 * 3.14159265358979323846 * k) / 16;
+        v[0] = 3.0 * sin(theta) * cos(phi);
+        v[1] = 2.0 * sin(theta) * sin(phi);
+        v[2] = 0.4 * cos(theta);
+        turn_in_frame(v);
+    }
     for (int k = 0; k < M_COUNT; ++k) {
         omesh[k].verts = meshes[k].v;
         omesh[k].tris = meshes[k].t;
@@ -148,25 +182,77 @@ static int colliding(scene *sc) {
     return count == 1;
 }
 
+/* q * (h a, 1), normalised: a turn of about 2h about the unit axis a. */
+static void turn(double *q, const double *a, double h) {
+    const double r[4] = {h * a[0], h * a[1], h * a[2], 1};
+    const double x = q[3] * r[0] + q[0] * r[3] + q[1] * r[2] - q[2] * r[1];
+    const double y = q[3] * r[1] - q[0] * r[2] + q[1] * r[3] + q[2] * r[0];
+    const double z = q[3] * r[2] + q[0] * r[1] - q[1] * r[0] + q[2] * r[3];
+    const double w = q[3] * r[3] - q[0] * r[0] - q[1] * r[1] - q[2] * r[2];
+    const double n = sqrt(x * x + y * y + z * z + w * w);
+    q[0] = x / n, q[1] = y / n, q[2] = z / n, q[3] = w / n;
+}
+
+/* Body b moved from a's position o along the unit direction u, by
+ * bisection until the two positions differ in the last bit: touching at one
+ * (the oracle agrees: no box of either may be too tight there) and apart at
+ * the other. Every bisection step is a detect after a pose change, each with
+ * the witness of the one before; both ends are checked with it and from
+ * afar (without it). */
+static void touch_by_bisection(int kind_a, const double *qa, double sa, int kind_b, const double *qb, const double *u,
+                               double far) {
+    scene sc;
+    scene_init(&sc, 1);
+    const double o[3] = {0.25, -0.5, 1.0};
+    add(&sc, kind_a, o, qa, sa);
+    double lo = 0, hi = far, pb[3];
+    for (int k = 0; k < 3; ++k) pb[k] = o[k] + far * u[k];
+    add(&sc, kind_b, pb, qb, 1.0);
+    assert_int_equal(colliding(&sc), 0);
+    for (int it = 0; it < 90 && hi - lo > 0; ++it) {
+        const double mid = 0.5 * lo + 0.5 * hi;
+        if (mid <= lo || mid >= hi) break;
+        for (int k = 0; k < 3; ++k) pb[k] = o[k] + mid * u[k];
+        set_pose(&sc, 1, pb, qb);
+        if (colliding(&sc)) lo = mid;
+        else hi = mid;
+    }
+    for (int k = 0; k < 3; ++k) pb[k] = o[k] + lo * u[k];
+    set_pose(&sc, 1, pb, qb);
+    assert_int_equal(check(&sc), 1);
+    for (int k = 0; k < 3; ++k) pb[k] = o[k] + hi * u[k];
+    set_pose(&sc, 1, pb, qb);
+    assert_int_equal(check(&sc), 0);
+    /* Again from afar, each: the whole trees searched, not the subtrees
+     * where the surfaces met at the detect before. */
+    for (int side = 0; side < 2; ++side) {
+        for (int k = 0; k < 3; ++k) pb[k] = o[k] + far * u[k];
+        set_pose(&sc, 1, pb, qb);
+        assert_int_equal(colliding(&sc), 0);
+        for (int k = 0; k < 3; ++k) pb[k] = o[k] + (side ? lo : hi) * u[k];
+        set_pose(&sc, 1, pb, qb);
+        assert_int_equal(check(&sc), side);
+    }
+    hgcd_world_destroy(sc.w);
+}
+
+static void random_direction(rng *r, double *u) {
+    const double z = 2 * unif(r) - 1, phi = 6.283185307179586 * unif(r);
+    u[0] = sqrt(1 - z * z) * cos(phi);
+    u[1] = sqrt(1 - z * z) * sin(phi);
+    u[2] = z;
+}
+
 /* Two elongated meshes at 24 pairs of orientations, random or axis-aligned
- * (and sizes 1 and 7), the second moved along a random direction by bisection until the two
- * positions differ in the last bit: touching at one (the oracle agrees: the
- * box of neither may be too tight there) and apart at the other. Every
- * bisection step is a detect after a pose change, each with the witness of
- * the one before. */
+ * (and sizes 1 and 7), touching to the last bit. */
 static void test_elongated_touching(void **state) {
     (void)state;
     rng r = {7};
     for (int rep = 0; rep < 24; ++rep) {
-        scene sc;
-        scene_init(&sc, 1);
         double qa[4], qb[4], u[3];
         random_unit_quaternion(&r, qa);
         random_unit_quaternion(&r, qb);
-        const double z = 2 * unif(&r) - 1, phi = 6.283185307179586 * unif(&r);
-        u[0] = sqrt(1 - z * z) * cos(phi);
-        u[1] = sqrt(1 - z * z) * sin(phi);
-        u[2] = z;
+        random_direction(&r, u);
         if (rep % 3 == 0) {
             /* Axis-aligned (rotation entries exactly 0 and +-1) and along an
              * axis: the node boxes' faces then touch the extreme vertices,
@@ -177,40 +263,48 @@ static void test_elongated_touching(void **state) {
             u[0] = u[1] = u[2] = 0;
             u[(rep / 3) % 3] = rep % 2 ? -1 : 1;
         }
-        const double o[3] = {0.25, -0.5, 1.0}, sa = rep % 4 == 3 ? 7.0 : 1.0;
-        add(&sc, M_LONG, o, qa, sa);
-        const double far = 8 * (sa + 1);
-        double lo = 0, hi = far, pb[3];
-        for (int k = 0; k < 3; ++k) pb[k] = o[k] + far * u[k];
-        add(&sc, rep % 2 ? M_LONG : M_ROUND, pb, qb, 1.0);
-        assert_int_equal(colliding(&sc), 0);
-        for (int it = 0; it < 90 && hi - lo > 0; ++it) {
-            const double mid = 0.5 * lo + 0.5 * hi;
-            if (mid <= lo || mid >= hi) break;
-            for (int k = 0; k < 3; ++k) pb[k] = o[k] + mid * u[k];
-            set_pose(&sc, 1, pb, qb);
-            if (colliding(&sc)) lo = mid;
-            else hi = mid;
-        }
-        for (int k = 0; k < 3; ++k) pb[k] = o[k] + lo * u[k];
-        set_pose(&sc, 1, pb, qb);
-        assert_int_equal(check(&sc), 1);
-        for (int k = 0; k < 3; ++k) pb[k] = o[k] + hi * u[k];
-        set_pose(&sc, 1, pb, qb);
-        assert_int_equal(check(&sc), 0);
-        hgcd_world_destroy(sc.w);
+        const double sa = rep % 4 == 3 ? 7.0 : 1.0;
+        touch_by_bisection(M_LONG, qa, sa, rep % 2 ? M_LONG : M_ROUND, qb, u, 8 * (sa + 1));
     }
 }
 
-/* q * (h a, 1), normalised: a turn of about 2h about the unit axis a. */
-static void turn(double *q, const double *a, double h) {
-    const double r[4] = {h * a[0], h * a[1], h * a[2], 1};
-    const double x = q[3] * r[0] + q[0] * r[3] + q[1] * r[2] - q[2] * r[1];
-    const double y = q[3] * r[1] - q[0] * r[2] + q[1] * r[3] + q[2] * r[0];
-    const double z = q[3] * r[2] + q[0] * r[1] - q[1] * r[0] + q[2] * r[3];
-    const double w = q[3] * r[3] - q[0] * r[0] - q[1] * r[1] - q[2] * r[2];
-    const double n = sqrt(x * x + y * y + z * z + w * w);
-    q[0] = x / n, q[1] = y / n, q[2] = z / n, q[3] = w / n;
+/* Two plates face to face, parallel or turned a little, one moved along the
+ * other's normal (tilted a little, or along a random direction) to touching
+ * at the last bit, where the fitted boxes of their thin patches decide; and
+ * two lenses pole to pole along their common normal (or tilted a little):
+ * vertex on vertex, the poles on faces of the fitted boxes (root, caps)
+ * along the approach. */
+static void test_fitted_touching(void **state) {
+    (void)state;
+    rng r = {23};
+    const double nm[3] = {0.8, 0, 0.6}; /* the meshes' z axis, turned */
+    for (int rep = 0; rep < 24; ++rep) {
+        const int lens = rep % 3 == 0;
+        double qa[4], qb[4], u[3];
+        random_unit_quaternion(&r, qa);
+        memcpy(qb, qa, sizeof qb);
+        if (rep % 2 && !lens) {
+            double ax[3];
+            random_direction(&r, ax);
+            turn(qb, ax, 0.01 * (rep % 4));
+        }
+        /* u = R(qa) nm, plus a small random tilt; some at random. */
+        const double x = qa[0], y = qa[1], z = qa[2], w = qa[3];
+        const double m[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
+                             2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+                             2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)};
+        double t[3];
+        random_direction(&r, t);
+        const double tilt = lens ? (rep % 2 ? 0.05 : 0) : rep % 4 == 3 ? 1.0 : 0.05 * (rep % 3);
+        double len = 0;
+        for (int k = 0; k < 3; ++k) {
+            u[k] = (m[3 * k] * nm[0] + m[3 * k + 1] * nm[1]) + m[3 * k + 2] * nm[2] + tilt * t[k];
+            len += u[k] * u[k];
+        }
+        for (int k = 0; k < 3; ++k) u[k] /= sqrt(len);
+        const int kind = lens ? M_LENS : M_PLATE;
+        touch_by_bisection(kind, qa, 1.0, kind, qb, u, 24.0);
+    }
 }
 
 /* 20 bodies (elongated and round meshes, boxes, one round mesh 50x larger)
@@ -234,10 +328,7 @@ static void test_moving_cluster(void **state) {
             vel[3 * i + k] = 0.01 * (2 * unif(&r) - 1);
         }
         random_unit_quaternion(&r, q);
-        const double z = 2 * unif(&r) - 1, phi = 6.283185307179586 * unif(&r);
-        axis[3 * i] = sqrt(1 - z * z) * cos(phi);
-        axis[3 * i + 1] = sqrt(1 - z * z) * sin(phi);
-        axis[3 * i + 2] = z;
+        random_direction(&r, &axis[3 * i]);
         add(&one, kind, p, q, s);
         add(&two, kind, p, q, s);
     }
@@ -264,6 +355,7 @@ static void test_moving_cluster(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_elongated_touching),
+        cmocka_unit_test(test_fitted_touching),
         cmocka_unit_test(test_moving_cluster),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));

@@ -198,6 +198,7 @@ void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t trian
     bvh.tri_ids = b.order;
     for (size_t i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) bvh.tris[3 * i + k] = triangles[3 * size_t(b.order[i]) + k];
+    fit_node_obbs(vertices, bvh);
     *out = std::move(bvh);
 }
 

@@ -9,6 +9,7 @@
 // same world vertices as the direct path, so the tree never changes an answer
 // (the argument for the box margin is at BodyView::node_box).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -37,8 +38,19 @@ struct BvhNode {
     uint32_t count;
 };
 
+// A node's oriented box in the mesh frame (node_obb.cpp): every vertex of
+// every triangle under the node is exactly center + sum_i b_i u_i with |b_i|
+// <= half[i], u_i = axis[3i..3i+2] (orthonormal up to ||U U^T - I||_inf <=
+// 1e-12, which the halves already absorb).
+struct NodeObb {
+    double center[3];
+    double axis[9];
+    double half[3];
+};
+
 struct Bvh {
     std::vector<BvhNode> nodes;     // nodes[0] is the root; empty: no tree
+    std::vector<NodeObb> obb;       // per node
     std::vector<uint32_t> tris;     // 3 vertex indices per triangle, leaf order
     std::vector<uint32_t> tri_ids;  // the mesh's index of each of those triangles
     std::vector<uint32_t> parent;   // per node (the root's: 0)
@@ -51,6 +63,29 @@ struct Bvh {
 void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t triangle_count,
                Bvh *out);
 
+// A bound eps >= ||U U^T - I||_inf for the 3x3 matrix U of rows u (row-major),
+// infinity when not finite: fl(u_i . u_j) is within g_3 sum_k |u_ik u_jk| of
+// exact and subtracting 1 from a value near 1 is exact, so |E_ij| <=
+// |fl(u_i . u_j) - d_ij| + 1e-15 sum_k |u_ik u_jk| (rows near unit length);
+// the factor 1 + 1e-12 covers the roundings of the sums.
+inline double orthonormal_defect(const double *u) {
+    double worst = 0;
+    for (int i = 0; i < 3; ++i) {
+        double row = 0;
+        for (int j = 0; j < 3; ++j) {
+            const double *x = u + 3 * i, *y = u + 3 * j;
+            const double dot = (x[0] * y[0] + x[1] * y[1]) + x[2] * y[2];
+            const double mag = (std::fabs(x[0] * y[0]) + std::fabs(x[1] * y[1])) + std::fabs(x[2] * y[2]);
+            row += std::fabs(dot - (i == j ? 1.0 : 0.0)) + 1e-15 * mag;
+        }
+        worst = std::max(worst, row);
+    }
+    return std::isfinite(worst) ? worst * (1 + 1e-12) : INFINITY;
+}
+
+// Fits bvh.obb to the tree's nodes (principal axes of their vertices).
+void fit_node_obbs(const double *vertices, Bvh &bvh);
+
 struct Mesh;
 
 // The oriented test's axes for one pair (narrow.cpp, prepare_axes): lane k
@@ -61,7 +96,7 @@ struct PairAxes {
     alignas(64) double abs_axis[3][8];
 };
 
-constexpr size_t kNodeData = 24;  // doubles cached per node (22 used)
+constexpr size_t kNodeData = 48;  // doubles cached per node (43 used)
 // A posed mesh as the narrow phase sees it during one pair test: world
 // vertices computed on first use, conservative world boxes (and the data of
 // the oriented test) of tree nodes computed on first use. The caches belong
@@ -91,6 +126,8 @@ struct BodyView {
     // The pair's axes (null: the caches hold boxes alone) and, per lane, an
     // upper bound on |axis . column l| of this body's rotation (gram[l][k]).
     const PairAxes *axes = nullptr;
+    const NodeObb *obb = nullptr;  // with axes: the nodes' oriented boxes
+    double obb_xi = 0;  // with axes: the Gram bound xi of world_obb (prepare_axes)
     alignas(64) double gram[3][8];
 
     // World vertex v, computed with transform_point on first use.
@@ -105,7 +142,8 @@ struct BodyView {
     // Cached world data of node n (kNodeData doubles): the box (min xyz, max
     // xyz) that holds every rounded world vertex of the triangles under it,
     // then 2 unused, then with axes, from 8 on, 8 lanes of projected centres
-    // p, then from 16 on their radii r (see node_box).
+    // p, then from 16 on their radii r, then from 24 on the world image of
+    // the node's fitted box (fitted_box), from 43 on the box's margins.
     const double *box(uint32_t n) {
         if (!nodes) return near_box;
         double *b = boxes + kNodeData * size_t(n);
@@ -125,6 +163,60 @@ struct BodyView {
         r = rotation_of(orientation);
         for (int k = 0; k < 9; ++k) abs_r[k] = std::fabs(r.m[k]);
         for (int k = 0; k < 3; ++k) abs_position[k] = std::fabs(pos[k]);
+    }
+
+    // The world image of a node's oriented box o, for obb_pair_separated
+    // (tree_path.cpp). out: centre C (3), axes V_i (9, from 3 + 3i), scaled
+    // halves H_i (3, from 12), then Ex (15) and the own-axis radii (16..18).
+    // margin: node_box's margins of the node's mesh-frame box. Why every rounded world vertex w~ under
+    // the node projects on any axis z (|z_a| <= 1.0001) within
+    //     sum_i H_i |z . V_i| + 1.01 (E_0 + E_1 + E_2)
+    // of z . C, E_a = 1e-14 oreach_a + margin_a + 4e-15 sum_i H_i:
+    //  - a vertex p under the node is c + sum_i b_i u_i exactly, |b_i| <=
+    //    half_i (NodeObb), so its exact image is T(p) = T(c) + sum_i s b_i R u_i
+    //    (T, R as at node_box, R the rounded matrix, taken exactly);
+    //  - w~ is within g_5 M_a <= margin_a of T(p) (node_box's argument, for
+    //    the node's mesh-frame box, which holds p);
+    //  - C = fl(T(c)) is within g_5 M'_a of T(c), M'_a = |pos_a| + sum_j
+    //    |R_aj| s |c_j| <= oreach_a (computed within a few u);
+    //  - V_i = fl(R u_i) is within g_3 |R row a|_2 |u_i|_2 < 4e-16 < 4e-15
+    //    of R u_i per component, and |b_i| s <= H_i (1 + u);
+    //  - |z_a| <= 1.0001, so sum_a |z_a| E_a <= 1.01 sum_a E_a.
+    // The axes z used are the V's themselves: R = n R_u + (1 - n) I with
+    // |n - 1| <= 1e-6 + 1e-15 (the validated |q|^2), so ||R||_2 <= 1 +
+    // 2.1e-6 and |V_ia| <= 1.0001. With rho >= ||R^T R - I||_inf >=
+    // ||R^T R - I||_2 (orthonormal_defect of R^T, per pair), |V_i . V_k -
+    // d_ik| <= |u_i . u_k - d_ik| + rho |u_i|_2 |u_k|_2 + (the V roundings)
+    // <= 1e-12 + rho (1 + 1e-12) + 1.5e-14 <= xi = 1.1e-12 + 1.01 rho: on
+    // its own axis V_i the node's radius is below H_i + xi sum_k H_k +
+    // 1.01 sum_a E_a (own, at 16 + i).
+    // Against another node's axis the dot products are computed per pair;
+    // fl(V_i . W_k) is within g_3 |V_i|_2 |W_k|_2 < 1e-15 of exact, so
+    // sum_k H_k (|fl(z . V_k)| + 1e-15) + 1.01 sum_a E_a bounds the radius:
+    // Ex (15) = 1.01 sum_a E_a + 1e-15 sum_k H_k. All of these are sums of
+    // non-negative terms computed within a relative 1e-15 of exact; the
+    // comparison's factor 1 + 1e-12 covers them. 1e-300s cover underflow.
+    void world_obb(const NodeObb &o, const double *margin, double *out) const {
+        transform_point(r, position, scale, o.center, out);
+        double hsum = 0;
+        for (int i = 0; i < 3; ++i) {
+            const double *u = o.axis + 3 * i;
+            for (int a = 0; a < 3; ++a)
+                out[3 + 3 * i + a] = (r.m[3 * a] * u[0] + r.m[3 * a + 1] * u[1]) + r.m[3 * a + 2] * u[2];
+            out[12 + i] = scale * o.half[i];
+            hsum += out[12 + i];
+        }
+        const double sc0 = scale * std::fabs(o.center[0]), sc1 = scale * std::fabs(o.center[1]),
+                     sc2 = scale * std::fabs(o.center[2]);
+        double esum = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double *ar = &abs_r[3 * a];
+            const double oreach = abs_position[a] + (ar[0] * sc0 + ar[1] * sc1 + ar[2] * sc2);
+            esum += (1e-14 * oreach + 1e-300) + margin[a] + 4e-15 * hsum;
+        }
+        const double ew = 1.01 * esum;
+        out[15] = ew + 1e-15 * hsum + 1e-300;
+        for (int i = 0; i < 3; ++i) out[16 + i] = out[12 + i] + obb_xi * hsum + ew;
     }
 
     // World box of a node: the image of its mesh-frame box, inflated by a
@@ -166,7 +258,7 @@ struct BodyView {
         const double sm0 = scale * (std::fabs(node.center[0]) + node.half[0]);
         const double sm1 = scale * (std::fabs(node.center[1]) + node.half[1]);
         const double sm2 = scale * (std::fabs(node.center[2]) + node.half[2]);
-        double t[3];
+        double t[3], margins[3];
         for (int a = 0; a < 3; ++a) {
             const double *ar = &abs_r[3 * a];
             const double extent = ar[0] * sh0 + ar[1] * sh1 + ar[2] * sh2;
@@ -176,8 +268,10 @@ struct BodyView {
             out[a] = wc[a] - d;
             out[3 + a] = wc[a] + d;
             t[a] = 2 * margin + 1e-15 * std::fabs(wc[a]);
+            margins[a] = margin;
         }
         if (!axes) return;
+        world_obb(obb[&node - nodes], margins, out + 24);
         const PairAxes &x = *axes;
         double *p = out + 8, *rad = out + 16;
         for (int k = 0; k < 6; ++k) {  // (lanes 6 and 7 stay unused)

@@ -76,6 +76,7 @@ void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, 
     v.tris = m.bvh.tris.data();
     v.tri_ids = m.bvh.tri_ids.data();
     v.boxes = c.boxes.get();
+    v.obb = m.bvh.obb.data();
     v.box_stamp = c.box_stamp.data();
 }
 
@@ -177,6 +178,9 @@ void prepare_axes(BodyView &a, BodyView &b, PairAxes &x) {
                 v->gram[l][k] = std::fabs(dot) + 2e-15 * mag;
             }
         v->axes = &x;
+        const double *m = v->r.m;
+        const double columns[9] = {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
+        v->obb_xi = 1.1e-12 + 1.01 * orthonormal_defect(columns);
     }
 }
 
@@ -193,6 +197,41 @@ inline bool obb_separated(const double *na, const double *nb) {
     bool apart = false;
     for (int k = 0; k < 6; ++k) apart |= std::fabs(pb[k] - pa[k]) > ra[k] + rb[k];
     return apart;
+}
+
+// Separating-axis test of two nodes' oriented boxes (BodyView::world_obb)
+// on the six face axes z = V_i of both: every rounded world vertex under a
+// node projects within its radius of z . C, so the nodes' triangles are apart
+// when |z . (C_b - C_a)| > r_a + r_b exactly. Computed, t = fl(z . fl(C_b -
+// C_a)) is within (u + g_3 (1 + u)) sum_m |z_m| |d_m| < 5e-16 * 1.0001 |d|_1
+// of it (|z_m| <= 1.0001), so `slack` = 1e-15 fl(|d|_1) covers it twice
+// over; the radii are sums of non-negative terms within a relative 1e-15 of
+// their values, which the factor 1 + 1e-12 covers, with the rounding of the
+// final sums. So a computed `>` is certain.
+inline bool obb_pair_separated(const double *na, const double *nb) {
+    const double *oa = na + 24, *ob = nb + 24;
+    const double *va = oa + 3, *vb = ob + 3, *ha = oa + 12, *hb = ob + 12;
+    const double d[3] = {ob[0] - oa[0], ob[1] - oa[1], ob[2] - oa[2]};
+    const double slack = 1e-15 * ((std::fabs(d[0]) + std::fabs(d[1])) + std::fabs(d[2]));
+    double rel[3][3];  // |V_a,i . V_b,j|
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const double *x = va + 3 * i, *y = vb + 3 * j;
+            rel[i][j] = std::fabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
+        }
+    for (int i = 0; i < 3; ++i) {
+        const double *z = va + 3 * i;
+        const double t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const double rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + ob[15];
+        if (std::fabs(t) > (oa[16 + i] + rb) * (1 + 1e-12) + slack) return true;
+    }
+    for (int j = 0; j < 3; ++j) {
+        const double *z = vb + 3 * j;
+        const double t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const double ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) + oa[15];
+        if (std::fabs(t) > (ob[16 + j] + ra) * (1 + 1e-12) + slack) return true;
+    }
+    return false;
 }
 
 // Is the box `other` (which holds every rounded world vertex under a node of
@@ -256,8 +295,9 @@ bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, ui
         const double *ba = a.box(i), *bb = b.box(j);
         if (kMargin ? boxes_apart(ba, bb, d) : boxes_disjoint(ba, bb)) continue;
         const bool la = a.leaf(i), lb = b.leaf(j);
-        // The oriented test pays off above the leaves (a leaf pair goes to
-        // triangle boxes, which are cheaper).
+        // The nodes' fitted boxes, then (above the leaves, where it pays)
+        // the separating axes of their mesh-frame boxes.
+        if (oriented && obb_pair_separated(ba, bb)) continue;
         if (oriented && !(la && lb) && obb_separated(ba, bb)) continue;
         if (!kMargin && la != lb) {
             BodyView &lv = la ? a : b;

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -201,6 +202,7 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     // and the staged entries in sequence.
     const int T = n >= kParallelEntries ? threads() : 1;
     const bool has_p = positions, has_q = orientations;
+    const bool some = count < live_gen_.size();  // (else every stored body is named)
     parallel_for(T, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
         // (Locals, not the captures: apply_pose's writes might alias those.)
         const StagedPose *const stage_ = stage;
@@ -209,21 +211,28 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         const uint32_t *const slot_of = slot_of_.data(), *const stored_gen = stored_gen_.data();
         BoxQueue boxes;
         boxes.stream = true;  // (points and offsets written in sequence: see apply_pose_with)
-        for (int64_t i = b; i < e; ++i) {
-            // Eight bodies at a time skipped when none is named: a few
-            // bodies by index among many (static ones stored after them).
-            if (!(i & 7) && i + 8 <= e) {
-                bool named = false;
-                for (int64_t j = i; j < i + 8; ++j) named |= slot_of[j] < count_;
-                if (!named) {
-                    i += 7;
-                    continue;
+        // (Two loops, with and without the skip below.)
+        const auto pass = [&](auto skip) {
+            for (int64_t i = b; i < e; ++i) {
+                // Eight bodies at a time skipped when none is named: a few
+                // bodies by index among many (static ones stored after them).
+                if (skip && !(i & 7) && i + 8 <= e) {
+                    bool named = false;
+                    for (int64_t j = i; j < i + 8; ++j) named |= slot_of[j] < count_;
+                    if (!named) {
+                        i += 7;
+                        continue;
+                    }
                 }
+                if (slot_of[i] >= count_ || !stored_gen[i]) continue;
+                apply_pose_queued(size_t(i), has_p_ ? stage_[i].position : nullptr,
+                                  has_q_ ? stage_[i].orientation : nullptr, boxes, true);
             }
-            if (slot_of[i] >= count_ || !stored_gen[i]) continue;
-            apply_pose_queued(size_t(i), has_p_ ? stage_[i].position : nullptr,
-                              has_q_ ? stage_[i].orientation : nullptr, boxes, true);
-        }
+        };
+        if (some)
+            pass(std::true_type{});
+        else
+            pass(std::false_type{});
         boxes.flush();
         stage_fence();
     });

@@ -43,6 +43,10 @@ HGCD_NO_AVX2=1 HGCD_TEST_FILTER='test_tetra*' build/tests/test_world
 HGCD_NO_AVX2=1 build/tests/test_threads
 HGCD_NO_AVX2=1 build/tests/test_incremental
 
+step "the box kernels' tests again with AVX2 in place of AVX-512 (AVX-512 machines take the boxes of new orientations four at a time with it)"
+HGCD_NO_AVX512=1 build/tests/test_grid
+HGCD_NO_AVX512=1 build/tests/test_batch
+
 step "tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 [ -f build-asan/build.ninja ] || meson setup build-asan --buildtype=debugoptimized \
     -Db_sanitize=address,undefined -Db_lundef=false -Dcpp_args=-fno-sanitize-recover=undefined \

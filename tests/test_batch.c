@@ -178,6 +178,43 @@ static void test_batch_matches_single_calls(void **state) {
     }
 }
 
+/* By index for the first `count` bodies only, once storage has been
+ * renumbered (entries land at their bodies' storage indices, and the bodies
+ * past count keep their poses) == one call per body, at 1 and 2 threads. */
+static void test_prefix_by_index(void **state) {
+    (void)state;
+    enum { N = 6000 };
+    static hgcd_body ids_a[N], ids_c[N];
+    static engine_body e[N];
+    for (int threads = 1; threads <= 2; ++threads) {
+        hgcd_world *a = make_world(threads, ids_a, N), *c = make_world(threads, ids_c, N);
+        rng r = {31 + (uint64_t)threads};
+        /* (storage is renumbered by the second detect: from the third round) */
+        const int rounds = getenv("HGCD_SKIP_SLOW_TESTS") ? 3 : 5;
+        for (int round = 0; round < rounds; ++round) {
+            const int count = round < 2 ? N : N - 1100 * (round - 1);
+            fill(&r, e, N);
+            for (int i = 0; i < count; ++i)
+                assert_int_equal(hgcd_body_set_pose(a, ids_a[i], e[i].position, e[i].orientation), HGCD_OK);
+            assert_int_equal(hgcd_world_set_poses(c, NULL, (size_t)count, e[0].position, sizeof(engine_body),
+                                                  e[0].orientation, sizeof(engine_body)),
+                             HGCD_OK);
+            assert_int_equal(hgcd_world_detect(a), HGCD_OK);
+            assert_int_equal(hgcd_world_detect(c), HGCD_OK);
+            expect_detected_alike(a, c);
+        }
+        for (int i = 0; i < N; i += 61) {
+            double p[3], q[4], pc[3], qc[4];
+            assert_int_equal(hgcd_body_get_pose(a, ids_a[i], p, q), HGCD_OK);
+            assert_int_equal(hgcd_body_get_pose(c, ids_c[i], pc, qc), HGCD_OK);
+            assert_memory_equal(p, pc, sizeof p);
+            assert_memory_equal(q, qc, sizeof q);
+        }
+        hgcd_world_destroy(a);
+        hgcd_world_destroy(c);
+    }
+}
+
 /* Positions only, orientations only: the other part is kept. */
 static void test_partial_poses(void **state) {
     (void)state;
@@ -288,6 +325,7 @@ static void test_batch_refusals(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_batch_matches_single_calls),
+        cmocka_unit_test(test_prefix_by_index),
         cmocka_unit_test(test_partial_poses),
         cmocka_unit_test(test_batch_refusals),
     };

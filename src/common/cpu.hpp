@@ -29,4 +29,20 @@ inline bool use_avx2() {
 #endif
 }
 
+// Whether the AVX-512 kernels may run (a few, in place of AVX2 ones): AVX-512
+// F, DQ and VL, and use_avx2() (HGCD_NO_AVX2 keeps them off too);
+// HGCD_NO_AVX512 keeps the AVX2 kernels in their place.
+inline bool use_avx512() {
+#if HGCD_AVX2
+    static const bool avx512 = [] {
+        __builtin_cpu_init();
+        return use_avx2() && __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512dq") != 0 &&
+               __builtin_cpu_supports("avx512vl") != 0 && !std::getenv("HGCD_NO_AVX512");
+    }();
+    return avx512;
+#else
+    return false;
+#endif
+}
+
 }  // namespace hgcd

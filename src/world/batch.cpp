@@ -7,6 +7,10 @@
 #include <string>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
@@ -37,18 +41,45 @@ size_t stride_of(size_t stride, size_t doubles) {
     return stride % sizeof(double) == 0 && stride >= doubles * sizeof(double) ? stride : 0;
 }
 
+// Entry k's pose into its stage line, the whole 64-byte line in streaming
+// stores: the lines are written in the order of the indices, at random
+// over the stage, and a whole line written so is not read first. (The
+// line's last 8 bytes are padding; a NULL part leaves garbage, never read.)
+inline void stage_pose(void *line, const double *p, const double *q) {
+#if defined(__SSE2__)
+    double *d = static_cast<double *>(line);
+    const __m128d z = _mm_setzero_pd();
+    _mm_stream_pd(d, p ? _mm_loadu_pd(p) : z);
+    _mm_stream_pd(d + 2, _mm_set_pd(q ? q[0] : 0.0, p ? p[2] : 0.0));
+    _mm_stream_pd(d + 4, q ? _mm_loadu_pd(q + 1) : z);
+    _mm_stream_pd(d + 6, _mm_set_pd(0.0, q ? q[3] : 0.0));
+#else
+    double *d = static_cast<double *>(line);
+    if (p) std::memcpy(d, p, 3 * sizeof(double));
+    if (q) std::memcpy(d + 3, q, 4 * sizeof(double));
+#endif
+}
+
+// Orders the streaming stores before the lines are read (by any thread).
+inline void stage_fence() {
+#if defined(__SSE2__)
+    _mm_sfence();
+#endif
+}
+
 }  // namespace
 
 // Runs check(k) for k < count (on the world's threads for large counts) and
 // returns the smallest k it fails for, or kNone; the same k for any thread
-// count.
-template <class Check>
-int64_t World::first_failing(size_t count, Check &&check) const {
+// count. done() runs after each worker's range.
+template <class Check, class Done>
+int64_t World::first_failing(size_t count, Check &&check, Done &&done) const {
     const int T = count >= kParallelEntries ? threads() : 1;
     std::vector<int64_t> first(size_t(T), kNone);
     parallel_for(T, int64_t(count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
         int64_t k = b;
         while (k < e && check(size_t(k))) ++k;
+        done();
         if (k < e) first[size_t(me)] = std::min(first[size_t(me)], k);  // (the least failing of the worker's ranges)
     });
     return *std::min_element(first.begin(), first.end());
@@ -102,7 +133,7 @@ hgcd_status World::resolve_entries(const char *what, const hgcd_body *bodies, si
     return HGCD_OK;
 }
 
-inline void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes) {
+inline void World::apply_pose_queued(size_t i, const double *p, const double *q, BoxQueue &boxes, bool stream) {
     apply_pose_with(i, p, q, [&](const double *q_) {
         const BodyRecord rec = body_record_[i];
         // (A bound on the groups: a lane of the kernel takes as many as the
@@ -112,7 +143,7 @@ inline void World::apply_pose_queued(size_t i, const double *p, const double *q,
             boxes.push(BoxJob{q_, place_[i].scale, pool_.blocks()[rec.block].d, rec.groups, &box_off_[6 * i]});
         else
             set_box_offsets(i);
-    });
+    }, stream);
 }
 
 hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
@@ -128,17 +159,27 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         return (!positions || position_ok(entry(positions, ps, k))) &&
                (!orientations || orientation_ok(entry(orientations, os, k)));
     };
-    // By index, each entry is copied to pose_stage_ as it is checked (see
-    // below); a refusal leaves only that scratch written.
-    if (!bodies && pose_stage_.size() < count) pose_stage_.resize(count);
+    // By index, each entry is copied to pose_stage_ as it is checked, at its
+    // body's storage index (see below); a refusal leaves only that scratch
+    // written. (The stage reaches as far as the last storage index named:
+    // static bodies are stored after the others, and a call for the moving
+    // ones does not name them.)
+    const size_t n = slot_of_.size();
+    if (!bodies && count) {
+        const size_t last = *std::max_element(at_.begin(), at_.begin() + ptrdiff_t(count));
+        if (pose_stage_.size() <= last) pose_stage_.resize(last + 1);
+    }
     StagedPose *const stage = pose_stage_.data();
-    const int64_t bad = bodies ? first_failing(count, ok) : first_failing(count, [&](size_t k) {
-        if (!ok(k)) return false;
-        if (positions) std::memcpy(stage[k].position, entry(positions, ps, k), sizeof stage[k].position);
-        if (orientations)
-            std::memcpy(stage[k].orientation, entry(orientations, os, k), sizeof stage[k].orientation);
-        return true;
-    });
+    const uint32_t *const at = at_.data();
+    const int64_t bad = bodies ? first_failing(count, ok) : first_failing(
+        count,
+        [&](size_t k) {
+            if (!ok(k)) return false;
+            stage_pose(&stage[at[k]], positions ? entry(positions, ps, k) : nullptr,
+                       orientations ? entry(orientations, os, k) : nullptr);
+            return true;
+        },
+        stage_fence);
     if (bad != kNone) {  // the message of hgcd_body_set_pose, for that entry
         const std::string at = std::string(what) + ": entry " + std::to_string(bad);
         return check_pose(at.c_str(), positions ? entry(positions, ps, size_t(bad)) : nullptr,
@@ -156,17 +197,9 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         });
         return HGCD_OK;
     }
-    // All bodies by index: storage runs in the grid's order, not the
-    // indices', so the pass follows storage (writing the world's arrays and
-    // reading the meshes' records nearly in sequence) and reads the entries
-    // out of order, from the copy in pose_stage_: the caller's arrays
-    // usually sit in 4 KiB pages, and reads at random over them missed the
-    // TLB nearly every time (750k bodies, 1 thread: a copy in sequence and
-    // reads from huge pages took 9 ms, the reads from the caller's arrays
-    // 13 to 17). Each entry is asked for kAhead bodies before its use: one
-    // line, many in flight while the boxes are computed.
-    constexpr int64_t kAhead = 32;
-    const size_t n = slot_of_.size();
+    // All bodies by index: one pass in storage order (the grid's, not the
+    // indices'), writing the world's arrays and reading the meshes' records
+    // and the staged entries in sequence.
     const int T = n >= kParallelEntries ? threads() : 1;
     const bool has_p = positions, has_q = orientations;
     const bool some = count < live_gen_.size();  // (else every stored body is named)
@@ -177,6 +210,7 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         const bool has_p_ = has_p, has_q_ = has_q;
         const uint32_t *const slot_of = slot_of_.data(), *const stored_gen = stored_gen_.data();
         BoxQueue boxes;
+        boxes.stream = true;  // (points and offsets written in sequence: see apply_pose_with)
         // (Two loops, with and without the skip below.)
         const auto pass = [&](auto skip) {
             for (int64_t i = b; i < e; ++i) {
@@ -190,14 +224,9 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
                         continue;
                     }
                 }
-                if (i + kAhead < e) {
-                    const size_t ahead = slot_of[i + kAhead];
-                    if (ahead < count_) __builtin_prefetch(&stage_[ahead]);
-                }
-                const size_t k = slot_of[i];
-                if (k >= count_ || !stored_gen[i]) continue;
-                apply_pose_queued(size_t(i), has_p_ ? stage_[k].position : nullptr,
-                                  has_q_ ? stage_[k].orientation : nullptr, boxes);
+                if (slot_of[i] >= count_ || !stored_gen[i]) continue;
+                apply_pose_queued(size_t(i), has_p_ ? stage_[i].position : nullptr,
+                                  has_q_ ? stage_[i].orientation : nullptr, boxes, true);
             }
         };
         if (some)
@@ -205,6 +234,7 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         else
             pass(std::false_type{});
         boxes.flush();
+        stage_fence();
     });
     return HGCD_OK;
 }

@@ -7,6 +7,7 @@
 #include "world/pose_box.hpp"
 
 #include <algorithm>
+#include <cfloat>
 
 #include "broad/float_box.hpp"
 #include "broad/float_down_avx2.hpp"
@@ -102,7 +103,8 @@ __attribute__((target("avx2"))) inline void transpose4_pd(__m256d &r0, __m256d &
     r3 = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
-__attribute__((target("avx2"))) void record_float_boxes4_avx2(const BoxJob *job) {
+// Each lane's bounds: lo[a], hi[a] per axis (inlined into each ISA's kernel).
+__attribute__((target("avx2"), always_inline)) inline void boxes4_bounds(const BoxJob *job, __m256d *lo, __m256d *hi) {
     typedef double v4 __attribute__((vector_size(32)));
     __m256d q[4];  // x y z w of each body, then each of the four bodies'
     for (int k = 0; k < 4; ++k) q[k] = _mm256_loadu_pd(job[k].orientation);
@@ -111,7 +113,6 @@ __attribute__((target("avx2"))) void record_float_boxes4_avx2(const BoxJob *job)
     rotation_entries((v4)q[0], (v4)q[1], (v4)q[2], (v4)q[3], m);
     const __m256d scale = _mm256_setr_pd(job[0].scale, job[1].scale, job[2].scale, job[3].scale);
     const __m256d zero = _mm256_setzero_pd();
-    __m256d lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
         lo[a] = _mm256_set1_pd(INFINITY);
         hi[a] = _mm256_set1_pd(-INFINITY);
@@ -138,14 +139,27 @@ __attribute__((target("avx2"))) void record_float_boxes4_avx2(const BoxJob *job)
             }
         }
     }
-    const __m256d sign = _mm256_set1_pd(-0.0);
-    const __m128 nsign = _mm_set1_ps(-0.0f);
-    __m128 r0 = broad::float_down4(lo[0]), r1 = broad::float_down4(lo[1]), r2 = broad::float_down4(lo[2]);
-    __m128 r3 = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[0], sign)), nsign);
-    const __m128 hy = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[1], sign)), nsign);
-    const __m128 hz = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[2], sign)), nsign);
+}
+
+// Body k's offsets from the rounded bounds (r0 r1 r2: lows, r3 hy hz: highs);
+// stream: in six streaming stores of 4 floats where the four bodies' 24
+// offsets lie in one aligned run.
+__attribute__((target("avx2"), always_inline)) inline void store_offsets4(const BoxJob *job, __m128 r0, __m128 r1,
+                                                                          __m128 r2, __m128 r3, __m128 hy, __m128 hz,
+                                                                          bool stream) {
     _MM_TRANSPOSE4_PS(r0, r1, r2, r3);  // body k: low x y z, high x
     const __m128 yz01 = _mm_unpacklo_ps(hy, hz), yz23 = _mm_unpackhi_ps(hy, hz);
+    float *const off = job[0].off;
+    if (stream && job[1].off == off + 6 && job[2].off == off + 12 && job[3].off == off + 18 &&
+        (reinterpret_cast<uintptr_t>(off) & 15) == 0) {
+        _mm_stream_ps(off, r0);
+        _mm_stream_ps(off + 4, _mm_movelh_ps(yz01, r1));
+        _mm_stream_ps(off + 8, _mm_shuffle_ps(r1, yz01, _MM_SHUFFLE(3, 2, 3, 2)));
+        _mm_stream_ps(off + 12, r2);
+        _mm_stream_ps(off + 16, _mm_movelh_ps(yz23, r3));
+        _mm_stream_ps(off + 20, _mm_shuffle_ps(r3, yz23, _MM_SHUFFLE(3, 2, 3, 2)));
+        return;
+    }
     _mm_storeu_ps(job[0].off, r0);
     _mm_storeu_ps(job[1].off, r1);
     _mm_storeu_ps(job[2].off, r2);
@@ -155,6 +169,51 @@ __attribute__((target("avx2"))) void record_float_boxes4_avx2(const BoxJob *job)
     _mm_storel_pi(reinterpret_cast<__m64 *>(job[2].off + 4), yz23);
     _mm_storeh_pi(reinterpret_cast<__m64 *>(job[3].off + 4), yz23);
 }
+
+__attribute__((target("avx2"))) void record_float_boxes4_avx2(const BoxJob *job, bool stream) {
+    __m256d lo[3], hi[3];
+    boxes4_bounds(job, lo, hi);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m128 nsign = _mm_set1_ps(-0.0f);
+    const __m128 r0 = broad::float_down4(lo[0]), r1 = broad::float_down4(lo[1]), r2 = broad::float_down4(lo[2]);
+    const __m128 r3 = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[0], sign)), nsign);
+    const __m128 hy = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[1], sign)), nsign);
+    const __m128 hz = _mm_xor_ps(broad::float_down4(_mm256_xor_pd(hi[2], sign)), nsign);
+    store_offsets4(job, r0, r1, r2, r3, hy, hz, stream);
+}
+
+// The same with AVX-512's 32 registers (the nine entries of the rotations
+// and the bounds stay in registers) and its rounding toward -inf on
+// conversion, 8 at a time: for |x| >= FLT_MIN that is float_at_most (the
+// greatest float at most x; -inf below -FLT_MAX, FLT_MAX above it), and
+// magnitudes below FLT_MIN go to 0 or, by the sign bit, -FLT_MIN as there.
+// (GCC 12 warns of the undefined vectors inside its own AVX-512 intrinsics.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#define HGCD_AVX512 __attribute__((target("avx2,avx512f,avx512dq,avx512vl")))
+HGCD_AVX512 inline __m256 float_down8(__m256d a, __m256d b) {
+    const __m512d x = _mm512_insertf64x4(_mm512_castpd256_pd512(a), b, 1);
+    const __m256 f = _mm512_cvt_roundpd_ps(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __mmask8 tiny = _mm512_cmp_pd_mask(_mm512_abs_pd(x), _mm512_set1_pd(FLT_MIN), _CMP_LT_OQ);
+    const __mmask8 negative = _mm512_movepi64_mask(_mm512_castpd_si512(x));
+    return _mm256_mask_blend_ps(tiny, f, _mm256_maskz_mov_ps(negative, _mm256_set1_ps(-FLT_MIN)));
+}
+
+HGCD_AVX512 void record_float_boxes4_avx512(const BoxJob *job, bool stream) {
+    __m256d lo[3], hi[3];
+    boxes4_bounds(job, lo, hi);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256 a = float_down8(lo[0], lo[1]);
+    const __m256 b = _mm256_xor_ps(float_down8(lo[2], _mm256_xor_pd(hi[0], sign)),
+                                   _mm256_setr_ps(0, 0, 0, 0, -0.0f, -0.0f, -0.0f, -0.0f));
+    const __m256 c = _mm256_xor_ps(float_down8(_mm256_xor_pd(hi[1], sign), _mm256_xor_pd(hi[2], sign)),
+                                   _mm256_set1_ps(-0.0f));
+    store_offsets4(job, _mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1), _mm256_castps256_ps128(b),
+                   _mm256_extractf128_ps(b, 1), _mm256_castps256_ps128(c), _mm256_extractf128_ps(c, 1), stream);
+}
+#undef HGCD_AVX512
+#pragma GCC diagnostic pop
 #endif
 
 // The same on 2 lanes (SSE2) or one (elsewhere).
@@ -222,9 +281,10 @@ void record_float_box(const Rotation &r, double s, const double *record, uint32_
     broad::round_outward(lo, hi, off, off + 3);
 }
 
-void record_float_boxes4(const BoxJob *job) {
+void record_float_boxes4(const BoxJob *job, bool stream) {
 #if HGCD_AVX2
-    if (use_avx2()) return record_float_boxes4_avx2(job);
+    if (use_avx512()) return record_float_boxes4_avx512(job, stream);
+    if (use_avx2()) return record_float_boxes4_avx2(job, stream);
 #endif
     for (int k = 0; k < 4; ++k)
         record_float_box(rotation_of(job[k].orientation), job[k].scale, job[k].record, job[k].groups, job[k].off);

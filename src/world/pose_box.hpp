@@ -33,8 +33,11 @@ struct BoxJob {
 // record_float_box for four bodies at once, the same bits for each (a
 // set_poses with many new orientations: one lane a body, where one body's
 // points fill the lanes only for meshes of 4 or more distinct vertices and
-// the lanes' reduction cost as much as the transforms).
-void record_float_boxes4(const BoxJob *job);
+// the lanes' reduction cost as much as the transforms). stream: when the
+// four bodies' offsets lie one after the other, 16-byte aligned, they are
+// written in streaming stores (a pass writing storage in sequence; it
+// fences them).
+void record_float_boxes4(const BoxJob *job, bool stream = false);
 
 // The boxes of one thread's run of new orientations, four at a time: push
 // a body (its box is written at once or by a later push), flush at the end
@@ -42,17 +45,18 @@ void record_float_boxes4(const BoxJob *job);
 struct BoxQueue {
     BoxJob job[4];
     int count = 0;
+    bool stream = false;  // (record_float_boxes4's)
     void push(const BoxJob &j) {
         job[count++] = j;
         if (count == 4) {
-            record_float_boxes4(job);
+            record_float_boxes4(job, stream);
             count = 0;
         }
     }
     void flush() {
         if (count == 0) return;
         for (int k = count; k < 4; ++k) job[k] = job[count - 1];
-        record_float_boxes4(job);
+        record_float_boxes4(job, stream);
         count = 0;
     }
 };

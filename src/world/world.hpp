@@ -11,6 +11,9 @@
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
+#if defined(__SSE2__) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include "broad/grid.hpp"
 #include "common/parallel.hpp"
@@ -137,8 +140,12 @@ class World {
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
     // The batch calls' passes (batch.cpp).
+    template <class Check, class Done>
+    int64_t first_failing(size_t count, Check &&check, Done &&done) const;
     template <class Check>
-    int64_t first_failing(size_t count, Check &&check) const;
+    int64_t first_failing(size_t count, Check &&check) const {
+        return first_failing(count, check, [] {});
+    }
     template <class Apply>
     void for_entries(size_t count, Apply &&apply);
     hgcd_status resolve_entries(const char *what, const hgcd_body *bodies, size_t count, bool storage);
@@ -146,9 +153,11 @@ class World {
     // The same, the box of a new orientation taken by boxes when its kernel
     // can (batch.cpp: a record of at most kQueuedGroups groups, no margin).
     static constexpr uint32_t kQueuedGroups = 4;
-    void apply_pose_queued(size_t i, const double *position, const double *orientation, BoxQueue &boxes);
+    void apply_pose_queued(size_t i, const double *position, const double *orientation, BoxQueue &boxes,
+                           bool stream = false);
     template <class Box>
-    void apply_pose_with(size_t i, const double *position, const double *orientation, Box &&box);
+    void apply_pose_with(size_t i, const double *position, const double *orientation, Box &&box,
+                         bool stream = false);
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);
@@ -372,8 +381,9 @@ class World {
     // (per storage index, of epoch batch_epoch_) that find an id named twice.
     std::vector<uint32_t> batch_at_, batch_mark_;
     uint32_t batch_epoch_ = 0;
-    // hgcd_world_set_poses by index: entry k's pose, copied from the
-    // caller's arrays in index order (batch.cpp), one cache line each.
+    // hgcd_world_set_poses by index: each entry's pose at its body's storage
+    // index, copied from the caller's arrays in index order (batch.cpp), one
+    // cache line each.
     struct alignas(64) StagedPose {
         double position[3], orientation[4];
     };
@@ -472,12 +482,24 @@ class World {
 // The pose of the body stored at i: p (3 doubles) and q (4), either NULL to
 // keep it; the body counts as moved when a bit changes (hgcd_body_set_pose
 // and hgcd_world_set_poses alike). box(q) brings box_off_ to a new
-// orientation q.
+// orientation q. stream: point_ in streaming stores, for a pass that writes
+// storage in sequence (its lines are then not read before being written;
+// the pass fences its stores before others read them).
 template <class Box>
-inline void World::apply_pose_with(size_t i, const double *p, const double *q, Box &&box) {
+inline void World::apply_pose_with(size_t i, const double *p, const double *q, Box &&box, bool stream) {
     bool moved = false;
     if (p) {
         moved = std::memcmp(place_[i].position, p, sizeof place_[i].position) != 0;
+#if defined(__SSE2__) && defined(__x86_64__)
+        if (stream) {
+            for (int a = 0; a < 3; ++a) {
+                long long bits;
+                std::memcpy(&bits, &p[a], sizeof bits);
+                _mm_stream_si64(reinterpret_cast<long long *>(&point_[3 * i + a]), bits);
+                place_[i].position[a] = p[a];
+            }
+        } else
+#endif
         for (int a = 0; a < 3; ++a) place_[i].position[a] = point_[3 * i + a] = p[a];
     }
     if (q && std::memcmp(place_[i].orientation, q, sizeof place_[i].orientation) != 0) {

@@ -57,7 +57,9 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
+#include "common/simd.hpp"
 #include "narrow/bvh.hpp"
 
 namespace hgcd {
@@ -139,48 +141,70 @@ inline void node_image(const RelFrame &f, const NodeObb &o, double *out) {
     out[24] = (1e-15 * f.qn * hsum + 1.74 * eps) + 1e-300;
 }
 
-// Are a's node (mesh-frame box n, fitted box o) and b's node (image m)
-// certainly apart? First the boxes in a's frame: a's vertices lie within
-// mu_a of [c - h, c + h] (BvhNode), b's within the half extents of C (the
-// image's fitted box and its eps, projected on the frame's axes). Then the
-// fitted boxes on their six face axes z: a's vertices project on z within
-// sum_i half_i |z . u_i| (+ mu_a |z|_1) of z . c_a, b's within sum_j half_j
-// |z . V_j| (+ eps |z|_1) of z . C. On a's own axis z = u_i the first is
-// below half_i + 1e-12 sum half (||U U^T - I||_inf <= 1e-12, NodeObb), |u_i|_1
-// <= 1.74; the cross terms carry 1e-15 qn sum half for the dot products'
-// roundings. The centres' projection t = fl(z . fl(C - c_a)) is within (u +
-// g_3 (1 + u)) |z|_1 |C - c_a| < 5e-16 |z|_1 dmax of exact: the slack 2e-15
-// dmax on a's axes (|z|_1 <= 1.74), 1e-15 |V_j|_1 dmax on b's.
-inline bool rel_apart(const RelFrame &f, const BvhNode &n, const NodeObb &o, const double *m) {
-    const double *C = m, *V = m + 3, *hb = m + 12;
-    for (int k = 0; k < 3; ++k)
-        if (std::fabs(C[k] - n.center[k]) > ((n.half[k] + f.mu_a) + m[15 + k]) * (1 + 1e-12)) return true;
-    const double d[3] = {C[0] - o.center[0], C[1] - o.center[1], C[2] - o.center[2]};
-    const double dmax = std::max(std::max(std::fabs(d[0]), std::fabs(d[1])), std::fabs(d[2]));
-    const double *ha = o.half;
-    const double hsum = (ha[0] + ha[1]) + ha[2];
-    double rel[3][3];  // |u_i . V_j|
+// Two node pairs at once, one per lane (f64x2: each lane does the IEEE
+// double operations of the scalar formulas, so the bits do not depend on the
+// vector width): lane l pairs a's node (n_l, o_l) with b's node image m_l.
+// Bit l of the result is set when that pair is certainly apart. First the
+// boxes in a's frame: a's vertices lie within mu_a of [c - h, c + h]
+// (BvhNode), b's within the half extents of C (the image's fitted box and its
+// eps, projected on the frame's axes). Then the fitted boxes on their six
+// face axes z: a's vertices project on z within sum_i half_i |z . u_i| (+
+// mu_a |z|_1) of z . c_a, b's within sum_j half_j |z . V_j| (+ eps |z|_1) of
+// z . C. On a's own axis z = u_i the first is below half_i + 1e-12 sum half
+// (||U U^T - I||_inf <= 1e-12, NodeObb), |u_i|_1 <= 1.74; the cross terms
+// carry 1e-15 qn sum half for the dot products' roundings. The centres'
+// projection t = fl(z . fl(C - c_a)) is within (u + g_3 (1 + u)) |z|_1 |C -
+// c_a|_inf < 5e-16 |z|_1 |C - c_a|_1 of exact (dl below is |C - c_a|_1,
+// computed within 2u): the slack 2e-15 dl on a's axes (|z|_1 <= 1.74), 1e-15
+// |V_j|_1 dl on b's.
+inline unsigned rel_apart2(const RelFrame &f, const BvhNode &n0, const NodeObb &o0, const double *m0,
+                           const BvhNode &n1, const NodeObb &o1, const double *m1) {
+    auto v = [](double x, double y) { return f64x2{x, y}; };
+    auto vabs = [](f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); };
+    auto bits = [](i64x2 x) { return unsigned((x[0] & 1) | (x[1] & 2)); };
+    const f64x2 mu_a = v(f.mu_a, f.mu_a), grow = v(1 + 1e-12, 1 + 1e-12), tiny = v(1e-300, 1e-300);
+    i64x2 apart = {0, 0};
+    for (int k = 0; k < 3; ++k) {
+        const f64x2 d = v(m0[k], m1[k]) - v(n0.center[k], n1.center[k]);
+        apart |= vabs(d) > ((v(n0.half[k], n1.half[k]) + mu_a) + v(m0[15 + k], m1[15 + k])) * grow;
+    }
+    if ((apart[0] & apart[1]) != 0) return 3;
+    f64x2 d[3], V[9], ha[3], hb[3], u[9];
+    for (int k = 0; k < 3; ++k) {
+        d[k] = v(m0[k], m1[k]) - v(o0.center[k], o1.center[k]);
+        ha[k] = v(o0.half[k], o1.half[k]);
+        hb[k] = v(m0[12 + k], m1[12 + k]);
+    }
+    for (int k = 0; k < 9; ++k) {
+        V[k] = v(m0[3 + k], m1[3 + k]);
+        u[k] = v(o0.axis[k], o1.axis[k]);
+    }
+    const f64x2 dl = (vabs(d[0]) + vabs(d[1])) + vabs(d[2]);
+    const f64x2 hsum = (ha[0] + ha[1]) + ha[2];
+    f64x2 rel[3][3];  // |u_i . V_j|
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
-            const double *x = o.axis + 3 * i, *y = V + 3 * j;
-            rel[i][j] = std::fabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
+            const f64x2 *x = u + 3 * i, *y = V + 3 * j;
+            rel[i][j] = vabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
         }
-    const double own_a = (1e-12 * hsum + 1.74 * f.mu_a) + 1e-300;
+    const f64x2 own_a = (v(1e-12, 1e-12) * hsum + v(1.74, 1.74) * mu_a) + tiny;
+    const f64x2 slack_a = v(2e-15, 2e-15) * dl + tiny;
+    const f64x2 extra_b = v(m0[24], m1[24]);
     for (int i = 0; i < 3; ++i) {
-        const double *z = o.axis + 3 * i;
-        const double t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
-        const double rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + m[24];
-        if (std::fabs(t) > ((ha[i] + own_a) + rb) * (1 + 1e-12) + (2e-15 * dmax + 1e-300)) return true;
+        const f64x2 *z = u + 3 * i;
+        const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const f64x2 rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + extra_b;
+        apart |= vabs(t) > ((ha[i] + own_a) + rb) * grow + slack_a;
     }
-    const double cross_a = 1e-15 * f.qn * hsum + 1e-300;
+    const f64x2 cross_a = v(1e-15 * f.qn, 1e-15 * f.qn) * hsum + tiny;
     for (int j = 0; j < 3; ++j) {
-        const double *z = V + 3 * j;
-        const double t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
-        const double ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) +
-                          (cross_a + f.mu_a * m[21 + j]);
-        if (std::fabs(t) > (m[18 + j] + ra) * (1 + 1e-12) + (1e-15 * m[21 + j] * dmax + 1e-300)) return true;
+        const f64x2 *z = V + 3 * j;
+        const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const f64x2 l1 = v(m0[21 + j], m1[21 + j]);
+        const f64x2 ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) + (cross_a + mu_a * l1);
+        apart |= vabs(t) > (v(m0[18 + j], m1[18 + j]) + ra) * grow + (v(1e-15, 1e-15) * l1 * dl + tiny);
     }
-    return false;
+    return bits(apart);
 }
 
 }  // namespace hgcd

@@ -275,7 +275,9 @@ struct Images {
 inline double sq(double x) { return x * x; }
 
 // surfaces_meet for two meshes with trees, without a margin: the node tests
-// in a's mesh frame (rel_apart), the same plane test and leaves.
+// in a's mesh frame (rel_apart2), the same plane test and leaves. A node
+// pair is tested before it is pushed, the two children of a descent at once,
+// so the stack holds only pairs that passed.
 bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
                        uint32_t start_b, uint32_t *meet, uint32_t *leaves) {
     const BvhNode *na = a.nodes, *nb = b.nodes;
@@ -283,15 +285,26 @@ bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, 
     const RelFrame &f = *img.f;
     std::vector<uint64_t> &stack = s.pair_stack;
     stack.clear();
+    {
+        const double *m = img(start_b);
+        if (rel_apart2(f, na[start_a], oa[start_a], m, na[start_a], oa[start_a], m) & 1) return false;
+    }
     stack.push_back((uint64_t(start_a) << 32) | start_b);
     while (!stack.empty()) {
         const uint64_t top = stack.back();
         stack.pop_back();
         const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
         const double *mb = img(j);
-        if (rel_apart(f, na[i], oa[i], mb)) continue;
         const bool la = na[i].count != 0, lb = nb[j].count != 0;
-        if (la != lb && (la ? plane_cut(a, i, b.box(j)) : plane_cut(b, j, a.box(i)))) continue;
+        // The plane test where it pays: a leaf at least as large as the
+        // other node (sizes in a's frame), as a body deep inside a much
+        // larger mesh meets that mesh's leaves (between meshes of like
+        // sizes it cut 105 of 1.2M node pairs on `scanned`).
+        const double *h = na[i].half;
+        const double size_a = (h[0] + h[1]) + h[2], size_b = (mb[15] + mb[16]) + mb[17];
+        if (la != lb && (la ? size_a >= size_b && plane_cut(a, i, b.box(j))
+                            : size_b >= size_a && plane_cut(b, j, a.box(i))))
+            continue;
         if (la && lb) {
             if (leaves_meet<false>(a, i, a.box(i), b, j, b.box(j), s, meet, 0)) {
                 leaves[0] = i;
@@ -302,21 +315,24 @@ bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, 
         }
         // As surfaces_meet: the larger node descended, the child farther from
         // the other node first (sizes and centres in a's frame).
-        const double *h = na[i].half;
-        if (lb || (!la && (h[0] + h[1]) + h[2] >= (mb[15] + mb[16]) + mb[17])) {
-            const uint64_t c = na[i].first;
+        if (lb || (!la && size_a >= size_b)) {
+            const uint32_t c = na[i].first;
             const double *x = na[c].center, *y = na[c + 1].center;
             const bool swap = (sq(x[0] - mb[0]) + sq(x[1] - mb[1])) + sq(x[2] - mb[2]) >
                               (sq(y[0] - mb[0]) + sq(y[1] - mb[1])) + sq(y[2] - mb[2]);
-            stack.push_back(((c + !swap) << 32) | j);
-            stack.push_back(((c + swap) << 32) | j);
+            const unsigned apart = rel_apart2(f, na[c], oa[c], mb, na[c + 1], oa[c + 1], mb);
+            const uint32_t first = c + !swap, second = c + swap;
+            if (!(apart >> (first - c) & 1)) stack.push_back((uint64_t(first) << 32) | j);
+            if (!(apart >> (second - c) & 1)) stack.push_back((uint64_t(second) << 32) | j);
         } else {
-            const uint64_t c = nb[j].first;
-            const double *x = img(uint32_t(c)), *y = img(uint32_t(c + 1)), *z = na[i].center;
+            const uint32_t c = nb[j].first;
+            const double *x = img(c), *y = img(c + 1), *z = na[i].center;
             const bool swap = (sq(x[0] - z[0]) + sq(x[1] - z[1])) + sq(x[2] - z[2]) >
                               (sq(y[0] - z[0]) + sq(y[1] - z[1])) + sq(y[2] - z[2]);
-            stack.push_back((uint64_t(i) << 32) | (c + !swap));
-            stack.push_back((uint64_t(i) << 32) | (c + swap));
+            const unsigned apart = rel_apart2(f, na[i], oa[i], x, na[i], oa[i], y);
+            const uint32_t first = c + !swap, second = c + swap;
+            if (!(apart >> (first - c) & 1)) stack.push_back((uint64_t(i) << 32) | first);
+            if (!(apart >> (second - c) & 1)) stack.push_back((uint64_t(i) << 32) | second);
         }
     }
     return false;

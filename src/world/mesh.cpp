@@ -326,7 +326,7 @@ void set_planes(const Mesh &m, SatData &d) {
 // The convex path's data (Mesh::sat): face normals, then edge directions,
 // parallel ones once; reach; adjacency; the kernel's vertex runs and planes.
 void set_sat(Mesh &m, const std::vector<char> &used) {
-    if (!m.convex || m.tetra || m.vertex_count > Mesh::kSatVertices) return;
+    if (!m.convex || m.vertex_count > Mesh::kSatVertices) return;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
         if (!used[v]) return;
     const double *x = m.vertices.data();

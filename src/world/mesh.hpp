@@ -11,9 +11,9 @@
 
 namespace hgcd {
 
-// The convex path's data about a small convex mesh (convex, not a
-// tetrahedron, at most Mesh::kSatVertices vertices, every vertex used by a
-// triangle).
+// The convex path's data about a small convex mesh (convex, at most
+// Mesh::kSatVertices vertices, every vertex used by a triangle; tetrahedra
+// too: their pairs with other convex meshes take the convex path).
 struct SatData {
     // Separating axes: unit directions in the mesh frame, 3 doubles each, no
     // two parallel, the `faces` face normals first, then the `edges` edge
@@ -95,8 +95,8 @@ struct Mesh {
     std::vector<double> box_cut;
     // What the convex path of the narrow phase (narrow/convex.cpp) needs
     // about a small convex mesh (SatData), behind one pointer so that other
-    // meshes (tetrahedra included: they have a path of their own) carry 8
-    // bytes for it; null for them.
+    // meshes carry 8 bytes for it; null for them. (Tetrahedron pairs take
+    // their own path; a tetrahedron against another convex mesh this one.)
     static constexpr uint32_t kSatVertices = 64;
     std::shared_ptr<const SatData> sat;
     // Triangle tree in the mesh frame; empty for meshes of at most

@@ -123,7 +123,7 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     mesh_users_[slot] = 0;
     ++live_meshes_;
     tetra_meshes_ += meshes_[slot].tetra;
-    sat_meshes_ += meshes_[slot].sat != nullptr;
+    sat_meshes_ += meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
     *out = hgcd_mesh{slot, mesh_gen_[slot]};
     return HGCD_OK;
 }
@@ -137,7 +137,7 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
     if (mesh_free_.capacity() == mesh_free_.size()) mesh_free_.reserve(2 * mesh_free_.size() + 8);
     mesh_alive_[slot] = 0;
     tetra_meshes_ -= meshes_[slot].tetra;
-    sat_meshes_ -= meshes_[slot].sat != nullptr;
+    sat_meshes_ -= meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
     meshes_[slot] = Mesh();
     if (pool_.remove(uint32_t(slot))) refresh_records();  // (the pool closed its holes)
     --live_meshes_;

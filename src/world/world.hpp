@@ -309,8 +309,9 @@ class World {
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
     MeshPool pool_;  // the records of small meshes, by slot (mesh_pool.hpp)
     uint32_t live_meshes_ = 0;
-    // Live meshes that are tetrahedra (Mesh::tetra), and that have Mesh::sat:
-    // what the narrow phase's plan asks, without a pass over the meshes.
+    // Live meshes that are tetrahedra (Mesh::tetra), and the others that have
+    // Mesh::sat (the convex batch is needed only with one of those): what the
+    // narrow phase's plan asks, without a pass over the meshes.
     uint32_t tetra_meshes_ = 0, sat_meshes_ = 0;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;

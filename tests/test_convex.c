@@ -82,6 +82,7 @@ typedef struct {
     hgcd_world *w;
     hgcd_mesh mesh[SHAPE_COUNT];
     size_t n, cap;
+    int per_body; /* each body a mesh of its own, a copy of its shape's arrays */
     int *shape;
     double *pos, *quat, *scale;
 } scene;
@@ -122,6 +123,14 @@ static void add(scene *sc, int shape, const double *p, const double *q, double s
     assert_true(sc->n < sc->cap);
     hgcd_body_desc bd = hgcd_body_desc_default();
     bd.mesh = sc->mesh[shape];
+    if (sc->per_body) {
+        hgcd_mesh_desc md = hgcd_mesh_desc_default();
+        md.vertices = shapes[shape].verts;
+        md.triangles = shapes[shape].tris;
+        md.vertex_count = shapes[shape].vertex_count;
+        md.triangle_count = shapes[shape].triangle_count;
+        assert_int_equal(hgcd_mesh_create(sc->w, &md, &bd.mesh), HGCD_OK);
+    }
     memcpy(bd.position, p, sizeof bd.position);
     memcpy(bd.orientation, q, sizeof bd.orientation);
     bd.scale = scale;
@@ -265,6 +274,28 @@ static void test_few_shapes(void **state) {
         scene_free(&sc);
     }
     assert_true(total > 2000);
+}
+
+/* test_few_shapes's worlds with a mesh per body (copies of the shapes'
+ * arrays: the copies share their convex data, so the batch's steps four
+ * pairs at a time serve them too), the shared meshes of the shapes destroyed
+ * halfway (copies made after that find one of the earlier copies). */
+static void test_mesh_per_body(void **state) {
+    (void)state;
+    static const int sets[][2] = {{TETRA, BOX}, {BOX, HULL}, {TETRA, OFFHULL}, {SLAB, ICOSPHERE}};
+    size_t total = 0;
+    for (uint64_t seed = 1; seed <= 4; ++seed) {
+        rng r = {seed * 49979687};
+        scene sc;
+        scene_init(&sc, 160, (uint32_t)(seed % 2) + 1);
+        sc.per_body = 1;
+        fill_from(&sc, &r, 80, 11, (int)(seed % 2), sets[seed - 1], 2);
+        for (int k = 0; k < SHAPE_COUNT; ++k) assert_int_equal(hgcd_mesh_destroy(sc.w, sc.mesh[k]), HGCD_OK);
+        fill_from(&sc, &r, 80, 11, (int)(seed % 2), sets[seed - 1], 2);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 1000);
 }
 
 static void test_exact_contacts(void **state) {
@@ -629,6 +660,7 @@ int main(void) {
         cmocka_unit_test(test_random_scenes),
         cmocka_unit_test(test_one_shape),
         cmocka_unit_test(test_few_shapes),
+        cmocka_unit_test(test_mesh_per_body),
         cmocka_unit_test(test_exact_contacts),
         cmocka_unit_test(test_hand_built),
         cmocka_unit_test(test_near_touching),

@@ -175,16 +175,19 @@ HGCD_CB_INLINE unsigned mask_of(i64x4 m) {
 // The kernel's vertex poke (convex_kernel.cpp: vertex_poke, vertex_inside,
 // strictly_inside) lane by lane, by its operations on the same values, so
 // its argument holds in each lane: is vertex v[l] of body `out`'s mesh,
-// lane l, strictly inside body `in`? For four pairs whose `in` side shares
-// one mesh (its planes then splat); the lanes where it is, among the lanes
+// lane l, strictly inside body `in`? For four pairs whose sides each share
+// one SatData (the planes of `in` then splat, and the vertices of `out` are
+// read from its runs: the same values as the meshes', which share it only
+// when their arrays are the same); the lanes where it is, among the lanes
 // `want` (the others may be left undecided: the planes stop when every lane
 // wanted is outside one).
 HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, unsigned want) {
     const SatData &m = *in.sat[0];
+    const uint32_t n = out.sat[0]->padded;
+    const double *x = out.sat[0]->soa.data();
     f64x4 l[3], w[3], D[3], z[3];
-    for (int j = 0; j < 3; ++j)
-        l[j] = out.scale * lanes(out.mesh[0]->vertices[3 * size_t(v[0]) + j], out.mesh[1]->vertices[3 * size_t(v[1]) + j],
-                                 out.mesh[2]->vertices[3 * size_t(v[2]) + j], out.mesh[3]->vertices[3 * size_t(v[3]) + j]);
+    for (int j = 0; j < 3; ++j, x += n)
+        l[j] = out.scale * lanes(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
     for (int j = 0; j < 3; ++j) w[j] = out.c[j] + ((out.m[3 * j] * l[0] + out.m[3 * j + 1] * l[1]) + out.m[3 * j + 2] * l[2]);
     for (int j = 0; j < 3; ++j) D[j] = w[j] - in.c[j];
     for (int j = 0; j < 3; ++j) z[j] = (in.m[j] * D[0] + in.m[3 + j] * D[1]) + in.m[6 + j] * D[2];

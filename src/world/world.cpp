@@ -88,6 +88,18 @@ int64_t World::live_mesh(hgcd_mesh id) const {
 
 // ---------------------------------------------------------------- meshes --
 
+// FNV-1a over a mesh's vertex and triangle arrays (sat_slot_).
+static uint64_t sat_key(const Mesh &m) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    const auto mix = [&h](const void *p, size_t n) {
+        const unsigned char *b = static_cast<const unsigned char *>(p);
+        for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+    };
+    mix(m.vertices.data(), m.vertices.size() * sizeof(double));
+    mix(m.triangles.data(), m.triangles.size() * sizeof(uint32_t));
+    return h;
+}
+
 hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     if (!d.vertices) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.vertices is NULL");
     if (!d.triangles) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.triangles is NULL");
@@ -96,6 +108,18 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     std::string error;
     if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error))
         return fail(HGCD_ERROR_INVALID_MESH, "mesh_create: " + error);
+    const uint64_t key = m.sat ? sat_key(m) : 0;
+    if (m.sat) {
+        // (The same arrays give the same SatData: it is made from them alone.)
+        const auto same = sat_slot_.find(key);
+        if (same != sat_slot_.end()) {
+            const Mesh &o = meshes_[same->second];
+            if (o.sat && o.vertices.size() == m.vertices.size() && o.triangles.size() == m.triangles.size() &&
+                !std::memcmp(o.vertices.data(), m.vertices.data(), m.vertices.size() * sizeof(double)) &&
+                !std::memcmp(o.triangles.data(), m.triangles.data(), m.triangles.size() * sizeof(uint32_t)))
+                m.sat = o.sat;
+        }
+    }
     uint32_t slot = mesh_free_.empty() ? uint32_t(meshes_.size()) : mesh_free_.back();
     pool_.reserve(slot, m);  // (may throw: nothing has changed yet)
     if (!mesh_free_.empty()) {
@@ -124,6 +148,12 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     ++live_meshes_;
     tetra_meshes_ += meshes_[slot].tetra;
     sat_meshes_ += meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
+    if (meshes_[slot].sat) {
+        try {
+            sat_slot_.emplace(key, slot);  // (kept for the first: only an economy)
+        } catch (const std::bad_alloc &) {
+        }
+    }
     *out = hgcd_mesh{slot, mesh_gen_[slot]};
     return HGCD_OK;
 }
@@ -138,6 +168,10 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
     mesh_alive_[slot] = 0;
     tetra_meshes_ -= meshes_[slot].tetra;
     sat_meshes_ -= meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
+    if (meshes_[slot].sat) {
+        const auto at = sat_slot_.find(sat_key(meshes_[slot]));
+        if (at != sat_slot_.end() && at->second == uint32_t(slot)) sat_slot_.erase(at);
+    }
     meshes_[slot] = Mesh();
     if (pool_.remove(uint32_t(slot))) refresh_records();  // (the pool closed its holes)
     --live_meshes_;

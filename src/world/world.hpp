@@ -313,6 +313,11 @@ class World {
     // Mesh::sat (the convex batch is needed only with one of those): what the
     // narrow phase's plan asks, without a pass over the meshes.
     uint32_t tetra_meshes_ = 0, sat_meshes_ = 0;
+    // A live mesh with Mesh::sat per hash of its arrays (sat_key): a new
+    // mesh with the same arrays shares its SatData, so that the convex
+    // batch's steps that need one SatData per side of four pairs also serve
+    // bodies that each have a copy of one mesh.
+    std::unordered_map<uint64_t, uint32_t> sat_slot_;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)

@@ -2,6 +2,7 @@
 // it once at creation (closedness, convexity, components, bounding sphere).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -105,8 +106,11 @@ struct Mesh {
 };
 
 // Checks and analyses the arrays, filling *out. Returns false with a message
-// naming the problem when the data is refused.
+// naming the problem when the data is refused. `same`, when given, is asked
+// (with the checked mesh) before Mesh::sat is built, for the SatData of a
+// mesh of the same arrays, taken instead (it is made from them alone).
+using SameSat = std::function<std::shared_ptr<const SatData>(const Mesh &)>;
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
-                uint32_t triangle_count, Mesh *out, std::string *error);
+                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same = nullptr);
 
 }  // namespace hgcd

@@ -104,22 +104,21 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     if (!d.vertices) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.vertices is NULL");
     if (!d.triangles) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.triangles is NULL");
     if (live_meshes_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "mesh_create: too many meshes");
+    // A live mesh of the same arrays lends its SatData (sat_slot_).
+    const auto same = [this](const Mesh &m) -> std::shared_ptr<const SatData> {
+        const auto found = sat_slot_.find(sat_key(m));
+        if (found == sat_slot_.end()) return nullptr;
+        const Mesh &o = meshes_[found->second];
+        if (o.vertex_count != m.vertex_count || o.triangle_count != m.triangle_count ||
+            std::memcmp(o.vertices.data(), m.vertices.data(), m.vertices.size() * sizeof(double)) ||
+            std::memcmp(o.triangles.data(), m.triangles.data(), m.triangles.size() * sizeof(uint32_t)))
+            return nullptr;
+        return o.sat;
+    };
     Mesh m;
     std::string error;
-    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error))
+    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error, same))
         return fail(HGCD_ERROR_INVALID_MESH, "mesh_create: " + error);
-    const uint64_t key = m.sat ? sat_key(m) : 0;
-    if (m.sat) {
-        // (The same arrays give the same SatData: it is made from them alone.)
-        const auto same = sat_slot_.find(key);
-        if (same != sat_slot_.end()) {
-            const Mesh &o = meshes_[same->second];
-            if (o.sat && o.vertices.size() == m.vertices.size() && o.triangles.size() == m.triangles.size() &&
-                !std::memcmp(o.vertices.data(), m.vertices.data(), m.vertices.size() * sizeof(double)) &&
-                !std::memcmp(o.triangles.data(), m.triangles.data(), m.triangles.size() * sizeof(uint32_t)))
-                m.sat = o.sat;
-        }
-    }
     uint32_t slot = mesh_free_.empty() ? uint32_t(meshes_.size()) : mesh_free_.back();
     pool_.reserve(slot, m);  // (may throw: nothing has changed yet)
     if (!mesh_free_.empty()) {
@@ -150,7 +149,7 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     sat_meshes_ += meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
     if (meshes_[slot].sat) {
         try {
-            sat_slot_.emplace(key, slot);  // (kept for the first: only an economy)
+            sat_slot_.emplace(sat_key(meshes_[slot]), slot);  // (kept for the first: only an economy)
         } catch (const std::bad_alloc &) {
         }
     }

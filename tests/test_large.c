@@ -199,15 +199,14 @@ static void turn(double *q, const double *a, double h) {
  * the other. Every bisection step is a detect after a pose change, each with
  * the witness of the one before; both ends are checked with it and from
  * afar (without it). */
-static void touch_by_bisection(int kind_a, const double *qa, double sa, int kind_b, const double *qb, const double *u,
-                               double far) {
+static void touch_scaled(int kind_a, const double *qa, double sa, int kind_b, const double *qb, double sb,
+                         const double *o, const double *u, double far) {
     scene sc;
     scene_init(&sc, 1);
-    const double o[3] = {0.25, -0.5, 1.0};
     add(&sc, kind_a, o, qa, sa);
     double lo = 0, hi = far, pb[3];
     for (int k = 0; k < 3; ++k) pb[k] = o[k] + far * u[k];
-    add(&sc, kind_b, pb, qb, 1.0);
+    add(&sc, kind_b, pb, qb, sb);
     assert_int_equal(colliding(&sc), 0);
     for (int it = 0; it < 90 && hi - lo > 0; ++it) {
         const double mid = 0.5 * lo + 0.5 * hi;
@@ -234,6 +233,12 @@ static void touch_by_bisection(int kind_a, const double *qa, double sa, int kind
         assert_int_equal(check(&sc), side);
     }
     hgcd_world_destroy(sc.w);
+}
+
+static void touch_by_bisection(int kind_a, const double *qa, double sa, int kind_b, const double *qb, const double *u,
+                               double far) {
+    const double o[3] = {0.25, -0.5, 1.0};
+    touch_scaled(kind_a, qa, sa, kind_b, qb, 1.0, o, u, far);
 }
 
 static void random_direction(rng *r, double *u) {
@@ -307,6 +312,70 @@ static void test_fitted_touching(void **state) {
     }
 }
 
+/* The node tests run in one mesh's frame, with rounding margins that grow
+ * with the positions, the ratio of the scales and the quaternions' distance
+ * from unit length: pairs far from the origin, of unequal scales, with
+ * quaternions of squared norm 1 +- 9e-7 (accepted as given), touching to the
+ * last bit: plates and elongated meshes parallel or not along random
+ * directions, plates face to face, lenses pole to pole. */
+static void test_frame_touching(void **state) {
+    (void)state;
+    rng r = {41};
+    static const int kinds[4][2] = {{M_PLATE, M_PLATE}, {M_LONG, M_LONG}, {M_LENS, M_LENS}, {M_LONG, M_ROUND}};
+    static const double scales[4][2] = {{1, 1}, {7, 1}, {0.25, 3}, {1, 0.5}};
+    for (int rep = 0; rep < 32; ++rep) {
+        double qa[4], qb[4], u[3], o[3];
+        random_unit_quaternion(&r, qa);
+        random_unit_quaternion(&r, qb);
+        if (rep % 2 == 0) memcpy(qb, qa, sizeof qb);
+        if (rep % 4 == 1) {
+            /* Axis-aligned, along an axis (as in test_elongated_touching):
+             * node boxes tight at the contact. With a squared norm n, the
+             * half turn q = sqrt(n) (1, 0, 0, 0) gives diag(1, 1 - 2n,
+             * 1 - 2n): a's vertices 9e-7 beyond their node boxes in its
+             * frame. */
+            static const double aligned[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+            memcpy(qa, aligned[(rep / 4) % 3], sizeof qa);
+            memcpy(qb, aligned[(rep / 4 + 1) % 4], sizeof qb);
+        }
+        const int normal = rep % 2 == 0; /* plates face to face, lenses pole to pole */
+        const double stretch_a = sqrt(1 + (normal || rep % 3 ? 9e-7 : -9e-7));
+        const double stretch_b = normal ? stretch_a : sqrt(1 + (rep % 3 ? -9e-7 : 9e-7));
+        for (int k = 0; k < 4; ++k) {
+            qa[k] *= stretch_a;
+            qb[k] *= stretch_b;
+        }
+        random_direction(&r, u);
+        if (rep % 4 == 1) {
+            u[0] = u[1] = u[2] = 0;
+            u[(rep / 4 + 1) % 3] = rep % 8 == 1 ? 1 : -1; /* along a stretched axis */
+        }
+        if (normal) {
+            /* Along the meshes' turned z axis: a's top vertices are the
+             * extremes of their nodes' boxes, and their world images lie up
+             * to about 1e-6 beyond them in a's frame (the quaternion's norm
+             * turns the matrix a little off a rotation). */
+            const double nm[3] = {0.8, 0, 0.6}, x = qa[0], y = qa[1], z = qa[2], w = qa[3];
+            const double m[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
+                                 2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+                                 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)};
+            for (int k = 0; k < 3; ++k) u[k] = (m[3 * k] * nm[0] + m[3 * k + 1] * nm[1]) + m[3 * k + 2] * nm[2];
+            if (rep % 4 == 2) {
+                /* Lenses by their last poles: b turned half a turn about
+                 * its y axis (q (0, 1, 0, 0)), moved along -R nm. Not the
+                 * first vertices, which the containment test checks. */
+                const double t[4] = {-qa[2], qa[3], qa[0], -qa[1]};
+                memcpy(qb, t, sizeof qb);
+                for (int k = 0; k < 3; ++k) u[k] = -u[k];
+            }
+        }
+        for (int k = 0; k < 3; ++k) o[k] = (rep % 2 ? 3000.0 : -700.0) * (1 + unif(&r));
+        const int *kind = kinds[rep % 4];
+        const double *sc = scales[(rep / 4) % 4];
+        touch_scaled(kind[0], qa, sc[0], kind[1], qb, sc[1], o, u, 12 * (sc[0] + sc[1]));
+    }
+}
+
 /* 20 bodies (elongated and round meshes, boxes, one round mesh 50x larger)
  * packed in a small cube, each moving and turning a little per tick: a
  * world on 1 thread and one on 2 see the same poses; every tick both equal
@@ -356,6 +425,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_elongated_touching),
         cmocka_unit_test(test_fitted_touching),
+        cmocka_unit_test(test_frame_touching),
         cmocka_unit_test(test_moving_cluster),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));

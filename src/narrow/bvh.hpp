@@ -88,18 +88,10 @@ void fit_node_obbs(const double *vertices, Bvh &bvh);
 
 struct Mesh;
 
-// The oriented test's axes for one pair (narrow.cpp, prepare_axes): lane k
-// of 8 (6 used: the rows are 64-byte aligned) is axis k, the columns of a's rotation matrix then
-// b's, exactly as rounded; component m of axis k is axis[m][k].
-struct PairAxes {
-    alignas(64) double axis[3][8];
-    alignas(64) double abs_axis[3][8];
-};
-
-constexpr size_t kNodeData = 48;  // doubles cached per node (43 used)
+constexpr size_t kNodeData = 8;  // doubles cached per node (6 used)
 // A posed mesh as the narrow phase sees it during one pair test: world
-// vertices computed on first use, conservative world boxes (and the data of
-// the oriented test) of tree nodes computed on first use. The caches belong
+// vertices computed on first use, conservative world boxes of tree nodes
+// computed on first use. The caches belong
 // to the caller's scratch and are valid for one epoch (one pair test).
 struct BodyView {
     const Mesh *mesh = nullptr;
@@ -123,13 +115,6 @@ struct BodyView {
     // Without a tree, what box() gives: the exact box of the triangles that
     // may meet the other body (root_box until collide_tree narrows it).
     double near_box[6];
-    // The pair's axes (null: the caches hold boxes alone) and, per lane, an
-    // upper bound on |axis . column l| of this body's rotation (gram[l][k]).
-    const PairAxes *axes = nullptr;
-    const NodeObb *obb = nullptr;  // with axes: the nodes' oriented boxes
-    double obb_xi = 0;  // with axes: the Gram bound xi of world_obb (prepare_axes)
-    alignas(64) double gram[3][8];
-
     // World vertex v, computed with transform_point on first use.
     const double *vertex(uint32_t v) {
         double *w = world + 3 * size_t(v);
@@ -139,11 +124,8 @@ struct BodyView {
         }
         return w;
     }
-    // Cached world data of node n (kNodeData doubles): the box (min xyz, max
-    // xyz) that holds every rounded world vertex of the triangles under it,
-    // then 2 unused, then with axes, from 8 on, 8 lanes of projected centres
-    // p, then from 16 on their radii r, then from 24 on the world image of
-    // the node's fitted box (fitted_box), from 43 on the box's margins.
+    // Cached world box of node n (min xyz, max xyz): it holds every rounded
+    // world vertex of the triangles under it.
     const double *box(uint32_t n) {
         if (!nodes) return near_box;
         double *b = boxes + kNodeData * size_t(n);
@@ -165,63 +147,8 @@ struct BodyView {
         for (int k = 0; k < 3; ++k) abs_position[k] = std::fabs(pos[k]);
     }
 
-    // The world image of a node's oriented box o, for obb_pair_separated
-    // (tree_path.cpp). out: centre C (3), axes V_i (9, from 3 + 3i), scaled
-    // halves H_i (3, from 12), then Ex (15) and the own-axis radii (16..18).
-    // margin: node_box's margins of the node's mesh-frame box. Why every rounded world vertex w~ under
-    // the node projects on any axis z (|z_a| <= 1.0001) within
-    //     sum_i H_i |z . V_i| + 1.01 (E_0 + E_1 + E_2)
-    // of z . C, E_a = 1e-14 oreach_a + margin_a + 4e-15 sum_i H_i:
-    //  - a vertex p under the node is c + sum_i b_i u_i exactly, |b_i| <=
-    //    half_i (NodeObb), so its exact image is T(p) = T(c) + sum_i s b_i R u_i
-    //    (T, R as at node_box, R the rounded matrix, taken exactly);
-    //  - w~ is within g_5 M_a <= margin_a of T(p) (node_box's argument, for
-    //    the node's mesh-frame box, which holds p);
-    //  - C = fl(T(c)) is within g_5 M'_a of T(c), M'_a = |pos_a| + sum_j
-    //    |R_aj| s |c_j| <= oreach_a (computed within a few u);
-    //  - V_i = fl(R u_i) is within g_3 |R row a|_2 |u_i|_2 < 4e-16 < 4e-15
-    //    of R u_i per component, and |b_i| s <= H_i (1 + u);
-    //  - |z_a| <= 1.0001, so sum_a |z_a| E_a <= 1.01 sum_a E_a.
-    // The axes z used are the V's themselves: R = n R_u + (1 - n) I with
-    // |n - 1| <= 1e-6 + 1e-15 (the validated |q|^2), so ||R||_2 <= 1 +
-    // 2.1e-6 and |V_ia| <= 1.0001. With rho >= ||R^T R - I||_inf >=
-    // ||R^T R - I||_2 (orthonormal_defect of R^T, per pair), |V_i . V_k -
-    // d_ik| <= |u_i . u_k - d_ik| + rho |u_i|_2 |u_k|_2 + (the V roundings)
-    // <= 1e-12 + rho (1 + 1e-12) + 1.5e-14 <= xi = 1.1e-12 + 1.01 rho: on
-    // its own axis V_i the node's radius is below H_i + xi sum_k H_k +
-    // 1.01 sum_a E_a (own, at 16 + i).
-    // Against another node's axis the dot products are computed per pair;
-    // fl(V_i . W_k) is within g_3 |V_i|_2 |W_k|_2 < 1e-15 of exact, so
-    // sum_k H_k (|fl(z . V_k)| + 1e-15) + 1.01 sum_a E_a bounds the radius:
-    // Ex (15) = 1.01 sum_a E_a + 1e-15 sum_k H_k. All of these are sums of
-    // non-negative terms computed within a relative 1e-15 of exact; the
-    // comparison's factor 1 + 1e-12 covers them. 1e-300s cover underflow.
-    void world_obb(const NodeObb &o, const double *margin, double *out) const {
-        transform_point(r, position, scale, o.center, out);
-        double hsum = 0;
-        for (int i = 0; i < 3; ++i) {
-            const double *u = o.axis + 3 * i;
-            for (int a = 0; a < 3; ++a)
-                out[3 + 3 * i + a] = (r.m[3 * a] * u[0] + r.m[3 * a + 1] * u[1]) + r.m[3 * a + 2] * u[2];
-            out[12 + i] = scale * o.half[i];
-            hsum += out[12 + i];
-        }
-        const double sc0 = scale * std::fabs(o.center[0]), sc1 = scale * std::fabs(o.center[1]),
-                     sc2 = scale * std::fabs(o.center[2]);
-        double esum = 0;
-        for (int a = 0; a < 3; ++a) {
-            const double *ar = &abs_r[3 * a];
-            const double oreach = abs_position[a] + (ar[0] * sc0 + ar[1] * sc1 + ar[2] * sc2);
-            esum += (1e-14 * oreach + 1e-300) + margin[a] + 4e-15 * hsum;
-        }
-        const double ew = 1.01 * esum;
-        out[15] = ew + 1e-15 * hsum + 1e-300;
-        for (int i = 0; i < 3; ++i) out[16 + i] = out[12 + i] + obb_xi * hsum + ew;
-    }
-
     // World box of a node: the image of its mesh-frame box, inflated by a
-    // rounding margin, and with axes its projections on them. out: box (6),
-    // 2 unused, projected centres p (8), radii r (8).
+    // rounding margin. out: box (min xyz, max xyz).
     //
     // Why the box holds every rounded world vertex w~ = fl(T(m)) of a point
     // m of the node's box [c - h, c + h] (T(m) = pos + R (s m), R the
@@ -240,16 +167,6 @@ struct BodyView {
     // five covers the rounding of the margin itself). Underflow adds at most a
     // few 2^-1074 per operation: the 1e-300 term. No overflow: coordinates
     // are below 1e15 and |R_aj| <= 1 + 1e-6.
-    //
-    // Why, for each axis x (any vector), every w~ under the node projects
-    // into [p - r, p + r]: by the above, w~ - wc = R (s (m - c)) + e with
-    // |e_a| <= 2 margin_a, so x . w~ lies within sum_l s h_l |x . col_l| +
-    // 2 sum_a |x_a| margin_a of x . wc (col_l the columns of R; gram holds
-    // upper bounds on |x . col_l|); and p = fl(x . wc) is within g_3 sum_a
-    // |x_a| |wc_a| <= 1e-15 sum_a |x_a| |wc_a| of x . wc. r is that sum of
-    // bounds, evaluated in a few roundings (relative error under 1e-15) and
-    // times 1 + 1e-11: above the exact bound by a factor 1 + 9e-12, the slack
-    // obb_separated's comparison uses. 1e-300 covers underflow.
     void node_box(const BvhNode &node, double *out) const {
         double wc[3];
         transform_point(r, position, scale, node.center, wc);
@@ -258,27 +175,13 @@ struct BodyView {
         const double sm0 = scale * (std::fabs(node.center[0]) + node.half[0]);
         const double sm1 = scale * (std::fabs(node.center[1]) + node.half[1]);
         const double sm2 = scale * (std::fabs(node.center[2]) + node.half[2]);
-        double t[3], margins[3];
         for (int a = 0; a < 3; ++a) {
             const double *ar = &abs_r[3 * a];
             const double extent = ar[0] * sh0 + ar[1] * sh1 + ar[2] * sh2;
             const double reach = abs_position[a] + (ar[0] * sm0 + ar[1] * sm1 + ar[2] * sm2);
-            const double margin = 1e-14 * reach + 1e-300;
-            const double d = extent + margin;
+            const double d = extent + (1e-14 * reach + 1e-300);
             out[a] = wc[a] - d;
             out[3 + a] = wc[a] + d;
-            t[a] = 2 * margin + 1e-15 * std::fabs(wc[a]);
-            margins[a] = margin;
-        }
-        if (!axes) return;
-        world_obb(obb[&node - nodes], margins, out + 24);
-        const PairAxes &x = *axes;
-        double *p = out + 8, *rad = out + 16;
-        for (int k = 0; k < 6; ++k) {  // (lanes 6 and 7 stay unused)
-            p[k] = (x.axis[0][k] * wc[0] + x.axis[1][k] * wc[1]) + x.axis[2][k] * wc[2];
-            const double spread = (gram[0][k] * sh0 + gram[1][k] * sh1) + gram[2][k] * sh2;
-            const double slack = (x.abs_axis[0][k] * t[0] + x.abs_axis[1][k] * t[1]) + x.abs_axis[2][k] * t[2];
-            rad[k] = (spread + slack) * (1 + 1e-11) + 1e-300;
         }
     }
 };

@@ -93,6 +93,10 @@ struct NarrowScratch {
         // 10000-triangle meshes would cost more than the pair test itself.
         std::unique_ptr<double[]> world, boxes;
         std::vector<uint32_t> vertex_stamp, box_stamp;
+        // Images of the nodes in the other side's mesh frame (rel_frame.hpp),
+        // kImage doubles each (side 1 only).
+        std::unique_ptr<double[]> images;
+        std::vector<uint32_t> image_stamp;
     } side[2];
     uint32_t epoch = 0;
     std::vector<uint64_t> pair_stack;   // (node of a) << 32 | node of b

@@ -5,13 +5,13 @@
 // bodies: for two large meshes in shallow contact, transforming them all
 // costs more than the whole test. (Caching them per body per tick would need
 // storage owned by the world, for little: a body takes part in few pairs.)
-// Node boxes are conservative world boxes of the
-// mesh-frame node boxes (BodyView::node_box argues the margin), refined above
-// the leaves by a separating-axis test on both rotations' face directions
-// with the same margins (obb_separated), so a node pair is skipped only when
-// no rounded world vertex under one can share a point with the other; leaves
-// get exact triangle boxes from the world vertices and the exact triangle
-// test, exactly as the direct path.
+// When both meshes have trees (and no margin), the node tests run in a's
+// mesh frame (rel_frame.hpp): a's boxes as built, b's nodes mapped there once
+// per pair. Otherwise node boxes are conservative world boxes of the
+// mesh-frame node boxes (BodyView::node_box argues the margin). Either way a
+// node pair is skipped only when no rounded world vertex under one can share
+// a point with the other; leaves get exact triangle boxes from the world
+// vertices and the exact triangle test, exactly as the direct path.
 #include "common/ieee.hpp"
 
 #include <algorithm>
@@ -21,6 +21,7 @@
 #include "narrow/boxes.hpp"
 #include "narrow/bvh.hpp"
 #include "narrow/narrow.hpp"
+#include "narrow/rel_frame.hpp"
 
 namespace hgcd {
 
@@ -31,6 +32,7 @@ void next_epoch(NarrowScratch &s) {
         for (auto &c : s.side) {
             std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
             std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
+            std::fill(c.image_stamp.begin(), c.image_stamp.end(), 0u);
         }
         s.epoch = 1;
     }
@@ -76,7 +78,6 @@ void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, 
     v.tris = m.bvh.tris.data();
     v.tri_ids = m.bvh.tri_ids.data();
     v.boxes = c.boxes.get();
-    v.obb = m.bvh.obb.data();
     v.box_stamp = c.box_stamp.data();
 }
 
@@ -153,87 +154,6 @@ inline double dist2(const double *x, const double *y) {
 
 inline double box_size(const double *b) { return (b[3] - b[0]) + (b[4] - b[1]) + (b[5] - b[2]); }
 
-// The oriented test's axes (PairAxes: the columns of both rotation
-// matrices) and each body's gram: gram[l][k] >= |axis_k . col_l| exactly,
-// col_l its own columns: the computed dot product is within g_3 sum_m
-// |axis_km col_lm| of the exact one, and 2e-15 times that sum covers it
-// with the rounding of the bound itself.
-void prepare_axes(BodyView &a, BodyView &b, PairAxes &x) {
-    for (int m = 0; m < 3; ++m)
-        for (int k = 0; k < 8; ++k) x.axis[m][k] = 0;
-    for (int j = 0; j < 3; ++j)
-        for (int m = 0; m < 3; ++m) {
-            x.axis[m][j] = a.r.m[3 * m + j];
-            x.axis[m][3 + j] = b.r.m[3 * m + j];
-        }
-    for (int m = 0; m < 3; ++m)
-        for (int k = 0; k < 8; ++k) x.abs_axis[m][k] = std::fabs(x.axis[m][k]);
-    for (BodyView *v : {&a, &b}) {
-        for (int l = 0; l < 3; ++l)
-            for (int k = 0; k < 8; ++k) {
-                const double c0 = v->r.m[l], c1 = v->r.m[3 + l], c2 = v->r.m[6 + l];
-                const double dot = (x.axis[0][k] * c0 + x.axis[1][k] * c1) + x.axis[2][k] * c2;
-                const double mag = (std::fabs(x.axis[0][k] * c0) + std::fabs(x.axis[1][k] * c1)) +
-                                   std::fabs(x.axis[2][k] * c2);
-                v->gram[l][k] = std::fabs(dot) + 2e-15 * mag;
-            }
-        v->axes = &x;
-        const double *m = v->r.m;
-        const double columns[9] = {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
-        v->obb_xi = 1.1e-12 + 1.01 * orthonormal_defect(columns);
-    }
-}
-
-// Separating-axis test of two nodes' world images along the six axes
-// (PairAxes): every rounded world vertex under node a projects into
-// [p_a - r_a, p_a + r_a] exactly (node_box), likewise under b, so the two
-// sets (and the triangles they span) are apart when on some axis
-// |p_b - p_a| > r_a + r_b exactly. Computed, |fl(p_b - p_a)| is within u of
-// the exact difference and fl(r_a + r_b) within u of the exact sum, both
-// far inside the slack 1 + 9e-12 that the radii carry, so a computed `>`
-// is certain.
-inline bool obb_separated(const double *na, const double *nb) {
-    const double *pa = na + 8, *pb = nb + 8, *ra = na + 16, *rb = nb + 16;
-    bool apart = false;
-    for (int k = 0; k < 6; ++k) apart |= std::fabs(pb[k] - pa[k]) > ra[k] + rb[k];
-    return apart;
-}
-
-// Separating-axis test of two nodes' oriented boxes (BodyView::world_obb)
-// on the six face axes z = V_i of both: every rounded world vertex under a
-// node projects within its radius of z . C, so the nodes' triangles are apart
-// when |z . (C_b - C_a)| > r_a + r_b exactly. Computed, t = fl(z . fl(C_b -
-// C_a)) is within (u + g_3 (1 + u)) sum_m |z_m| |d_m| < 5e-16 * 1.0001 |d|_1
-// of it (|z_m| <= 1.0001), so `slack` = 1e-15 fl(|d|_1) covers it twice
-// over; the radii are sums of non-negative terms within a relative 1e-15 of
-// their values, which the factor 1 + 1e-12 covers, with the rounding of the
-// final sums. So a computed `>` is certain.
-inline bool obb_pair_separated(const double *na, const double *nb) {
-    const double *oa = na + 24, *ob = nb + 24;
-    const double *va = oa + 3, *vb = ob + 3, *ha = oa + 12, *hb = ob + 12;
-    const double d[3] = {ob[0] - oa[0], ob[1] - oa[1], ob[2] - oa[2]};
-    const double slack = 1e-15 * ((std::fabs(d[0]) + std::fabs(d[1])) + std::fabs(d[2]));
-    double rel[3][3];  // |V_a,i . V_b,j|
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-            const double *x = va + 3 * i, *y = vb + 3 * j;
-            rel[i][j] = std::fabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
-        }
-    for (int i = 0; i < 3; ++i) {
-        const double *z = va + 3 * i;
-        const double t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
-        const double rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + ob[15];
-        if (std::fabs(t) > (oa[16 + i] + rb) * (1 + 1e-12) + slack) return true;
-    }
-    for (int j = 0; j < 3; ++j) {
-        const double *z = vb + 3 * j;
-        const double t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
-        const double ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) + oa[15];
-        if (std::fabs(t) > (ob[16 + j] + ra) * (1 + 1e-12) + slack) return true;
-    }
-    return false;
-}
-
 // Is the box `other` (which holds every rounded world vertex under a node of
 // the other body) strictly on one side of the plane of each triangle of leaf
 // n of v? Then no triangle under that node meets the leaf. The axis is the
@@ -278,13 +198,22 @@ bool leaf_planes_apart(BodyView &v, uint32_t n, const double *other) {
 // deep inside a large mesh, or near its flat faces, stops there.
 constexpr uint32_t kPlaneLeaf = 16;
 
+// The leaf of a node pair one of whose nodes is a leaf: is the other node
+// (world box `other`) strictly off the planes of the leaf's triangles?
+inline bool plane_cut(BodyView &lv, uint32_t ln, const double *other) {
+    uint32_t first, count;
+    leaf_range(lv, ln, first, count);
+    return count <= kPlaneLeaf && leaf_planes_apart(lv, ln, other);
+}
+
 // Do the surfaces meet under the node pair (start_a, start_b)? meet: the
-// meeting triangles (leaf order), leaves: their leaves. With kMargin:
-// surfaces within d, node boxes grown by d (the oriented and plane tests,
-// which would need their own margin argument, are left out: oriented false).
+// meeting triangles (leaf order), leaves: their leaves. Node tests on world
+// boxes (a side may have no tree). With kMargin: surfaces within d, node
+// boxes grown by d (the plane test, which would need its own margin
+// argument, is left out).
 template <bool kMargin>
-bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, uint32_t start_a,
-                   uint32_t start_b, uint32_t *meet, uint32_t *leaves, double d) {
+bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t start_a, uint32_t start_b, uint32_t *meet,
+                   uint32_t *leaves, double d) {
     std::vector<uint64_t> &stack = s.pair_stack;
     stack.clear();
     stack.push_back((uint64_t(start_a) << 32) | start_b);
@@ -295,17 +224,7 @@ bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, ui
         const double *ba = a.box(i), *bb = b.box(j);
         if (kMargin ? boxes_apart(ba, bb, d) : boxes_disjoint(ba, bb)) continue;
         const bool la = a.leaf(i), lb = b.leaf(j);
-        // The nodes' fitted boxes, then (above the leaves, where it pays)
-        // the separating axes of their mesh-frame boxes.
-        if (oriented && obb_pair_separated(ba, bb)) continue;
-        if (oriented && !(la && lb) && obb_separated(ba, bb)) continue;
-        if (!kMargin && la != lb) {
-            BodyView &lv = la ? a : b;
-            const uint32_t ln = la ? i : j;
-            uint32_t first, count;
-            leaf_range(lv, ln, first, count);
-            if (count <= kPlaneLeaf && leaf_planes_apart(lv, ln, la ? bb : ba)) continue;
-        }
+        if (!kMargin && la != lb && (la ? plane_cut(a, i, bb) : plane_cut(b, j, ba))) continue;
         if (la && lb) {
             if (leaves_meet<kMargin>(a, i, ba, b, j, bb, s, meet, d)) {
                 leaves[0] = i;
@@ -330,6 +249,90 @@ bool surfaces_meet(BodyView &a, BodyView &b, bool oriented, NarrowScratch &s, ui
             const bool swap = dist2(b.box(c), ba) > dist2(b.box(c + 1), ba);
             stack.push_back((uint64_t(i) << 32) | (c + !swap));
             stack.push_back((uint64_t(i) << 32) | (c + swap));
+        }
+    }
+    return false;
+}
+
+// b's node images in a's frame (rel_frame.hpp), computed on first use in the
+// pair.
+struct Images {
+    const RelFrame *f;
+    const NodeObb *obb;
+    double *data;
+    uint32_t *stamp;
+    uint32_t epoch;
+    const double *operator()(uint32_t n) {
+        double *m = data + kImage * size_t(n);
+        if (stamp[n] != epoch) {
+            node_image(*f, obb[n], m);
+            stamp[n] = epoch;
+        }
+        return m;
+    }
+};
+
+inline double sq(double x) { return x * x; }
+
+// surfaces_meet for two meshes with trees, without a margin: the node tests
+// in a's mesh frame (rel_apart2), the same plane test and leaves. A node
+// pair is tested before it is pushed, the two children of a descent at once,
+// so the stack holds only pairs that passed.
+bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
+                       uint32_t start_b, uint32_t *meet, uint32_t *leaves) {
+    const BvhNode *na = a.nodes, *nb = b.nodes;
+    const NodeObb *oa = a.mesh->bvh.obb.data();
+    const RelFrame &f = *img.f;
+    std::vector<uint64_t> &stack = s.pair_stack;
+    stack.clear();
+    {
+        const double *m = img(start_b);
+        if (rel_apart2(f, na[start_a], oa[start_a], m, na[start_a], oa[start_a], m) & 1) return false;
+    }
+    stack.push_back((uint64_t(start_a) << 32) | start_b);
+    while (!stack.empty()) {
+        const uint64_t top = stack.back();
+        stack.pop_back();
+        const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
+        const double *mb = img(j);
+        const bool la = na[i].count != 0, lb = nb[j].count != 0;
+        // The plane test where it pays: a leaf at least as large as the
+        // other node (sizes in a's frame), as a body deep inside a much
+        // larger mesh meets that mesh's leaves (between meshes of like
+        // sizes it cut 105 of 1.2M node pairs on `scanned`).
+        const double *h = na[i].half;
+        const double size_a = (h[0] + h[1]) + h[2], size_b = (mb[15] + mb[16]) + mb[17];
+        if (la != lb && (la ? size_a >= size_b && plane_cut(a, i, b.box(j))
+                            : size_b >= size_a && plane_cut(b, j, a.box(i))))
+            continue;
+        if (la && lb) {
+            if (leaves_meet<false>(a, i, a.box(i), b, j, b.box(j), s, meet, 0)) {
+                leaves[0] = i;
+                leaves[1] = j;
+                return true;
+            }
+            continue;
+        }
+        // As surfaces_meet: the larger node descended, the child farther from
+        // the other node first (sizes and centres in a's frame).
+        if (lb || (!la && size_a >= size_b)) {
+            const uint32_t c = na[i].first;
+            const double *x = na[c].center, *y = na[c + 1].center;
+            const bool swap = (sq(x[0] - mb[0]) + sq(x[1] - mb[1])) + sq(x[2] - mb[2]) >
+                              (sq(y[0] - mb[0]) + sq(y[1] - mb[1])) + sq(y[2] - mb[2]);
+            const unsigned apart = rel_apart2(f, na[c], oa[c], mb, na[c + 1], oa[c + 1], mb);
+            const uint32_t first = c + !swap, second = c + swap;
+            if (!(apart >> (first - c) & 1)) stack.push_back((uint64_t(first) << 32) | j);
+            if (!(apart >> (second - c) & 1)) stack.push_back((uint64_t(second) << 32) | j);
+        } else {
+            const uint32_t c = nb[j].first;
+            const double *x = img(c), *y = img(c + 1), *z = na[i].center;
+            const bool swap = (sq(x[0] - z[0]) + sq(x[1] - z[1])) + sq(x[2] - z[2]) >
+                              (sq(y[0] - z[0]) + sq(y[1] - z[1])) + sq(y[2] - z[2]);
+            const unsigned apart = rel_apart2(f, na[i], oa[i], x, na[i], oa[i], y);
+            const uint32_t first = c + !swap, second = c + swap;
+            if (!(apart >> (first - c) & 1)) stack.push_back((uint64_t(i) << 32) | first);
+            if (!(apart >> (second - c) & 1)) stack.push_back((uint64_t(i) << 32) | second);
         }
     }
     return false;
@@ -393,10 +396,26 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     BodyView va, vb;
     prepare_side(a, s.side[0], s.epoch, va);
     prepare_side(b, s.side[1], s.epoch, vb);
-    // (The axes of the oriented test first: the node caches fill with both.)
-    PairAxes axes;
-    const bool oriented = !kMargin && va.nodes && vb.nodes;
-    if (oriented) prepare_axes(va, vb, axes);
+    // Both with trees: the node tests in a's mesh frame.
+    RelFrame frame;
+    Images img{&frame, nullptr, nullptr, nullptr, s.epoch};
+    const bool rel = !kMargin && va.nodes && vb.nodes;
+    if (rel) {
+        prepare_frame(va, vb, frame);
+        NarrowScratch::Side &c = s.side[1];
+        const size_t nn = b.mesh->bvh.nodes.size();
+        if (c.image_stamp.size() < nn) {
+            c.image_stamp.resize(nn, 0);
+            c.images.reset(new double[kImage * nn]);
+        }
+        img.obb = b.mesh->bvh.obb.data();
+        img.data = c.images.get();
+        img.stamp = c.image_stamp.data();
+    }
+    auto search = [&](uint32_t na, uint32_t nb, uint32_t *meet, uint32_t *leaves) {
+        return rel ? surfaces_meet_rel(va, vb, img, s, na, nb, meet, leaves)
+                   : surfaces_meet<kMargin>(va, vb, s, na, nb, meet, leaves, d);
+    };
     // Conservative prefilter: the solids lie inside the root boxes.
     if (kMargin ? boxes_apart(va.box(0), vb.box(0), d) : boxes_disjoint(va.box(0), vb.box(0)))
         return Contact::None;
@@ -416,9 +435,9 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         const uint32_t na = va.nodes ? uint32_t(a.mesh->bvh.nodes.size()) : 1;
         const uint32_t nb = vb.nodes ? uint32_t(b.mesh->bvh.nodes.size()) : 1;
         if (hint->node_a < na && hint->node_b < nb)
-            met = surfaces_meet<kMargin>(va, vb, oriented, s, hint->node_a, hint->node_b, meet, leaves, d);
+            met = search(hint->node_a, hint->node_b, meet, leaves);
     }
-    if (met || surfaces_meet<kMargin>(va, vb, oriented, s, 0, 0, meet, leaves, d)) {
+    if (met || search(0, 0, meet, leaves)) {
         if (witness)
             *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
         if (hint) *hint = NodeHint{ancestor(a.mesh->bvh, leaves[0]), ancestor(b.mesh->bvh, leaves[1]), true};

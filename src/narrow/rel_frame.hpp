@@ -1,0 +1,210 @@
+// The tree path's node tests in the frame of one body's mesh: a pair of
+// meshes with trees is traversed in a's mesh frame, where a's node boxes (the
+// mesh-frame box and the fitted box, built with the tree) are used as they
+// are, and each of b's nodes is mapped there once per pair (its image: the
+// fitted box's centre and axes through the pair's relative transform). So a
+// node pair costs one image at most, not two world images.
+//
+// Exactness. The answer is defined on the rounded world vertices w~ =
+// fl(T(p)) of both bodies (hgcd.h), T(p) = pos + R (s p) with R the rounded
+// rotation matrix taken exactly. Let Phi(w) = R_a^T (w - pos_a) / s_a, with
+// R_a^T the exact transpose: an invertible affine map (R_a is within 1e-5 of
+// a rotation, the quaternion being unit to within 1e-6), so two sets of
+// triangles are disjoint when their images under Phi are. Every test below
+// shows that Phi of the rounded world vertices under a's node and those
+// under b's node lie in two convex sets strictly apart; the triangles they
+// span lie in those sets too, so they are disjoint.
+//
+// Norms: |x| is the max norm, u = 2^-53, g_k = k u / (1 - k u). The
+// rotation matrix of a quaternion q with |q|^2 = n (validated: |n - 1| <=
+// 1e-6) is n R_u + (1 - n) I, R_u a rotation (rotation_entries), so with
+// the entries' roundings ||R||_2 <= 1 + 2.1e-6: rows and columns have 2-norm
+// below that and 1-norm <= 1.74; L_a = max_k (|c_k| + h_k) of a's root box bounds |p|
+// for every vertex p of a (the root's mesh-frame box holds them all), P_a =
+// |pos_a|; likewise for b; sigma = s_b / s_a.
+//
+// a's vertices. w~ = T_a(p) + e, |e| <= g_5 (P_a + 1.74 s_a L_a) (the five
+// roundings of transform_point, as at BodyView::world_box). Phi(w~) = R_a^T
+// R_a p + R_a^T e / s_a = p + D p + R_a^T e / s_a with D = R_a^T R_a - I,
+// ||D||_inf <= rho_a (orthonormal_defect of R_a's columns), so |Phi(w~) - p|
+// <= rho_a L_a + 1.74 g_5 (P_a / s_a + 1.74 L_a) <= mu_a (RelFrame::mu_a,
+// twice that with the roundings of its own evaluation).
+//
+// b's vertices. Phi(w~) = t + Q q + R_a^T e / s_a, t = R_a^T (pos_b -
+// pos_a) / s_a, Q = sigma R_a^T R_b, exactly. Computed: t~ (a subtraction, a
+// dot product, a division: within (1.74 u + 1.74 g_3 + 1.75 u) (P_a + P_b) /
+// s_a < 1e-15 (P_a + P_b) / s_a of t) and Q~ (each entry a dot product of two
+// columns, |.| <= 1.00001, times fl(sigma): within 6e-16 sigma of Q's), so
+// with F(q) = t~ + Q~ q (exact), |Phi(w~) - F(q)| <= 1e-15 (P_a + P_b) /
+// s_a + 3e-15 sigma L_b + 1e-15 (P_b / s_a + 1.74 sigma L_b), the pair's
+// part mu_b below (doubled, with 2e-15 |t~| of the node images' centres).
+// b's node: every vertex q under it is c + sum_j b_j v_j exactly, |b_j| <=
+// half_j (NodeObb), so F(q) = C + sum_j b_j V_j + d with C = fl(t~ + Q~ c),
+// V_j = fl(Q~ v_j) (the image) and |d| <= g_4 (|t~| + qmax |c|_1) + sum_j
+// half_j g_3 qmax |v_j|_1 <= 1e-15 |t~| + 1e-15 qmax (|c|_1 + sum half)
+// (qmax = max |Q~_ij|, |v_j|_1 <= 1.74). So Phi of b's rounded vertices
+// under the node lie in C + sum_j b_j V_j + a cube of half-side eps_b =
+// mu_b + 2e-15 qmax (|c|_1 + sum half) (the node's eps).
+//
+// |V_j|_2 <= ||Q~||_2 (1 + 1e-12) + rounding <= 1.0001 sigma <= qn =
+// 1.001 fl(sigma); |u_i|_2 <= 1.0001 for a's fitted axes u_i; a computed dot
+// product fl(x . y) is within g_3 |x|_2 |y|_2 < 3.4e-16 |x|_2 |y|_2 of x . y.
+// The comparisons: every radius is a sum of non-negative terms computed
+// within a relative 1e-15 of its value, so the factor 1 + 1e-12 covers them
+// with the rounding of the sum and of the centres' difference (the box
+// test); the projection of the centres' difference gets its own slack (at
+// rel_apart).
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "common/simd.hpp"
+#include "narrow/bvh.hpp"
+
+namespace hgcd {
+
+struct RelFrame {
+    double t[3];      // t~
+    double q[9];      // Q~, row-major: column j is b's mesh axis j in a's frame
+    double mu_a;      // a's rounded vertices are within mu_a of their mesh points
+    double mu_b;      // the pair's part of each node image's eps
+    double node_eps;  // times (|c|_1 + sum half): the node's part (2e-15 qmax)
+    double qn;        // >= |V_j|_2 of every image axis
+};
+
+// Doubles per node image (RelFrame: BodyView::image): centre C (0..2), axes
+// V_j (3 + 3j), halves (12..14), half extents in a's frame (15..17), radii
+// on their own axes (18..20), |V_j|_1 (21..23), the radius on any a axis
+// beyond the halves' (24: 1e-15 qn sum half + 1.74 eps).
+constexpr size_t kImage = 32;
+
+// The frame of the pair (a, b): a's mesh frame.
+inline void prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
+    const double *ra = a.r.m, *rb = b.r.m;
+    const double d[3] = {b.position[0] - a.position[0], b.position[1] - a.position[1],
+                         b.position[2] - a.position[2]};
+    double tmax = 0;
+    for (int i = 0; i < 3; ++i) {
+        f.t[i] = ((ra[i] * d[0] + ra[3 + i] * d[1]) + ra[6 + i] * d[2]) / a.scale;
+        tmax = std::max(tmax, std::fabs(f.t[i]));
+    }
+    const double sigma = b.scale / a.scale;
+    double qmax = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            f.q[3 * i + j] = ((ra[i] * rb[j] + ra[3 + i] * rb[3 + j]) + ra[6 + i] * rb[6 + j]) * sigma;
+            qmax = std::max(qmax, std::fabs(f.q[3 * i + j]));
+        }
+    auto reach = [](const BvhNode &root) {
+        return std::max(std::max(std::fabs(root.center[0]) + root.half[0], std::fabs(root.center[1]) + root.half[1]),
+                        std::fabs(root.center[2]) + root.half[2]);
+    };
+    auto pmax = [](const double *p) { return std::max(std::max(std::fabs(p[0]), std::fabs(p[1])), std::fabs(p[2])); };
+    const double la = reach(a.nodes[0]), lb = reach(b.nodes[0]);
+    const double pa = pmax(a.position) / a.scale, pab = (pmax(a.position) + pmax(b.position)) / a.scale;
+    const double columns[9] = {ra[0], ra[3], ra[6], ra[1], ra[4], ra[7], ra[2], ra[5], ra[8]};
+    const double rho = orthonormal_defect(columns);
+    f.mu_a = (2e-15 * pa + (4e-15 + 1.01 * rho) * la) * (1 + 1e-10) + 1e-300;
+    f.mu_b = (6e-15 * pab + 1e-14 * sigma * lb + 2e-15 * tmax) * (1 + 1e-10) + 1e-300;
+    f.node_eps = 2e-15 * qmax;
+    f.qn = 1.001 * sigma;
+}
+
+// The image of b's node o in a's frame (kImage doubles at out).
+inline void node_image(const RelFrame &f, const NodeObb &o, double *out) {
+    const double *q = f.q, *c = o.center;
+    for (int i = 0; i < 3; ++i)
+        out[i] = f.t[i] + ((q[3 * i] * c[0] + q[3 * i + 1] * c[1]) + q[3 * i + 2] * c[2]);
+    for (int j = 0; j < 3; ++j) {
+        const double *v = o.axis + 3 * j;
+        for (int i = 0; i < 3; ++i)
+            out[3 + 3 * j + i] = (q[3 * i] * v[0] + q[3 * i + 1] * v[1]) + q[3 * i + 2] * v[2];
+        out[12 + j] = o.half[j];
+    }
+    const double hsum = (o.half[0] + o.half[1]) + o.half[2];
+    const double eps = f.mu_b + f.node_eps * (((std::fabs(c[0]) + std::fabs(c[1])) + std::fabs(c[2])) + hsum);
+    const double *h = o.half, *V = out + 3;
+    for (int k = 0; k < 3; ++k)
+        out[15 + k] = ((h[0] * std::fabs(V[k]) + h[1] * std::fabs(V[3 + k])) + h[2] * std::fabs(V[6 + k])) + eps;
+    for (int j = 0; j < 3; ++j)
+        out[21 + j] = (std::fabs(V[3 * j]) + std::fabs(V[3 * j + 1])) + std::fabs(V[3 * j + 2]);
+    double g[3][3];
+    for (int j = 0; j < 3; ++j)
+        for (int k = j; k < 3; ++k) {
+            const double *x = V + 3 * j, *y = V + 3 * k;
+            g[j][k] = g[k][j] = std::fabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
+        }
+    const double own_err = 1e-15 * f.qn * f.qn * hsum + 1e-300;
+    for (int j = 0; j < 3; ++j)
+        out[18 + j] = (((h[0] * g[j][0] + h[1] * g[j][1]) + h[2] * g[j][2]) + own_err) + eps * out[21 + j];
+    out[24] = (1e-15 * f.qn * hsum + 1.74 * eps) + 1e-300;
+}
+
+// Two node pairs at once, one per lane (f64x2: each lane does the IEEE
+// double operations of the scalar formulas, so the bits do not depend on the
+// vector width): lane l pairs a's node (n_l, o_l) with b's node image m_l.
+// Bit l of the result is set when that pair is certainly apart. First the
+// boxes in a's frame: a's vertices lie within mu_a of [c - h, c + h]
+// (BvhNode), b's within the half extents of C (the image's fitted box and its
+// eps, projected on the frame's axes). Then the fitted boxes on their six
+// face axes z: a's vertices project on z within sum_i half_i |z . u_i| (+
+// mu_a |z|_1) of z . c_a, b's within sum_j half_j |z . V_j| (+ eps |z|_1) of
+// z . C. On a's own axis z = u_i the first is below half_i + 1e-12 sum half
+// (||U U^T - I||_inf <= 1e-12, NodeObb), |u_i|_1 <= 1.74; the cross terms
+// carry 1e-15 qn sum half for the dot products' roundings. The centres'
+// projection t = fl(z . fl(C - c_a)) is within (u + g_3 (1 + u)) |z|_1 |C -
+// c_a|_inf < 5e-16 |z|_1 |C - c_a|_1 of exact (dl below is |C - c_a|_1,
+// computed within 2u): the slack 2e-15 dl on a's axes (|z|_1 <= 1.74), 1e-15
+// |V_j|_1 dl on b's.
+inline unsigned rel_apart2(const RelFrame &f, const BvhNode &n0, const NodeObb &o0, const double *m0,
+                           const BvhNode &n1, const NodeObb &o1, const double *m1) {
+    auto v = [](double x, double y) { return f64x2{x, y}; };
+    auto vabs = [](f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); };
+    auto bits = [](i64x2 x) { return unsigned((x[0] & 1) | (x[1] & 2)); };
+    const f64x2 mu_a = v(f.mu_a, f.mu_a), grow = v(1 + 1e-12, 1 + 1e-12), tiny = v(1e-300, 1e-300);
+    i64x2 apart = {0, 0};
+    for (int k = 0; k < 3; ++k) {
+        const f64x2 d = v(m0[k], m1[k]) - v(n0.center[k], n1.center[k]);
+        apart |= vabs(d) > ((v(n0.half[k], n1.half[k]) + mu_a) + v(m0[15 + k], m1[15 + k])) * grow;
+    }
+    if ((apart[0] & apart[1]) != 0) return 3;
+    f64x2 d[3], V[9], ha[3], hb[3], u[9];
+    for (int k = 0; k < 3; ++k) {
+        d[k] = v(m0[k], m1[k]) - v(o0.center[k], o1.center[k]);
+        ha[k] = v(o0.half[k], o1.half[k]);
+        hb[k] = v(m0[12 + k], m1[12 + k]);
+    }
+    for (int k = 0; k < 9; ++k) {
+        V[k] = v(m0[3 + k], m1[3 + k]);
+        u[k] = v(o0.axis[k], o1.axis[k]);
+    }
+    const f64x2 dl = (vabs(d[0]) + vabs(d[1])) + vabs(d[2]);
+    const f64x2 hsum = (ha[0] + ha[1]) + ha[2];
+    f64x2 rel[3][3];  // |u_i . V_j|
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const f64x2 *x = u + 3 * i, *y = V + 3 * j;
+            rel[i][j] = vabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
+        }
+    const f64x2 own_a = (v(1e-12, 1e-12) * hsum + v(1.74, 1.74) * mu_a) + tiny;
+    const f64x2 slack_a = v(2e-15, 2e-15) * dl + tiny;
+    const f64x2 extra_b = v(m0[24], m1[24]);
+    for (int i = 0; i < 3; ++i) {
+        const f64x2 *z = u + 3 * i;
+        const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const f64x2 rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + extra_b;
+        apart |= vabs(t) > ((ha[i] + own_a) + rb) * grow + slack_a;
+    }
+    const f64x2 cross_a = v(1e-15 * f.qn, 1e-15 * f.qn) * hsum + tiny;
+    for (int j = 0; j < 3; ++j) {
+        const f64x2 *z = V + 3 * j;
+        const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const f64x2 l1 = v(m0[21 + j], m1[21 + j]);
+        const f64x2 ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) + (cross_a + mu_a * l1);
+        apart |= vabs(t) > (v(m0[18 + j], m1[18 + j]) + ra) * grow + (v(1e-15, 1e-15) * l1 * dl + tiny);
+    }
+    return bits(apart);
+}
+
+}  // namespace hgcd

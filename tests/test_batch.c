@@ -310,6 +310,14 @@ static void test_batch_refusals(void **state) {
     REFUSED(hgcd_world_set_poses(w, ids, N, e[0].position, S, NULL, 0), HGCD_ERROR_STALE_ID, "entry 4999");
     REFUSED(hgcd_world_set_poses(w, NULL, N, e[0].position, S, NULL, 0), HGCD_ERROR_STALE_ID,
             "no live body has index 4999");
+    /* A dead index is the error even after a bad value (by index, the two
+     * are found in one pass). */
+    e[10].position[1] = NAN;
+    REFUSED(hgcd_world_set_poses(w, NULL, N, e[0].position, S, NULL, 0), HGCD_ERROR_STALE_ID,
+            "no live body has index 4999");
+    REFUSED(hgcd_world_set_poses(w, NULL, N - 1, e[0].position, S, NULL, 0), HGCD_ERROR_INVALID_ARGUMENT,
+            "entry 10: position[1] is not finite");
+    fill(&r, e, N);
     /* get_poses writes nothing on failure. */
     static double out[3 * N];
     for (size_t k = 0; k < 3 * N; ++k) out[k] = -7;

@@ -908,8 +908,8 @@ HGCD_API hgcd_status hgcd_body_set_pose(hgcd_world *world, hgcd_body body,
  *  order, each to its body's place in a stage the world keeps (64 bytes a
  *  body, until the world is destroyed), which the pass in the world's
  *  storage order then reads in sequence: 750,000 tetrahedra with new
- *  orientations take about 13 ms on 1 thread and 7 ms on 2 of a 2-core AMD
- *  EPYC (bench/bench_hgcd.c --mode engine-batch). */
+ *  orientations take about 11 ms on 1 thread and 6.5 ms on 2 of a 2-core
+ *  AMD EPYC (bench/bench_hgcd.c --mode engine-batch). */
 HGCD_API hgcd_status hgcd_world_set_poses(hgcd_world *world,
                                           const hgcd_body *bodies, size_t count,
                                           const double *positions,

@@ -2,6 +2,7 @@
 // its siblings): every entry is checked before any is applied, so a refused
 // call changes nothing; both passes run on the world's threads.
 #include <algorithm>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -12,6 +13,7 @@
 #endif
 
 
+#include "common/cpu.hpp"
 #include "common/ieee.hpp"
 #include "common/parallel.hpp"
 #include "world/pose_box.hpp"
@@ -67,18 +69,54 @@ inline void stage_fence() {
 #endif
 }
 
+// The entries [b, e) checked and staged as above, by index at storage index
+// at[k]; returns the first that fails, or e.
+template <class Ok>
+size_t stage_entries(size_t b, size_t e, Ok &ok, void *stage, const uint32_t *at, const double *positions,
+                     size_t ps, const double *orientations, size_t os) {
+    for (size_t k = b; k < e; ++k) {
+        if (!ok(k)) return k;
+        stage_pose(static_cast<char *>(stage) + 64 * size_t(at[k]), positions ? entry(positions, ps, k) : nullptr,
+                   orientations ? entry(orientations, os, k) : nullptr);
+    }
+    return e;
+}
+
+#if HGCD_AVX2
+// The same with each line in one 64-byte streaming store: the memory
+// system takes a whole line at once rather than merging four parts (the
+// pass is bound by these scattered stores). The orientation's masked load
+// starts 3 doubles before it, into lanes 3..6: the lanes masked off read
+// nothing (and fault on nothing).
+template <class Ok>
+__attribute__((target("avx2,avx512f"))) size_t stage_entries_avx512(size_t b, size_t e, Ok &ok, void *stage,
+                                                                    const uint32_t *at, const double *positions,
+                                                                    size_t ps, const double *orientations,
+                                                                    size_t os) {
+    for (size_t k = b; k < e; ++k) {
+        if (!ok(k)) return k;
+        __m512d line = positions ? _mm512_maskz_loadu_pd(0x07, entry(positions, ps, k)) : _mm512_setzero_pd();
+        if (orientations)
+            line = _mm512_mask_loadu_pd(
+                line, 0x78, reinterpret_cast<const double *>(reinterpret_cast<uintptr_t>(entry(orientations, os, k)) -
+                                                             3 * sizeof(double)));
+        _mm512_stream_pd(static_cast<double *>(stage) + 8 * size_t(at[k]), line);
+    }
+    return e;
+}
+#endif
+
 }  // namespace
 
-// Runs check(k) for k < count (on the world's threads for large counts) and
-// returns the smallest k it fails for, or kNone; the same k for any thread
-// count. done() runs after each worker's range.
-template <class Check, class Done>
-int64_t World::first_failing(size_t count, Check &&check, Done &&done) const {
+// Checks the entries k < count a range at a time (on the world's threads for
+// large counts) and returns the smallest k that fails, or kNone; the same k
+// for any thread count. done() runs after each worker's range.
+template <class FirstInRange, class Done>
+int64_t World::first_failing_by_range(size_t count, FirstInRange &&first_in_range, Done &&done) const {
     const int T = count >= kParallelEntries ? threads() : 1;
     std::vector<int64_t> first(size_t(T), kNone);
     parallel_for(T, int64_t(count), 4096, Schedule::Static, [&](int64_t b, int64_t e, int me) {
-        int64_t k = b;
-        while (k < e && check(size_t(k))) ++k;
+        const int64_t k = int64_t(first_in_range(size_t(b), size_t(e)));
         done();
         if (k < e) first[size_t(me)] = std::min(first[size_t(me)], k);  // (the least failing of the worker's ranges)
     });
@@ -146,6 +184,61 @@ inline void World::apply_pose_queued(size_t i, const double *p, const double *q,
     }, stream);
 }
 
+#if HGCD_AVX2
+// The pass's stage line and the body's placement share a layout (position,
+// orientation, then the scale in the placement): one 64-byte load of each,
+// the entries given compared bit for bit (memcmp's answer) in one
+// comparison, the placement written back whole.
+template <bool kSome>
+__attribute__((target("avx2,avx512f"))) void World::apply_staged_avx512(int64_t b, int64_t e,
+                                                                        const StagedPose *stage, size_t count,
+                                                                        bool has_p, bool has_q, BoxQueue &boxes) {
+    static_assert(sizeof(StagedPose) == sizeof(Placement) && offsetof(Placement, orientation) == 3 * sizeof(double) &&
+                      offsetof(StagedPose, orientation) == 3 * sizeof(double),
+                  "stage line and placement share a layout");
+    // (Locals: the compiler need not reload them after each store.)
+    Placement *const place = place_.data();
+    double *const point = point_.data();
+    float *const box_off = box_off_.data();
+    uint8_t *const moved_at = moved_at_.data();
+    const uint32_t *const slot_of = slot_of_.data(), *const stored_gen = stored_gen_.data();
+    const BodyRecord *const record = body_record_.data();
+    const MeshPool::Block *const blocks = pool_.blocks();
+    const bool no_margins = world_margin_ == 0 && margin_bodies_ == 0;  // (float_record_box: a record)
+    const __mmask8 given = __mmask8((has_p ? 0x07 : 0) | (has_q ? 0x78 : 0));
+    for (int64_t i = b; i < e; ++i) {
+        // (As in the portable pass.)
+        if (kSome && !(i & 7) && i + 8 <= e) {
+            bool named = false;
+            for (int64_t j = i; j < i + 8; ++j) named |= slot_of[j] < count;
+            if (!named) {
+                i += 7;
+                continue;
+            }
+        }
+        if ((kSome && slot_of[i] >= count) || !stored_gen[i]) continue;
+        const __m512d line = _mm512_load_pd(stage[i].position), old = _mm512_load_pd(place[i].position);
+        const __mmask8 differ =
+            _mm512_mask_cmpneq_epi64_mask(given, _mm512_castpd_si512(line), _mm512_castpd_si512(old));
+        const double scale = place[i].scale;
+        _mm512_store_pd(place[i].position, _mm512_mask_blend_pd(given, old, line));
+        if (has_p) {
+            long long bits[3];
+            std::memcpy(bits, stage[i].position, sizeof bits);
+            for (int a = 0; a < 3; ++a) _mm_stream_si64(reinterpret_cast<long long *>(&point[3 * i + a]), bits[a]);
+        }
+        if (differ & 0x78) {  // a new orientation: its box
+            const BodyRecord rec = record[size_t(i)];
+            if (rec.groups != 0 && rec.groups <= kQueuedGroups && (no_margins || float_record_box(size_t(i))))
+                boxes.push(BoxJob{stage[i].orientation, scale, blocks[rec.block].d, rec.groups, &box_off[6 * i]});
+            else
+                set_box_offsets(size_t(i));
+        }
+        if (differ) moved_at[i] = 1;
+    }
+}
+#endif
+
 hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double *positions, size_t position_stride,
                              const double *orientations, size_t orientation_stride) {
     const char *what = "world_set_poses";
@@ -153,34 +246,48 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     if (!ps || !os)
         return fail(HGCD_ERROR_INVALID_ARGUMENT,
                     std::string(what) + ": a stride must be 0 or a multiple of 8 bytes holding its entry");
-    // (By index, the apply pass follows storage and needs no storage indices.)
-    if (hgcd_status s = resolve_entries(what, bodies, count, false)) return s;
+    // (By index, the apply pass follows storage and needs no storage indices,
+    // and the liveness of the indices is checked in the staging pass.)
+    if (bodies || count > live_gen_.size())
+        if (hgcd_status s = resolve_entries(what, bodies, count, false)) return s;
     const auto ok = [&](size_t k) {
         return (!positions || position_ok(entry(positions, ps, k))) &&
                (!orientations || orientation_ok(entry(orientations, os, k)));
     };
+    const uint32_t *const live = live_gen_.data();
+    const auto live_and_ok = [&](size_t k) { return live[k] && ok(k); };
     // By index, each entry is copied to pose_stage_ as it is checked, at its
     // body's storage index (see below); a refusal leaves only that scratch
     // written. (The stage reaches as far as the last storage index named:
     // static bodies are stored after the others, and a call for the moving
     // ones does not name them.)
+    // (Every index named: every stored body, without a pass over at_.)
     const size_t n = slot_of_.size();
+    const bool some = count < live_gen_.size();
     if (!bodies && count) {
-        const size_t last = *std::max_element(at_.begin(), at_.begin() + ptrdiff_t(count));
+        const size_t last = some ? *std::max_element(at_.begin(), at_.begin() + ptrdiff_t(count)) : n - 1;
         if (pose_stage_.size() <= last) pose_stage_.resize(last + 1);
     }
     StagedPose *const stage = pose_stage_.data();
     const uint32_t *const at = at_.data();
-    const int64_t bad = bodies ? first_failing(count, ok) : first_failing(
+#if HGCD_AVX2
+    const bool wide = use_avx512();
+#endif
+    const int64_t bad = bodies ? first_failing(count, ok) : first_failing_by_range(
         count,
-        [&](size_t k) {
-            if (!ok(k)) return false;
-            stage_pose(&stage[at[k]], positions ? entry(positions, ps, k) : nullptr,
-                       orientations ? entry(orientations, os, k) : nullptr);
-            return true;
+        [&](size_t b, size_t e) {
+#if HGCD_AVX2
+            if (wide) return stage_entries_avx512(b, e, live_and_ok, stage, at, positions, ps, orientations, os);
+#endif
+            return stage_entries(b, e, live_and_ok, stage, at, positions, ps, orientations, os);
         },
         stage_fence);
-    if (bad != kNone) {  // the message of hgcd_body_set_pose, for that entry
+    if (bad != kNone) {
+        // A dead index anywhere is the error (as resolve_entries reports
+        // it for listed ids); else the pose's, as hgcd_body_set_pose's
+        // message for that entry.
+        if (!bodies)
+            if (hgcd_status s = resolve_entries(what, bodies, count, false)) return s;
         const std::string at = std::string(what) + ": entry " + std::to_string(bad);
         return check_pose(at.c_str(), positions ? entry(positions, ps, size_t(bad)) : nullptr,
                           orientations ? entry(orientations, os, size_t(bad)) : nullptr);
@@ -202,7 +309,6 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
     // and the staged entries in sequence.
     const int T = n >= kParallelEntries ? threads() : 1;
     const bool has_p = positions, has_q = orientations;
-    const bool some = count < live_gen_.size();  // (else every stored body is named)
     parallel_for(T, int64_t(n), 4096, Schedule::Static, [&](int64_t b, int64_t e, int) {
         // (Locals, not the captures: apply_pose's writes might alias those.)
         const StagedPose *const stage_ = stage;
@@ -224,11 +330,20 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
                         continue;
                     }
                 }
-                if (slot_of[i] >= count_ || !stored_gen[i]) continue;
+                // (With every index named, every stored body is.)
+                if ((skip && slot_of[i] >= count_) || !stored_gen[i]) continue;
                 apply_pose_queued(size_t(i), has_p_ ? stage_[i].position : nullptr,
                                   has_q_ ? stage_[i].orientation : nullptr, boxes, true);
             }
         };
+#if HGCD_AVX2
+        if (wide) {
+            if (some)
+                apply_staged_avx512<true>(b, e, stage_, count_, has_p_, has_q_, boxes);
+            else
+                apply_staged_avx512<false>(b, e, stage_, count_, has_p_, has_q_, boxes);
+        } else
+#endif
         if (some)
             pass(std::true_type{});
         else

@@ -37,13 +37,31 @@ World::MovedCount World::count_moved(int threads) {
             };
             size_t i = b;
             for (; i < e && (i & 7); ++i) one(i);
-            for (; i + 8 <= e; i += 8) {
+            for (; i + 8 <= e && moved <= room; i += 8) {
                 uint64_t word;
                 std::memcpy(&word, &moved_at_[i], sizeof word);
                 if (!word) continue;
                 for (size_t k = i; k < i + 8; ++k) one(k);
             }
-            for (; i < e; ++i) one(i);
+            if (moved <= room) {
+                for (; i < e; ++i) one(i);
+            } else {
+                // More than the list keeps: the rest only counted (a loop
+                // the compiler vectorizes; list_moved finds them again).
+                const uint32_t *const live = stored_gen_.data();
+                const uint8_t *const flag = moved_at_.data(), *const mover = mover_.data();
+                const size_t mid = std::max(i, std::min(e, known));
+                for (; i < mid; ++i) {
+                    const size_t m = size_t(live[i] != 0) & size_t(flag[i] != 0);
+                    moved += m;
+                    fresh += m & size_t(!(mover[i] & kMover));
+                }
+                for (; i < e; ++i) {
+                    const size_t m = size_t(live[i] != 0) & size_t(flag[i] != 0);
+                    moved += m;
+                    fresh += m;
+                }
+            }
             of[p] = MovedCount{moved, fresh};
         }
     });

@@ -140,11 +140,18 @@ class World {
     hgcd_status check_pose(const char *what, const double *position,
                            const double *orientation) const;
     // The batch calls' passes (batch.cpp).
-    template <class Check, class Done>
-    int64_t first_failing(size_t count, Check &&check, Done &&done) const;
+    // (first_in_range(b, e): the first entry in [b, e) that fails, or e.)
+    template <class FirstInRange, class Done>
+    int64_t first_failing_by_range(size_t count, FirstInRange &&first_in_range, Done &&done) const;
     template <class Check>
     int64_t first_failing(size_t count, Check &&check) const {
-        return first_failing(count, check, [] {});
+        return first_failing_by_range(
+            count,
+            [&](size_t b, size_t e) {
+                while (b < e && check(b)) ++b;
+                return b;
+            },
+            [] {});
     }
     template <class Apply>
     void for_entries(size_t count, Apply &&apply);
@@ -158,6 +165,13 @@ class World {
     template <class Box>
     void apply_pose_with(size_t i, const double *position, const double *orientation, Box &&box,
                          bool stream = false);
+    // set_poses's pass by index over storage [b, e) from the stage (stage
+    // lines, count entries named; kSome: not every index), the same writes
+    // as apply_pose_queued's with AVX-512 (batch.cpp).
+    struct StagedPose;
+    template <bool kSome>
+    void apply_staged_avx512(int64_t b, int64_t e, const StagedPose *stage, size_t count, bool has_p, bool has_q,
+                             BoxQueue &boxes);
     // The offsets from its position of a box holding the solid of the body
     // stored at s (box_off_), for its current orientation and scale.
     void set_box_offsets(size_t s);

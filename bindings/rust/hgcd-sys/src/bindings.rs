@@ -2550,8 +2550,8 @@ extern "C" {
     #[doc = "  order, each to its body's place in a stage the world keeps (64 bytes a"]
     #[doc = "  body, until the world is destroyed), which the pass in the world's"]
     #[doc = "  storage order then reads in sequence: 750,000 tetrahedra with new"]
-    #[doc = "  orientations take about 13 ms on 1 thread and 7 ms on 2 of a 2-core AMD"]
-    #[doc = "  EPYC (bench/bench_hgcd.c --mode engine-batch)."]
+    #[doc = "  orientations take about 11 ms on 1 thread and 6.5 ms on 2 of a 2-core"]
+    #[doc = "  AMD EPYC (bench/bench_hgcd.c --mode engine-batch)."]
     pub fn hgcd_world_set_poses(
         world: *mut hgcd_world,
         bodies: *const hgcd_body,

@@ -38,7 +38,8 @@ struct BvhNode {
     uint32_t count;
 };
 
-// A node's oriented box in the mesh frame (node_obb.cpp): every vertex of
+// A node's oriented box in the mesh frame (node_obb.cpp; stored in
+// Bvh::lanes): every vertex of
 // every triangle under the node is exactly center + sum_i b_i u_i with |b_i|
 // <= half[i], u_i = axis[3i..3i+2] (orthonormal up to ||U U^T - I||_inf <=
 // 1e-12, which the halves already absorb).
@@ -48,9 +49,19 @@ struct NodeObb {
     double half[3];
 };
 
+// The frame path's node data (rel_frame.hpp), two sibling nodes per block,
+// field by field: lane l of field k at 2k + l. Block p holds nodes 2p - 1
+// and 2p (children are allocated in pairs after the root); block 0 holds the
+// root in both lanes. Fields: the mesh-frame box's centre (0..2) and half
+// (3..5), the fitted box's centre (6..8), axes (u_i at 9 + 3i) and halves
+// (18..20).
+constexpr size_t kLaneBlock = 42;
+inline size_t lane_block(uint32_t n) { return (size_t(n) + 1) >> 1; }
+inline int lane_of(uint32_t n) { return int((n + 1) & 1); }
+
 struct Bvh {
     std::vector<BvhNode> nodes;     // nodes[0] is the root; empty: no tree
-    std::vector<NodeObb> obb;       // per node
+    std::vector<double> lanes;      // kLaneBlock per block of two siblings
     std::vector<uint32_t> tris;     // 3 vertex indices per triangle, leaf order
     std::vector<uint32_t> tri_ids;  // the mesh's index of each of those triangles
     std::vector<uint32_t> parent;   // per node (the root's: 0)
@@ -83,7 +94,8 @@ inline double orthonormal_defect(const double *u) {
     return std::isfinite(worst) ? worst * (1 + 1e-12) : INFINITY;
 }
 
-// Fits bvh.obb to the tree's nodes (principal axes of their vertices).
+// Fits an oriented box to each of the tree's nodes (principal axes of their
+// vertices) and fills bvh.lanes.
 void fit_node_obbs(const double *vertices, Bvh &bvh);
 
 struct Mesh;

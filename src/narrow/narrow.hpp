@@ -94,7 +94,7 @@ struct NarrowScratch {
         std::unique_ptr<double[]> world, boxes;
         std::vector<uint32_t> vertex_stamp, box_stamp;
         // Images of the nodes in the other side's mesh frame (rel_frame.hpp),
-        // kImage doubles each (side 1 only).
+        // kImageBlock doubles per block of two siblings (side 1 only).
         std::unique_ptr<double[]> images;
         std::vector<uint32_t> image_stamp;
     } side[2];

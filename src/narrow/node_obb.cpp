@@ -123,7 +123,7 @@ void fit_node(const double *vertices, const uint32_t *corners, size_t corner_cou
 
 void fit_node_obbs(const double *vertices, Bvh &bvh) {
     const size_t nn = bvh.nodes.size();
-    bvh.obb.assign(nn, NodeObb{});
+    std::vector<NodeObb> obb(nn);
     // Triangle ranges: children follow their parents and split the parent's
     // range, so one backward sweep gives every internal node's range.
     std::vector<uint32_t> first(nn), count(nn);
@@ -138,7 +138,27 @@ void fit_node_obbs(const double *vertices, Bvh &bvh) {
         }
     }
     for (size_t k = 0; k < nn; ++k)
-        fit_node(vertices, &bvh.tris[3 * size_t(first[k])], 3 * size_t(count[k]), bvh.obb[k]);
+        fit_node(vertices, &bvh.tris[3 * size_t(first[k])], 3 * size_t(count[k]), obb[k]);
+    // The blocks of sibling pairs (kLaneBlock), the root in both lanes of
+    // block 0.
+    bvh.lanes.assign(kLaneBlock * (nn / 2 + 1), 0.0);
+    for (size_t k = 0; k < nn; ++k) {
+        const BvhNode &n = bvh.nodes[k];
+        const NodeObb &o = obb[k];
+        double field[21];
+        for (int i = 0; i < 3; ++i) {
+            field[i] = n.center[i];
+            field[3 + i] = n.half[i];
+            field[6 + i] = o.center[i];
+            field[18 + i] = o.half[i];
+        }
+        for (int i = 0; i < 9; ++i) field[9 + i] = o.axis[i];
+        double *block = &bvh.lanes[kLaneBlock * lane_block(uint32_t(k))];
+        for (int f = 0; f < 21; ++f) {
+            if (k == 0) block[2 * f] = field[f];
+            block[2 * f + lane_of(uint32_t(k))] = field[f];
+        }
+    }
 }
 
 }  // namespace hgcd

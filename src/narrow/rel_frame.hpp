@@ -58,6 +58,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "common/simd.hpp"
 #include "narrow/bvh.hpp"
@@ -73,11 +74,25 @@ struct RelFrame {
     double qn;        // >= |V_j|_2 of every image axis
 };
 
-// Doubles per node image (RelFrame: BodyView::image): centre C (0..2), axes
-// V_j (3 + 3j), halves (12..14), half extents in a's frame (15..17), radii
-// on their own axes (18..20), |V_j|_1 (21..23), the radius on any a axis
-// beyond the halves' (24: 1e-15 qn sum half + 1.74 eps).
-constexpr size_t kImage = 32;
+// Node images come in blocks of two siblings, as Bvh::lanes (lane l of
+// field k at 2k + l): centre C (0..2), axes V_j (3 + 3j), halves (12..14),
+// half extents in a's frame (15..17), radii on their own axes (18..20),
+// |V_j|_1 (21..23), the radius on any a axis beyond the halves' (24: 1e-15
+// qn sum half + 1.74 eps).
+constexpr size_t kImageBlock = 50;
+
+// Both lanes of a block of doubles (field k), or lane l of it in both.
+inline f64x2 lanes2(const double *block, int k) {
+    f64x2 r;
+    std::memcpy(&r, block + 2 * k, sizeof r);
+    return r;
+}
+inline f64x2 splat(const double *block, int k, int l) {
+    const double x = block[2 * k + l];
+    return f64x2{x, x};
+}
+inline f64x2 vabs(f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); }
+inline f64x2 both(double x) { return f64x2{x, x}; }
 
 // The frame of the pair (a, b): a's mesh frame.
 inline void prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
@@ -111,40 +126,52 @@ inline void prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
     f.qn = 1.001 * sigma;
 }
 
-// The image of b's node o in a's frame (kImage doubles at out).
-inline void node_image(const RelFrame &f, const NodeObb &o, double *out) {
-    const double *q = f.q, *c = o.center;
-    for (int i = 0; i < 3; ++i)
-        out[i] = f.t[i] + ((q[3 * i] * c[0] + q[3 * i + 1] * c[1]) + q[3 * i + 2] * c[2]);
-    for (int j = 0; j < 3; ++j) {
-        const double *v = o.axis + 3 * j;
-        for (int i = 0; i < 3; ++i)
-            out[3 + 3 * j + i] = (q[3 * i] * v[0] + q[3 * i + 1] * v[1]) + q[3 * i + 2] * v[2];
-        out[12 + j] = o.half[j];
+// The images of the two nodes of b's block `in` (Bvh::lanes) in a's frame:
+// the image block `out`. Each lane is the scalar formula on its node.
+inline void node_images(const RelFrame &f, const double *in, double *out) {
+    const double *q = f.q;
+    f64x2 c[3], h[3], V[9];
+    for (int k = 0; k < 3; ++k) {
+        c[k] = lanes2(in, 6 + k);
+        h[k] = lanes2(in, 18 + k);
     }
-    const double hsum = (o.half[0] + o.half[1]) + o.half[2];
-    const double eps = f.mu_b + f.node_eps * (((std::fabs(c[0]) + std::fabs(c[1])) + std::fabs(c[2])) + hsum);
-    const double *h = o.half, *V = out + 3;
-    for (int k = 0; k < 3; ++k)
-        out[15 + k] = ((h[0] * std::fabs(V[k]) + h[1] * std::fabs(V[3 + k])) + h[2] * std::fabs(V[6 + k])) + eps;
-    for (int j = 0; j < 3; ++j)
-        out[21 + j] = (std::fabs(V[3 * j]) + std::fabs(V[3 * j + 1])) + std::fabs(V[3 * j + 2]);
-    double g[3][3];
+    for (int i = 0; i < 3; ++i) {
+        const f64x2 C = both(f.t[i]) + ((both(q[3 * i]) * c[0] + both(q[3 * i + 1]) * c[1]) + both(q[3 * i + 2]) * c[2]);
+        std::memcpy(out + 2 * i, &C, sizeof C);
+    }
+    for (int j = 0; j < 3; ++j) {
+        const f64x2 v0 = lanes2(in, 9 + 3 * j), v1 = lanes2(in, 10 + 3 * j), v2 = lanes2(in, 11 + 3 * j);
+        for (int i = 0; i < 3; ++i)
+            V[3 * j + i] = (both(q[3 * i]) * v0 + both(q[3 * i + 1]) * v1) + both(q[3 * i + 2]) * v2;
+    }
+    const f64x2 hsum = (h[0] + h[1]) + h[2];
+    const f64x2 eps = both(f.mu_b) + both(f.node_eps) * (((vabs(c[0]) + vabs(c[1])) + vabs(c[2])) + hsum);
+    f64x2 field[22];  // fields 3..24
+    for (int k = 0; k < 9; ++k) field[k] = V[k];
+    for (int k = 0; k < 3; ++k) {
+        field[9 + k] = h[k];
+        field[12 + k] = ((h[0] * vabs(V[k]) + h[1] * vabs(V[3 + k])) + h[2] * vabs(V[6 + k])) + eps;
+    }
+    f64x2 l1[3], g[3][3];
+    for (int j = 0; j < 3; ++j) l1[j] = (vabs(V[3 * j]) + vabs(V[3 * j + 1])) + vabs(V[3 * j + 2]);
     for (int j = 0; j < 3; ++j)
         for (int k = j; k < 3; ++k) {
-            const double *x = V + 3 * j, *y = V + 3 * k;
-            g[j][k] = g[k][j] = std::fabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
+            const f64x2 *x = V + 3 * j, *y = V + 3 * k;
+            g[j][k] = g[k][j] = vabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
         }
-    const double own_err = 1e-15 * f.qn * f.qn * hsum + 1e-300;
-    for (int j = 0; j < 3; ++j)
-        out[18 + j] = (((h[0] * g[j][0] + h[1] * g[j][1]) + h[2] * g[j][2]) + own_err) + eps * out[21 + j];
-    out[24] = (1e-15 * f.qn * hsum + 1.74 * eps) + 1e-300;
+    const f64x2 own_err = both(1e-15 * f.qn * f.qn) * hsum + both(1e-300);
+    for (int j = 0; j < 3; ++j) {
+        field[15 + j] = (((h[0] * g[j][0] + h[1] * g[j][1]) + h[2] * g[j][2]) + own_err) + eps * l1[j];
+        field[18 + j] = l1[j];
+    }
+    field[21] = (both(1e-15 * f.qn) * hsum + both(1.74) * eps) + both(1e-300);
+    std::memcpy(out + 6, field, sizeof field);
 }
 
 // Two node pairs at once, one per lane (f64x2: each lane does the IEEE
 // double operations of the scalar formulas, so the bits do not depend on the
-// vector width): lane l pairs a's node (n_l, o_l) with b's node image m_l.
-// Bit l of the result is set when that pair is certainly apart. First the
+// vector width): lane l pairs a node of a (its fields in Bvh::lanes: the
+// mesh-frame box, the fitted box) with a node image of b. Bit l of the result is set when that pair is certainly apart. First the
 // boxes in a's frame: a's vertices lie within mu_a of [c - h, c + h]
 // (BvhNode), b's within the half extents of C (the image's fitted box and its
 // eps, projected on the frame's axes). Then the fitted boxes on their six
@@ -157,27 +184,27 @@ inline void node_image(const RelFrame &f, const NodeObb &o, double *out) {
 // c_a|_inf < 5e-16 |z|_1 |C - c_a|_1 of exact (dl below is |C - c_a|_1,
 // computed within 2u): the slack 2e-15 dl on a's axes (|z|_1 <= 1.74), 1e-15
 // |V_j|_1 dl on b's.
-inline unsigned rel_apart2(const RelFrame &f, const BvhNode &n0, const NodeObb &o0, const double *m0,
-                           const BvhNode &n1, const NodeObb &o1, const double *m1) {
-    auto v = [](double x, double y) { return f64x2{x, y}; };
-    auto vabs = [](f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); };
+// kPairA: a's two lanes are the two nodes of block `a` (else lane la of it
+// in both); likewise kPairB for b's image block.
+template <bool kPairA, bool kPairB>
+inline unsigned rel_apart2(const RelFrame &f, const double *a, int la, const double *b, int lb) {
+    auto A = [&](int k) { return kPairA ? lanes2(a, k) : splat(a, k, la); };
+    auto B = [&](int k) { return kPairB ? lanes2(b, k) : splat(b, k, lb); };
     auto bits = [](i64x2 x) { return unsigned((x[0] & 1) | (x[1] & 2)); };
-    const f64x2 mu_a = v(f.mu_a, f.mu_a), grow = v(1 + 1e-12, 1 + 1e-12), tiny = v(1e-300, 1e-300);
+    const f64x2 mu_a = both(f.mu_a), grow = both(1 + 1e-12), tiny = both(1e-300);
     i64x2 apart = {0, 0};
-    for (int k = 0; k < 3; ++k) {
-        const f64x2 d = v(m0[k], m1[k]) - v(n0.center[k], n1.center[k]);
-        apart |= vabs(d) > ((v(n0.half[k], n1.half[k]) + mu_a) + v(m0[15 + k], m1[15 + k])) * grow;
-    }
+    for (int k = 0; k < 3; ++k)
+        apart |= vabs(B(k) - A(k)) > ((A(3 + k) + mu_a) + B(15 + k)) * grow;
     if ((apart[0] & apart[1]) != 0) return 3;
     f64x2 d[3], V[9], ha[3], hb[3], u[9];
     for (int k = 0; k < 3; ++k) {
-        d[k] = v(m0[k], m1[k]) - v(o0.center[k], o1.center[k]);
-        ha[k] = v(o0.half[k], o1.half[k]);
-        hb[k] = v(m0[12 + k], m1[12 + k]);
+        d[k] = B(k) - A(6 + k);
+        ha[k] = A(18 + k);
+        hb[k] = B(12 + k);
     }
     for (int k = 0; k < 9; ++k) {
-        V[k] = v(m0[3 + k], m1[3 + k]);
-        u[k] = v(o0.axis[k], o1.axis[k]);
+        V[k] = B(3 + k);
+        u[k] = A(9 + k);
     }
     const f64x2 dl = (vabs(d[0]) + vabs(d[1])) + vabs(d[2]);
     const f64x2 hsum = (ha[0] + ha[1]) + ha[2];
@@ -187,22 +214,22 @@ inline unsigned rel_apart2(const RelFrame &f, const BvhNode &n0, const NodeObb &
             const f64x2 *x = u + 3 * i, *y = V + 3 * j;
             rel[i][j] = vabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
         }
-    const f64x2 own_a = (v(1e-12, 1e-12) * hsum + v(1.74, 1.74) * mu_a) + tiny;
-    const f64x2 slack_a = v(2e-15, 2e-15) * dl + tiny;
-    const f64x2 extra_b = v(m0[24], m1[24]);
+    const f64x2 own_a = (both(1e-12) * hsum + both(1.74) * mu_a) + tiny;
+    const f64x2 slack_a = both(2e-15) * dl + tiny;
+    const f64x2 extra_b = B(24);
     for (int i = 0; i < 3; ++i) {
         const f64x2 *z = u + 3 * i;
         const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
         const f64x2 rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + extra_b;
         apart |= vabs(t) > ((ha[i] + own_a) + rb) * grow + slack_a;
     }
-    const f64x2 cross_a = v(1e-15 * f.qn, 1e-15 * f.qn) * hsum + tiny;
+    const f64x2 cross_a = both(1e-15 * f.qn) * hsum + tiny;
     for (int j = 0; j < 3; ++j) {
         const f64x2 *z = V + 3 * j;
         const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
-        const f64x2 l1 = v(m0[21 + j], m1[21 + j]);
+        const f64x2 l1 = B(21 + j);
         const f64x2 ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) + (cross_a + mu_a * l1);
-        apart |= vabs(t) > (v(m0[18 + j], m1[18 + j]) + ra) * grow + (v(1e-15, 1e-15) * l1 * dl + tiny);
+        apart |= vabs(t) > (B(18 + j) + ra) * grow + (both(1e-15) * l1 * dl + tiny);
     }
     return bits(apart);
 }

@@ -254,19 +254,19 @@ bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t start_a,
     return false;
 }
 
-// b's node images in a's frame (rel_frame.hpp), computed on first use in the
-// pair.
+// b's node images in a's frame (rel_frame.hpp), a block of two siblings at
+// a time, computed on first use in the pair.
 struct Images {
     const RelFrame *f;
-    const NodeObb *obb;
+    const double *lanes;  // b's Bvh::lanes
     double *data;
     uint32_t *stamp;
     uint32_t epoch;
-    const double *operator()(uint32_t n) {
-        double *m = data + kImage * size_t(n);
-        if (stamp[n] != epoch) {
-            node_image(*f, obb[n], m);
-            stamp[n] = epoch;
+    const double *block(size_t p) {
+        double *m = data + kImageBlock * p;
+        if (stamp[p] != epoch) {
+            node_images(*f, lanes + kLaneBlock * p, m);
+            stamp[p] = epoch;
         }
         return m;
     }
@@ -274,34 +274,44 @@ struct Images {
 
 inline double sq(double x) { return x * x; }
 
+// Squared distance of lane l of the centre at field k of block x to lane m
+// of that at field j of block y.
+inline double lane_dist2(const double *x, int k, int l, const double *y, int j, int m) {
+    return (sq(x[2 * k + l] - y[2 * j + m]) + sq(x[2 * k + 2 + l] - y[2 * j + 2 + m])) +
+           sq(x[2 * k + 4 + l] - y[2 * j + 4 + m]);
+}
+
 // surfaces_meet for two meshes with trees, without a margin: the node tests
 // in a's mesh frame (rel_apart2), the same plane test and leaves. A node
-// pair is tested before it is pushed, the two children of a descent at once,
-// so the stack holds only pairs that passed.
+// pair is tested before it is pushed, the two children of a descent at once
+// (a's two siblings against b's node, or a's node against b's two), so the
+// stack holds only pairs that passed.
 bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
                        uint32_t start_b, uint32_t *meet, uint32_t *leaves) {
     const BvhNode *na = a.nodes, *nb = b.nodes;
-    const NodeObb *oa = a.mesh->bvh.obb.data();
+    const double *lanes_a = a.mesh->bvh.lanes.data();
     const RelFrame &f = *img.f;
+    auto block_a = [&](uint32_t n) { return lanes_a + kLaneBlock * lane_block(n); };
     std::vector<uint64_t> &stack = s.pair_stack;
     stack.clear();
-    {
-        const double *m = img(start_b);
-        if (rel_apart2(f, na[start_a], oa[start_a], m, na[start_a], oa[start_a], m) & 1) return false;
-    }
+    if (rel_apart2<false, false>(f, block_a(start_a), lane_of(start_a), img.block(lane_block(start_b)),
+                                 lane_of(start_b)) &
+        1)
+        return false;
     stack.push_back((uint64_t(start_a) << 32) | start_b);
     while (!stack.empty()) {
         const uint64_t top = stack.back();
         stack.pop_back();
         const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
-        const double *mb = img(j);
+        const double *ba = block_a(i), *mb = img.block(lane_block(j));
+        const int li = lane_of(i), lj = lane_of(j);
         const bool la = na[i].count != 0, lb = nb[j].count != 0;
         // The plane test where it pays: a leaf at least as large as the
         // other node (sizes in a's frame), as a body deep inside a much
         // larger mesh meets that mesh's leaves (between meshes of like
         // sizes it cut 105 of 1.2M node pairs on `scanned`).
-        const double *h = na[i].half;
-        const double size_a = (h[0] + h[1]) + h[2], size_b = (mb[15] + mb[16]) + mb[17];
+        const double size_a = (ba[6 + li] + ba[8 + li]) + ba[10 + li];
+        const double size_b = (mb[30 + lj] + mb[32 + lj]) + mb[34 + lj];
         if (la != lb && (la ? size_a >= size_b && plane_cut(a, i, b.box(j))
                             : size_b >= size_a && plane_cut(b, j, a.box(i))))
             continue;
@@ -317,19 +327,17 @@ bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, 
         // the other node first (sizes and centres in a's frame).
         if (lb || (!la && size_a >= size_b)) {
             const uint32_t c = na[i].first;
-            const double *x = na[c].center, *y = na[c + 1].center;
-            const bool swap = (sq(x[0] - mb[0]) + sq(x[1] - mb[1])) + sq(x[2] - mb[2]) >
-                              (sq(y[0] - mb[0]) + sq(y[1] - mb[1])) + sq(y[2] - mb[2]);
-            const unsigned apart = rel_apart2(f, na[c], oa[c], mb, na[c + 1], oa[c + 1], mb);
+            const double *x = block_a(c);
+            const bool swap = lane_dist2(x, 0, 0, mb, 0, lj) > lane_dist2(x, 0, 1, mb, 0, lj);
+            const unsigned apart = rel_apart2<true, false>(f, x, 0, mb, lj);
             const uint32_t first = c + !swap, second = c + swap;
             if (!(apart >> (first - c) & 1)) stack.push_back((uint64_t(first) << 32) | j);
             if (!(apart >> (second - c) & 1)) stack.push_back((uint64_t(second) << 32) | j);
         } else {
             const uint32_t c = nb[j].first;
-            const double *x = img(c), *y = img(c + 1), *z = na[i].center;
-            const bool swap = (sq(x[0] - z[0]) + sq(x[1] - z[1])) + sq(x[2] - z[2]) >
-                              (sq(y[0] - z[0]) + sq(y[1] - z[1])) + sq(y[2] - z[2]);
-            const unsigned apart = rel_apart2(f, na[i], oa[i], x, na[i], oa[i], y);
+            const double *y = img.block(lane_block(c));
+            const bool swap = lane_dist2(y, 0, 0, ba, 0, li) > lane_dist2(y, 0, 1, ba, 0, li);
+            const unsigned apart = rel_apart2<false, true>(f, ba, li, y, 0);
             const uint32_t first = c + !swap, second = c + swap;
             if (!(apart >> (first - c) & 1)) stack.push_back((uint64_t(i) << 32) | first);
             if (!(apart >> (second - c) & 1)) stack.push_back((uint64_t(i) << 32) | second);
@@ -403,12 +411,12 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     if (rel) {
         prepare_frame(va, vb, frame);
         NarrowScratch::Side &c = s.side[1];
-        const size_t nn = b.mesh->bvh.nodes.size();
+        const size_t nn = b.mesh->bvh.lanes.size() / kLaneBlock;
         if (c.image_stamp.size() < nn) {
             c.image_stamp.resize(nn, 0);
-            c.images.reset(new double[kImage * nn]);
+            c.images.reset(new double[kImageBlock * nn]);
         }
-        img.obb = b.mesh->bvh.obb.data();
+        img.lanes = b.mesh->bvh.lanes.data();
         img.data = c.images.get();
         img.stamp = c.image_stamp.data();
     }

@@ -5,6 +5,7 @@
  *
  *   bench_narrow [--n N] [--seed S] [--threads K] [--ticks T] [--commit HASH]
  *                [--modes exact,gjk,mpr,exact+c,gjk+c,mpr+c] [--sphere L] [--box 1]
+ *                [--mix 1] [--mesh-per-body 1]
  *
  * --sphere L replaces the tetrahedron by an icosphere of 20 * 4^L triangles
  * (convex, circumradius 1, scaled to each body's circumradius r): the same
@@ -12,6 +13,11 @@
  * the exact narrow phase). Default 0: the tetrahedron of the scene.
  * --box 1 replaces it by the cube [-1, 1]^3, at the tetrahedron's scale (the
  * same circumradius): boxes with the tetra scene's placement and motion.
+ * --mix 1 (with --box or --sphere) gives every other body (odd indices) the
+ * tetrahedron instead: a mixed world, whose pairs are tetrahedron pairs,
+ * mesh pairs and tetrahedron-mesh pairs.
+ * --mesh-per-body 1 gives each body a mesh of its own (a copy of the same
+ * arrays, hgcd_mesh_create once per body) instead of one shared mesh.
  *
  * One world holds the scene; every tick runs hgcd_world_detect once per mode
  * (switching with hgcd_world_set_narrow_phase / hgcd_world_set_contacts, so
@@ -98,7 +104,7 @@ static size_t differ(const hgcd_pair *a, size_t na, const hgcd_pair *b, size_t n
 int main(int argc, char **argv) {
     uint64_t n = 100000, seed = 1;
     unsigned threads = 1;
-    int ticks = 5, sphere = 0, box = 0;
+    int ticks = 5, sphere = 0, box = 0, mix = 0, per_body = 0;
     const char *commit = "unknown", *modes_arg = "exact,gjk,mpr,exact+c,gjk+c,mpr+c";
     for (int i = 1; i < argc; ++i) {
         if (i + 1 >= argc) {
@@ -115,13 +121,16 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--modes")) modes_arg = v;
         else if (!strcmp(a, "--sphere")) sphere = atoi(v);
         else if (!strcmp(a, "--box")) box = atoi(v);
+        else if (!strcmp(a, "--mix")) mix = atoi(v);
+        else if (!strcmp(a, "--mesh-per-body")) per_body = atoi(v);
         else {
             fprintf(stderr, "bench_narrow: unknown option %s\n", a);
             return 2;
         }
     }
-    if (n == 0 || ticks < 1 || sphere < 0 || sphere > 4 || (box && sphere)) {
-        fprintf(stderr, "bench_narrow: need n >= 1, ticks >= 1, 0 <= sphere <= 4, and not both a box and a sphere\n");
+    if (n == 0 || ticks < 1 || sphere < 0 || sphere > 4 || (box && sphere) || (mix && !box && !sphere)) {
+        fprintf(stderr, "bench_narrow: need n >= 1, ticks >= 1, 0 <= sphere <= 4, not both a box and a sphere, "
+                        "and a box or a sphere with --mix\n");
         return 2;
     }
     int use[MODE_COUNT] = {0};
@@ -192,15 +201,23 @@ int main(int argc, char **argv) {
         md.vertex_count = 8;
         md.triangle_count = 12;
     }
-    hgcd_mesh mesh;
+    hgcd_mesh_desc td = hgcd_mesh_desc_default(); /* the tetrahedron of --mix */
+    td.vertices = uv;
+    td.triangles = ut;
+    td.vertex_count = 4;
+    td.triangle_count = 4;
+    hgcd_mesh mesh, tetra_mesh;
     if (failed(hgcd_mesh_create(w, &md, &mesh), w, "mesh_create")) return 1;
+    if (mix && failed(hgcd_mesh_create(w, &td, &tetra_mesh), w, "mesh_create")) return 1;
     hgcd_body_desc bd = hgcd_body_desc_default();
-    bd.mesh = mesh;
     hgcd_body *ids = malloc(n * sizeof(hgcd_body));
     for (uint64_t i = 0; i < n; ++i) {
+        const int tetra = mix && (i & 1);
+        bd.mesh = tetra ? tetra_mesh : mesh;
+        if (per_body && failed(hgcd_mesh_create(w, tetra ? &td : &md, &bd.mesh), w, "mesh_create")) return 1;
         memcpy(bd.position, centers + 3 * i, sizeof bd.position);
         memcpy(bd.orientation, quats + 4 * i, sizeof bd.orientation);
-        bd.scale = sphere ? scales[i] * 1.7320508075688772 : scales[i]; /* circumradius r */
+        bd.scale = sphere && !tetra ? scales[i] * 1.7320508075688772 : scales[i]; /* circumradius r */
         if (failed(hgcd_body_create(w, &bd, &ids[i]), w, "body_create")) return 1;
     }
     if (failed(hgcd_world_detect(w), w, "world_detect")) return 1; /* builds the grid */
@@ -241,9 +258,13 @@ int main(int argc, char **argv) {
             if (failed(hgcd_body_set_pose(w, ids[i], centers + 3 * i, NULL), w, "body_set_pose")) return 1;
     }
 
-    fprintf(stderr, "tetra n=%llu seed %llu, mesh %s (%u triangles), %u thread(s), %d ticks, libccd %s, commit %s\n",
-            (unsigned long long)n, (unsigned long long)seed, sphere ? "icosphere" : box ? "box" : "tetrahedron",
-            md.triangle_count, last[0].thread_count ? last[0].thread_count : threads, ticks,
+    const char *mesh_name = sphere ? (mix ? "icosphere+tetrahedron" : "icosphere")
+                            : box  ? (mix ? "box+tetrahedron" : "box")
+                                   : "tetrahedron";
+    fprintf(stderr, "tetra n=%llu seed %llu, mesh %s (%u triangles)%s, %u thread(s), %d ticks, libccd %s, commit %s\n",
+            (unsigned long long)n, (unsigned long long)seed, mesh_name, md.triangle_count,
+            per_body ? ", a mesh per body" : "",
+            last[0].thread_count ? last[0].thread_count : threads, ticks,
             hgcd_feature_libccd() == 2 ? "double" : hgcd_feature_libccd() == 1 ? "single" : "none", commit);
     fprintf(stderr, "%-8s %10s %10s %9s %10s %9s %12s %12s %12s\n", "mode", "narrow_ms", "detect_ms", "pairs", "candidates",
             "ns/cand", "libccd_tests", "pairs_differ", "cpu_ns/cand");
@@ -265,12 +286,13 @@ int main(int argc, char **argv) {
         printf("{\"lib\":\"hgcd\",\"scene\":\"tetra\",\"n\":%llu,\"seed\":%llu,\"threads\":%u,\"ticks\":%d,"
                "\"commit\":\"%s\",\"mesh_triangles\":%u,\"narrow\":\"%s\",\"contacts\":%u,\"narrow_ms\":%.3f,\"detect_ms\":%.3f,"
                "\"pairs\":%llu,\"candidate_pairs\":%llu,\"ns_per_candidate\":%.1f,\"mesh\":\"%s\",\"libccd_tests\":%llu,"
-               "\"pairs_differ\":%zu,\"libccd\":%d,\"narrow_cpu_ms\":%.3f,\"cpu_ns_per_candidate\":%.1f}\n",
+               "\"pairs_differ\":%zu,\"libccd\":%d,\"narrow_cpu_ms\":%.3f,\"cpu_ns_per_candidate\":%.1f,"
+               "\"mesh_per_body\":%d}\n",
                (unsigned long long)n, (unsigned long long)seed, last[m].thread_count, ticks, commit,
                md.triangle_count, all_modes[m].narrow == HGCD_NARROW_EXACT ? "exact" : all_modes[m].narrow == HGCD_NARROW_GJK ? "gjk" : "mpr",
                all_modes[m].contacts, nmed, dmed, (unsigned long long)last[m].colliding_pairs,
-               (unsigned long long)last[m].candidate_pairs, per, sphere ? "icosphere" : box ? "box" : "tetrahedron",
-               (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd(), cmed, cpu_per);
+               (unsigned long long)last[m].candidate_pairs, per, mesh_name,
+               (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd(), cmed, cpu_per, per_body);
     }
     hgcd_world_destroy(w);
     free(ids);

@@ -82,6 +82,7 @@ typedef struct {
     hgcd_world *w;
     hgcd_mesh mesh[SHAPE_COUNT];
     size_t n, cap;
+    int per_body; /* each body a mesh of its own, a copy of its shape's arrays */
     int *shape;
     double *pos, *quat, *scale;
 } scene;
@@ -122,6 +123,14 @@ static void add(scene *sc, int shape, const double *p, const double *q, double s
     assert_true(sc->n < sc->cap);
     hgcd_body_desc bd = hgcd_body_desc_default();
     bd.mesh = sc->mesh[shape];
+    if (sc->per_body) {
+        hgcd_mesh_desc md = hgcd_mesh_desc_default();
+        md.vertices = shapes[shape].verts;
+        md.triangles = shapes[shape].tris;
+        md.vertex_count = shapes[shape].vertex_count;
+        md.triangle_count = shapes[shape].triangle_count;
+        assert_int_equal(hgcd_mesh_create(sc->w, &md, &bd.mesh), HGCD_OK);
+    }
     memcpy(bd.position, p, sizeof bd.position);
     memcpy(bd.orientation, q, sizeof bd.orientation);
     bd.scale = scale;
@@ -190,7 +199,7 @@ static const double exact_quats[][4] = {{0, 0, 0, 1}, {1, 0, 0, 0}, {0, 1, 0, 0}
  * side `side`; snap: positions on a 0.5 grid, rotations that permute axes
  * and scales in {0.5, 1, 1.5}, so that faces, edges and vertices touch
  * exactly. */
-static void fill_with(scene *sc, rng *r, size_t n, double side, int snap, int only) {
+static void fill_from(scene *sc, rng *r, size_t n, double side, int snap, const int *set, int set_count) {
     for (size_t i = 0; i < n; ++i) {
         double p[3], q[4];
         for (int k = 0; k < 3; ++k) {
@@ -199,10 +208,15 @@ static void fill_with(scene *sc, rng *r, size_t n, double side, int snap, int on
         }
         if (snap) memcpy(q, exact_quats[next(r) % 6], sizeof q);
         else random_unit_quaternion(r, q);
-        const int shape = only >= 0 ? only : (int)(next(r) % SHAPE_COUNT);
+        const int shape = set[next(r) % (uint64_t)set_count];
         const double scale = snap ? 0.5 + 0.5 * (double)(next(r) % 3) : 0.3 + 1.7 * unif(r);
         add(sc, shape, p, q, scale);
     }
+}
+static void fill_with(scene *sc, rng *r, size_t n, double side, int snap, int only) {
+    static const int all[SHAPE_COUNT] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+    if (only >= 0) fill_from(sc, r, n, side, snap, &only, 1);
+    else fill_from(sc, r, n, side, snap, all, SHAPE_COUNT);
 }
 static void fill(scene *sc, rng *r, size_t n, double side, int snap) { fill_with(sc, r, n, side, snap, -1); }
 
@@ -236,6 +250,52 @@ static void test_one_shape(void **state) {
         scene_free(&sc);
     }
     assert_true(total > 2000);
+}
+
+/* Worlds of two or three shapes, tetrahedra among them: the batch queues
+ * the pairs its line of centres leaves open by combination of meshes
+ * (tetrahedron-box, box-tetrahedron, box-box, ...) until four fill its
+ * lanes, and with three shapes some combinations find no queue and take the
+ * one-pair steps; tetrahedron-convex pairs take the convex path. Random and
+ * grid-snapped, dense, on 1 and 2 threads. */
+static void test_few_shapes(void **state) {
+    (void)state;
+    static const int sets[][3] = {{TETRA, BOX, -1},      {TETRA, ICOSPHERE, -1}, {TETRA, OFFHULL, -1},
+                                  {TETRA, BOX, HULL},    {BOX, SLAB, -1},        {TETRA, PARALLELEPIPED, -1},
+                                  {TETRA, OFFBOX, ICOSAHEDRON}, {TETRA, SLAB, -1}};
+    size_t total = 0;
+    for (uint64_t seed = 1; seed <= 8; ++seed) {
+        rng r = {seed * 15485863};
+        scene sc;
+        scene_init(&sc, 160, (uint32_t)(seed % 2) + 1);
+        const int *set = sets[seed - 1];
+        fill_from(&sc, &r, 160, 11, (int)(seed / 2 % 2), set, set[2] < 0 ? 2 : 3);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 2000);
+}
+
+/* test_few_shapes's worlds with a mesh per body (copies of the shapes'
+ * arrays: the copies share their convex data, so the batch's steps four
+ * pairs at a time serve them too), the shared meshes of the shapes destroyed
+ * halfway (copies made after that find one of the earlier copies). */
+static void test_mesh_per_body(void **state) {
+    (void)state;
+    static const int sets[][2] = {{TETRA, BOX}, {BOX, HULL}, {TETRA, OFFHULL}, {SLAB, ICOSPHERE}};
+    size_t total = 0;
+    for (uint64_t seed = 1; seed <= 4; ++seed) {
+        rng r = {seed * 49979687};
+        scene sc;
+        scene_init(&sc, 160, (uint32_t)(seed % 2) + 1);
+        sc.per_body = 1;
+        fill_from(&sc, &r, 80, 11, (int)(seed % 2), sets[seed - 1], 2);
+        for (int k = 0; k < SHAPE_COUNT; ++k) assert_int_equal(hgcd_mesh_destroy(sc.w, sc.mesh[k]), HGCD_OK);
+        fill_from(&sc, &r, 80, 11, (int)(seed % 2), sets[seed - 1], 2);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    assert_true(total > 1000);
 }
 
 static void test_exact_contacts(void **state) {
@@ -599,6 +659,8 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_scenes),
         cmocka_unit_test(test_one_shape),
+        cmocka_unit_test(test_few_shapes),
+        cmocka_unit_test(test_mesh_per_body),
         cmocka_unit_test(test_exact_contacts),
         cmocka_unit_test(test_hand_built),
         cmocka_unit_test(test_near_touching),

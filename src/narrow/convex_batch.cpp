@@ -139,7 +139,8 @@ struct Centres4 {
     f64x4 u[3], da[3], ub[3], db[3], alo, ahi, blo, bhi, uu, cmargin;
     i64x4 a_toward, b_toward;
 };
-HGCD_CB_INLINE unsigned centres4(const Side &A, const Side &B, Centres4 &c) {
+// Its values other than the two ranges: u, da, ub, db, uu and the margin.
+HGCD_CB_INLINE void lines4(const Side &A, const Side &B, Centres4 &c) {
     for (int j = 0; j < 3; ++j) c.u[j] = B.c[j] - A.c[j];
     const f64x4 *u = c.u;
     for (int j = 0; j < 3; ++j) {
@@ -147,10 +148,7 @@ HGCD_CB_INLINE unsigned centres4(const Side &A, const Side &B, Centres4 &c) {
         c.ub[j] = (B.m[j] * u[0] + B.m[3 + j] * u[1]) + B.m[6 + j] * u[2];
         c.db[j] = -1.0 * c.ub[j];
     }
-    range4(A, c.da, c.alo, c.ahi, c.a_toward);
-    range4(B, c.db, c.blo, c.bhi, c.b_toward);
     c.uu = (u[0] * u[0] + u[1] * u[1]) + u[2] * u[2];
-    const f64x4 gap = c.uu - (c.ahi + c.bhi);
     const f64x4 la = lanes(A.sat[0]->reach, A.sat[1]->reach, A.sat[2]->reach, A.sat[3]->reach);
     const f64x4 lb = lanes(B.sat[0]->reach, B.sat[1]->reach, B.sat[2]->reach, B.sat[3]->reach);
     const f64x4 reach = 2.0 * (A.scale * la + B.scale * lb);
@@ -158,6 +156,12 @@ HGCD_CB_INLINE unsigned centres4(const Side &A, const Side &B, Centres4 &c) {
                       (vabs4(A.c[1]) + vabs4(B.c[1]) + reach) * vabs4(u[1])) +
                      (vabs4(A.c[2]) + vabs4(B.c[2]) + reach) * vabs4(u[2]);
     c.cmargin = tet::kCentresMargin * (c.uu + cu) + tet::kUnderflowFloor;
+}
+HGCD_CB_INLINE unsigned centres4(const Side &A, const Side &B, Centres4 &c) {
+    lines4(A, B, c);
+    range4(A, c.da, c.alo, c.ahi, c.a_toward);
+    range4(B, c.db, c.blo, c.bhi, c.b_toward);
+    const f64x4 gap = c.uu - (c.ahi + c.bhi);
     const i64x4 apart = (gap > 0.0) & (gap > c.cmargin);
     return unsigned(apart[0] & 1) | unsigned(apart[1] & 1) << 1 | unsigned(apart[2] & 1) << 2 |
            unsigned(apart[3] & 1) << 3;
@@ -171,16 +175,19 @@ HGCD_CB_INLINE unsigned mask_of(i64x4 m) {
 // The kernel's vertex poke (convex_kernel.cpp: vertex_poke, vertex_inside,
 // strictly_inside) lane by lane, by its operations on the same values, so
 // its argument holds in each lane: is vertex v[l] of body `out`'s mesh,
-// lane l, strictly inside body `in`? For four pairs whose `in` side shares
-// one mesh (its planes then splat); the lanes where it is, among the lanes
+// lane l, strictly inside body `in`? For four pairs whose sides each share
+// one SatData (the planes of `in` then splat, and the vertices of `out` are
+// read from its runs: the same values as the meshes', which share it only
+// when their arrays are the same); the lanes where it is, among the lanes
 // `want` (the others may be left undecided: the planes stop when every lane
 // wanted is outside one).
 HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, unsigned want) {
     const SatData &m = *in.sat[0];
+    const uint32_t n = out.sat[0]->padded;
+    const double *x = out.sat[0]->soa.data();
     f64x4 l[3], w[3], D[3], z[3];
-    for (int j = 0; j < 3; ++j)
-        l[j] = out.scale * lanes(out.mesh[0]->vertices[3 * size_t(v[0]) + j], out.mesh[1]->vertices[3 * size_t(v[1]) + j],
-                                 out.mesh[2]->vertices[3 * size_t(v[2]) + j], out.mesh[3]->vertices[3 * size_t(v[3]) + j]);
+    for (int j = 0; j < 3; ++j, x += n)
+        l[j] = out.scale * lanes(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
     for (int j = 0; j < 3; ++j) w[j] = out.c[j] + ((out.m[3 * j] * l[0] + out.m[3 * j + 1] * l[1]) + out.m[3 * j + 2] * l[2]);
     for (int j = 0; j < 3; ++j) D[j] = w[j] - in.c[j];
     for (int j = 0; j < 3; ++j) z[j] = (in.m[j] * D[0] + in.m[3 + j] * D[1]) + in.m[6 + j] * D[2];
@@ -296,7 +303,125 @@ HGCD_CB_INLINE void lane_of(const Side &A, const Side &B, const Centres4 &c, int
     out.b_toward = uint32_t(c.b_toward[k]);
 }
 
+// The steps after the line of centres for the lanes `open` of four pairs
+// whose sides each share one SatData with planes (inside_test), pair
+// index[l] in lane l: the kernel's first certificates, a vertex of one body
+// poking into the other, four pairs at a time; then the face axes, for the
+// pairs the kernel would try them on first (not deep: kDeep) when both
+// meshes have at most kFaceAxes; then the one-pair steps for the pairs
+// left.
+HGCD_CB_INLINE void later4(const ConvexPair *pairs, const uint32_t *index, const Side &A, const Side &B,
+                           const Centres4 &c, unsigned open, Contact *out, NarrowScratch &scratch) {
+    // (a vertex of b beyond a's far end, of a before b's near end: the
+    // kernel's b_out and a_out)
+    const unsigned bo = mask_of((c.uu - c.blo) - c.ahi > c.cmargin);
+    const unsigned ao = mask_of((c.uu - c.bhi) - c.alo > c.cmargin);
+    unsigned surface = 0, faces = 0, face_apart = 0;
+    if (open & bo) surface = pokes4(A, B, c.b_toward, open & bo);
+    if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward, open & ~surface & ao);
+    if (A.sat[0]->faces <= uint32_t(kFaceAxes) && B.sat[0]->faces <= uint32_t(kFaceAxes)) {
+        faces = open & ~surface & ~mask_of(c.ahi + c.bhi > kDeep * c.uu);
+        if (faces) face_apart = faces4(A, B, c, faces);
+    }
+    for (int l = 0; l < 4; ++l) {
+        if (!(open >> l & 1)) continue;
+        const ConvexPair &p = pairs[index[l]];
+        const BodyPose a = pose_of(p.mesh_a, *p.a), b = pose_of(p.mesh_b, *p.b);
+        Contact &o = out[index[l]];
+        if (surface >> l & 1) {
+            o = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Surface);
+        } else if (face_apart >> l & 1) {
+            o = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Apart);
+        } else {
+            ConvexCentres one;
+            lane_of(A, B, c, l, one);
+            one.pokes_tried = true;
+            one.faces_tried = faces >> l & 1;
+            o = collide_convex_after(a, b, scratch, nullptr, convex_decide_past_centres(a, b, one));
+        }
+    }
+}
+
+// Open pairs of groups whose sides do not each share one SatData (mixed
+// worlds: a group holds pairs of several combinations of meshes), queued by
+// combination until four fill later4's lanes: a pair's index and the values
+// of its line of centres that cost a pass over the vertices; the others,
+// cheap, are computed again from the poses by lines4, the same operations on
+// the same values, so the same bits.
+struct Queue {
+    const SatData *sa = nullptr, *sb = nullptr;
+    uint32_t count = 0;
+    uint32_t index[4];
+    double alo[4], ahi[4], blo[4], bhi[4];
+    int64_t a_toward[4], b_toward[4];
+};
+// (Enough for worlds of a few convex shapes; pairs of other combinations
+// take the one-pair steps.)
+constexpr int kQueues = 4;
+
+HGCD_CB_INLINE void run_queue(const ConvexPair *pairs, Queue &q, Contact *out, NarrowScratch &scratch) {
+    const Placement *pa[4], *pb[4];
+    const Mesh *ma[4], *mb[4];
+    double v[4][4];
+    int64_t t[2][4];
+    for (uint32_t l = 0; l < 4; ++l) {
+        const uint32_t k = l < q.count ? l : 0;  // (lanes past count repeat lane 0)
+        const ConvexPair &p = pairs[q.index[k]];
+        pa[l] = p.a;
+        pb[l] = p.b;
+        ma[l] = p.mesh_a;
+        mb[l] = p.mesh_b;
+        v[0][l] = q.alo[k];
+        v[1][l] = q.ahi[k];
+        v[2][l] = q.blo[k];
+        v[3][l] = q.bhi[k];
+        t[0][l] = q.a_toward[k];
+        t[1][l] = q.b_toward[k];
+    }
+    Side A, B;
+    load_side(pa, ma, A);
+    load_side(pb, mb, B);
+    Centres4 c;
+    lines4(A, B, c);
+    std::memcpy(&c.alo, v[0], sizeof c.alo);
+    std::memcpy(&c.ahi, v[1], sizeof c.ahi);
+    std::memcpy(&c.blo, v[2], sizeof c.blo);
+    std::memcpy(&c.bhi, v[3], sizeof c.bhi);
+    std::memcpy(&c.a_toward, t[0], sizeof c.a_toward);
+    std::memcpy(&c.b_toward, t[1], sizeof c.b_toward);
+    later4(pairs, q.index, A, B, c, (1u << q.count) - 1, out, scratch);
+    q.count = 0;
+}
+
+// Lane l of four pairs (pair `index`) into the queue of its combination of
+// meshes (taking a free queue for a new one); false when it has none.
+HGCD_CB_INLINE bool enqueue(const ConvexPair *pairs, Queue *queues, const Side &A, const Side &B,
+                            const Centres4 &c, int l, uint32_t index, Contact *out, NarrowScratch &scratch) {
+    const SatData *sa = A.sat[l], *sb = B.sat[l];
+    if (!sa->inside_test || !sb->inside_test) return false;
+    for (int k = 0; k < kQueues; ++k) {
+        Queue &q = queues[k];
+        if (q.sa != sa || q.sb != sb) {
+            if (q.sa) continue;
+            q.sa = sa;
+            q.sb = sb;
+        }
+        const uint32_t i = q.count++;
+        q.index[i] = index;
+        q.alo[i] = c.alo[l];
+        q.ahi[i] = c.ahi[l];
+        q.blo[i] = c.blo[l];
+        q.bhi[i] = c.bhi[l];
+        q.a_toward[i] = c.a_toward[l];
+        q.b_toward[i] = c.b_toward[l];
+        if (q.count == 4) run_queue(pairs, q, out, scratch);
+        return true;
+    }
+    return false;
+}
+
 HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, NarrowScratch &scratch) {
+    Queue queues[kQueues];
     for (size_t k = 0; k < n; k += 4) {
         if (k + 20 <= n)  // (the placements four groups ahead, as the tetra batch)
             for (size_t l = 0; l < 4; ++l) {
@@ -317,46 +442,28 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
         load_side(pb, mb, B);
         Centres4 c;
         const unsigned apart = centres4(A, B, c);
-        // The kernel's first certificates, a vertex of one poking into the
-        // other, four pairs at a time too when each side shares one mesh
-        // with planes (inside_test).
-        const bool shared = ma[1] == ma[0] && ma[2] == ma[0] && ma[3] == ma[0] && mb[1] == mb[0] &&
-                            mb[2] == mb[0] && mb[3] == mb[0] && A.sat[0]->inside_test && B.sat[0]->inside_test;
-        unsigned surface = 0, faces = 0, face_apart = 0;
-        if (shared && apart != 15) {
-            // (a vertex of b beyond a's far end, of a before b's near end:
-            // the kernel's b_out and a_out)
-            const unsigned bo = mask_of((c.uu - c.blo) - c.ahi > c.cmargin);
-            const unsigned ao = mask_of((c.uu - c.bhi) - c.alo > c.cmargin);
-            const unsigned open = ~apart & 15;
-            if (open & bo) surface = pokes4(A, B, c.b_toward, open & bo);
-            if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward, open & ~surface & ao);
-            // Then the face axes, for the pairs the kernel would try them on
-            // first (not deep: kDeep).
-            if (A.sat[0]->faces <= uint32_t(kFaceAxes) && B.sat[0]->faces <= uint32_t(kFaceAxes)) {
-                faces = open & ~surface & ~mask_of(c.ahi + c.bhi > kDeep * c.uu);
-                if (faces) face_apart = faces4(A, B, c, faces);
-            }
+        const unsigned open = ~apart & ((1u << std::min<size_t>(4, n - k)) - 1);
+        for (size_t l = 0; l < 4 && k + l < n; ++l) out[k + l] = Contact::None;
+        if (!open) continue;
+        const SatData *const *sa = A.sat, *const *sb = B.sat;
+        if (sa[1] == sa[0] && sa[2] == sa[0] && sa[3] == sa[0] && sb[1] == sb[0] && sb[2] == sb[0] &&
+            sb[3] == sb[0] && sa[0]->inside_test && sb[0]->inside_test) {
+            // (each side shares one mesh: the usual case, the lanes in place)
+            const uint32_t index[4] = {uint32_t(k), uint32_t(k + 1), uint32_t(k + 2), uint32_t(k + 3)};
+            later4(pairs, index, A, B, c, open, out, scratch);
+            continue;
         }
-        for (size_t l = 0; l < 4 && k + l < n; ++l) {
-            out[k + l] = Contact::None;
-            if (apart >> l & 1) continue;
-            const BodyPose a = pose_of(ma[l], *pa[l]), b = pose_of(mb[l], *pb[l]);
-            if (surface >> l & 1) {
-                out[k + l] = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Surface);
-                continue;
-            }
-            if (face_apart >> l & 1) {
-                out[k + l] = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Apart);
-                continue;
-            }
+        for (int l = 0; l < 4; ++l) {
+            if (!(open >> l & 1) || enqueue(pairs, queues, A, B, c, l, uint32_t(k + l), out, scratch)) continue;
+            const ConvexPair &p = pairs[k + l];
+            const BodyPose a = pose_of(p.mesh_a, *p.a), b = pose_of(p.mesh_b, *p.b);
             ConvexCentres one;
-            lane_of(A, B, c, int(l), one);
-            one.pokes_tried = shared;
-            one.faces_tried = faces >> l & 1;
+            lane_of(A, B, c, l, one);
             out[k + l] = collide_convex_after(a, b, scratch, nullptr, convex_decide_past_centres(a, b, one));
         }
     }
+    for (Queue &q : queues)
+        if (q.count) run_queue(pairs, q, out, scratch);
 }
 
 #if HGCD_AVX2

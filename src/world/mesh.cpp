@@ -325,10 +325,11 @@ void set_planes(const Mesh &m, SatData &d) {
 
 // The convex path's data (Mesh::sat): face normals, then edge directions,
 // parallel ones once; reach; adjacency; the kernel's vertex runs and planes.
-void set_sat(Mesh &m, const std::vector<char> &used) {
-    if (!m.convex || m.tetra || m.vertex_count > Mesh::kSatVertices) return;
+void set_sat(Mesh &m, const std::vector<char> &used, const SameSat &same) {
+    if (!m.convex || m.vertex_count > Mesh::kSatVertices) return;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
         if (!used[v]) return;
+    if (same && (m.sat = same(m))) return;
     const double *x = m.vertices.data();
     std::vector<double> axes;
     uint32_t faces = 0;
@@ -389,7 +390,7 @@ void set_sat(Mesh &m, const std::vector<char> &used) {
 }  // namespace
 
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
-                uint32_t triangle_count, Mesh *out, std::string *error) {
+                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same) {
     *error = check_arrays(vertices, vertex_count, triangles, triangle_count);
     if (!error->empty()) return false;
     Mesh m;
@@ -404,7 +405,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     m.closed = is_closed(m);
     set_convexity(m, used);
     set_tetra(m);
-    set_sat(m, used);
+    set_sat(m, used, same);
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);

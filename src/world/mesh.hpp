@@ -2,6 +2,7 @@
 // it once at creation (closedness, convexity, components, bounding sphere).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,9 +12,9 @@
 
 namespace hgcd {
 
-// The convex path's data about a small convex mesh (convex, not a
-// tetrahedron, at most Mesh::kSatVertices vertices, every vertex used by a
-// triangle).
+// The convex path's data about a small convex mesh (convex, at most
+// Mesh::kSatVertices vertices, every vertex used by a triangle; tetrahedra
+// too: their pairs with other convex meshes take the convex path).
 struct SatData {
     // Separating axes: unit directions in the mesh frame, 3 doubles each, no
     // two parallel, the `faces` face normals first, then the `edges` edge
@@ -95,8 +96,8 @@ struct Mesh {
     std::vector<double> box_cut;
     // What the convex path of the narrow phase (narrow/convex.cpp) needs
     // about a small convex mesh (SatData), behind one pointer so that other
-    // meshes (tetrahedra included: they have a path of their own) carry 8
-    // bytes for it; null for them.
+    // meshes carry 8 bytes for it; null for them. (Tetrahedron pairs take
+    // their own path; a tetrahedron against another convex mesh this one.)
     static constexpr uint32_t kSatVertices = 64;
     std::shared_ptr<const SatData> sat;
     // Triangle tree in the mesh frame; empty for meshes of at most
@@ -105,8 +106,11 @@ struct Mesh {
 };
 
 // Checks and analyses the arrays, filling *out. Returns false with a message
-// naming the problem when the data is refused.
+// naming the problem when the data is refused. `same`, when given, is asked
+// (with the checked mesh) before Mesh::sat is built, for the SatData of a
+// mesh of the same arrays, taken instead (it is made from them alone).
+using SameSat = std::function<std::shared_ptr<const SatData>(const Mesh &)>;
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
-                uint32_t triangle_count, Mesh *out, std::string *error);
+                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same = nullptr);
 
 }  // namespace hgcd

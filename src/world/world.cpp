@@ -88,13 +88,36 @@ int64_t World::live_mesh(hgcd_mesh id) const {
 
 // ---------------------------------------------------------------- meshes --
 
+// FNV-1a over a mesh's vertex and triangle arrays (sat_slot_).
+static uint64_t sat_key(const Mesh &m) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    const auto mix = [&h](const void *p, size_t n) {
+        const unsigned char *b = static_cast<const unsigned char *>(p);
+        for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+    };
+    mix(m.vertices.data(), m.vertices.size() * sizeof(double));
+    mix(m.triangles.data(), m.triangles.size() * sizeof(uint32_t));
+    return h;
+}
+
 hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     if (!d.vertices) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.vertices is NULL");
     if (!d.triangles) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.triangles is NULL");
     if (live_meshes_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "mesh_create: too many meshes");
+    // A live mesh of the same arrays lends its SatData (sat_slot_).
+    const auto same = [this](const Mesh &m) -> std::shared_ptr<const SatData> {
+        const auto found = sat_slot_.find(sat_key(m));
+        if (found == sat_slot_.end()) return nullptr;
+        const Mesh &o = meshes_[found->second];
+        if (o.vertex_count != m.vertex_count || o.triangle_count != m.triangle_count ||
+            std::memcmp(o.vertices.data(), m.vertices.data(), m.vertices.size() * sizeof(double)) ||
+            std::memcmp(o.triangles.data(), m.triangles.data(), m.triangles.size() * sizeof(uint32_t)))
+            return nullptr;
+        return o.sat;
+    };
     Mesh m;
     std::string error;
-    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error))
+    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error, same))
         return fail(HGCD_ERROR_INVALID_MESH, "mesh_create: " + error);
     uint32_t slot = mesh_free_.empty() ? uint32_t(meshes_.size()) : mesh_free_.back();
     pool_.reserve(slot, m);  // (may throw: nothing has changed yet)
@@ -123,7 +146,13 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     mesh_users_[slot] = 0;
     ++live_meshes_;
     tetra_meshes_ += meshes_[slot].tetra;
-    sat_meshes_ += meshes_[slot].sat != nullptr;
+    sat_meshes_ += meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
+    if (meshes_[slot].sat) {
+        try {
+            sat_slot_.emplace(sat_key(meshes_[slot]), slot);  // (kept for the first: only an economy)
+        } catch (const std::bad_alloc &) {
+        }
+    }
     *out = hgcd_mesh{slot, mesh_gen_[slot]};
     return HGCD_OK;
 }
@@ -137,7 +166,11 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
     if (mesh_free_.capacity() == mesh_free_.size()) mesh_free_.reserve(2 * mesh_free_.size() + 8);
     mesh_alive_[slot] = 0;
     tetra_meshes_ -= meshes_[slot].tetra;
-    sat_meshes_ -= meshes_[slot].sat != nullptr;
+    sat_meshes_ -= meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
+    if (meshes_[slot].sat) {
+        const auto at = sat_slot_.find(sat_key(meshes_[slot]));
+        if (at != sat_slot_.end() && at->second == uint32_t(slot)) sat_slot_.erase(at);
+    }
     meshes_[slot] = Mesh();
     if (pool_.remove(uint32_t(slot))) refresh_records();  // (the pool closed its holes)
     --live_meshes_;

@@ -323,9 +323,15 @@ class World {
     std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
     MeshPool pool_;  // the records of small meshes, by slot (mesh_pool.hpp)
     uint32_t live_meshes_ = 0;
-    // Live meshes that are tetrahedra (Mesh::tetra), and that have Mesh::sat:
-    // what the narrow phase's plan asks, without a pass over the meshes.
+    // Live meshes that are tetrahedra (Mesh::tetra), and the others that have
+    // Mesh::sat (the convex batch is needed only with one of those): what the
+    // narrow phase's plan asks, without a pass over the meshes.
     uint32_t tetra_meshes_ = 0, sat_meshes_ = 0;
+    // A live mesh with Mesh::sat per hash of its arrays (sat_key): a new
+    // mesh with the same arrays shares its SatData, so that the convex
+    // batch's steps that need one SatData per side of four pairs also serve
+    // bodies that each have a copy of one mesh.
+    std::unordered_map<uint64_t, uint32_t> sat_slot_;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)

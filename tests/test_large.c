@@ -323,7 +323,11 @@ static void test_frame_touching(void **state) {
     rng r = {41};
     static const int kinds[4][2] = {{M_PLATE, M_PLATE}, {M_LONG, M_LONG}, {M_LENS, M_LENS}, {M_LONG, M_ROUND}};
     static const double scales[4][2] = {{1, 1}, {7, 1}, {0.25, 3}, {1, 0.5}};
-    for (int rep = 0; rep < 32; ++rep) {
+    /* Reps 32..63 again with unit quaternions far from the origin: there
+     * the matrices' deviation from a rotation no longer swamps the rounding
+     * terms of the margins, so those are what the bisection meets. */
+    for (int rep = 0; rep < 64; ++rep) {
+        const int unit = rep >= 32;
         double qa[4], qb[4], u[3], o[3];
         random_unit_quaternion(&r, qa);
         random_unit_quaternion(&r, qb);
@@ -339,8 +343,8 @@ static void test_frame_touching(void **state) {
             memcpy(qb, aligned[(rep / 4 + 1) % 4], sizeof qb);
         }
         const int normal = rep % 2 == 0; /* plates face to face, lenses pole to pole */
-        const double stretch_a = sqrt(1 + (normal || rep % 3 ? 9e-7 : -9e-7));
-        const double stretch_b = normal ? stretch_a : sqrt(1 + (rep % 3 ? -9e-7 : 9e-7));
+        const double stretch_a = unit ? 1 : sqrt(1 + (normal || rep % 3 ? 9e-7 : -9e-7));
+        const double stretch_b = unit ? 1 : normal ? stretch_a : sqrt(1 + (rep % 3 ? -9e-7 : 9e-7));
         for (int k = 0; k < 4; ++k) {
             qa[k] *= stretch_a;
             qb[k] *= stretch_b;
@@ -369,10 +373,107 @@ static void test_frame_touching(void **state) {
                 for (int k = 0; k < 3; ++k) u[k] = -u[k];
             }
         }
-        for (int k = 0; k < 3; ++k) o[k] = (rep % 2 ? 3000.0 : -700.0) * (1 + unif(&r));
+        for (int k = 0; k < 3; ++k) o[k] = (rep % 2 ? 3000.0 : -700.0) * (unit ? 1e6 : 1) * (1 + unif(&r));
         const int *kind = kinds[rep % 4];
         const double *sc = scales[(rep / 4) % 4];
         touch_scaled(kind[0], qa, sc[0], kind[1], qb, sc[1], o, u, 12 * (sc[0] + sc[1]));
+    }
+}
+
+/* Two bodies of small custom meshes (more than 48 triangles each, so both
+ * take the tree path) at scales where the world vertices underflow or a's
+ * mesh frame is far from the world's: hgcd equals the oracle in both orders
+ * of creation (either body can be the frame's). */
+enum { FAN = 60, GRID = 8 };
+static void cone(double *v, uint32_t *t, double apex, double ring_x, double radius) {
+    v[0] = apex, v[1] = v[2] = 0;
+    for (int i = 0; i < FAN; ++i) {
+        const double th = 6.283185307179586 * i / FAN;
+        v[3 * (i + 1)] = ring_x, v[3 * (i + 1) + 1] = radius * cos(th), v[3 * (i + 1) + 2] = radius * sin(th);
+        t[3 * i] = 0, t[3 * i + 1] = 1 + i, t[3 * i + 2] = 1 + (i + 1) % FAN;
+    }
+}
+/* A closed, non-convex zigzag bipyramid about the origin, apexes at z = +-1. */
+static void bipyramid(double *v, uint32_t *t) {
+    v[0] = v[1] = 0, v[2] = 1, v[3] = v[4] = 0, v[5] = -1;
+    for (int i = 0; i < FAN; ++i) {
+        const double th = 6.283185307179586 * i / FAN, r = i % 2 ? 0.7 : 1.0;
+        v[3 * (i + 2)] = r * cos(th), v[3 * (i + 2) + 1] = r * sin(th), v[3 * (i + 2) + 2] = 0;
+        t[6 * i] = 0, t[6 * i + 1] = 2 + i, t[6 * i + 2] = 2 + (i + 1) % FAN;
+        t[6 * i + 3] = 1, t[6 * i + 4] = 2 + (i + 1) % FAN, t[6 * i + 5] = 2 + i;
+    }
+}
+/* A flat open grid at z = 0 over [x0, x1] x [y0, y1]. */
+static void flat_grid(double *v, uint32_t *t, double x0, double x1, double y0, double y1) {
+    for (int i = 0; i <= GRID; ++i)
+        for (int j = 0; j <= GRID; ++j) {
+            double *p = v + 3 * (i * (GRID + 1) + j);
+            p[0] = x0 + (x1 - x0) * i / GRID, p[1] = y0 + (y1 - y0) * j / GRID, p[2] = 0;
+        }
+    int k = 0;
+    for (int i = 0; i < GRID; ++i)
+        for (int j = 0; j < GRID; ++j) {
+            const uint32_t a = i * (GRID + 1) + j, b = a + 1, c = a + GRID + 1, d = c + 1;
+            t[k++] = a, t[k++] = c, t[k++] = b, t[k++] = b, t[k++] = c, t[k++] = d;
+        }
+}
+static void two_bodies(const oracle_mesh *m, const double *pos, const double *scale, size_t expect) {
+    static const double q[8] = {0, 0, 0, 1, 0, 0, 0, 1};
+    const oracle_mesh *bm[2] = {&m[0], &m[1]};
+    uint32_t pairs[2];
+    assert_int_equal(oracle_colliding_pairs(2, bm, pos, q, scale, pairs, 1), expect);
+    for (int first = 0; first < 2; ++first) {
+        hgcd_world_desc wd = hgcd_world_desc_default();
+        hgcd_world *w;
+        assert_int_equal(hgcd_world_create(&wd, &w), HGCD_OK);
+        hgcd_mesh mesh[2];
+        for (int k = 0; k < 2; ++k) {
+            hgcd_mesh_desc md = hgcd_mesh_desc_default();
+            md.vertices = m[k].verts, md.triangles = m[k].tris;
+            md.vertex_count = m[k].vertex_count, md.triangle_count = m[k].triangle_count;
+            assert_int_equal(hgcd_mesh_create(w, &md, &mesh[k]), HGCD_OK);
+        }
+        for (int i = 0; i < 2; ++i) {
+            const int k = first ^ i;
+            hgcd_body_desc bd = hgcd_body_desc_default();
+            bd.mesh = mesh[k];
+            memcpy(bd.position, pos + 3 * k, sizeof bd.position);
+            bd.scale = scale[k];
+            hgcd_body body;
+            assert_int_equal(hgcd_body_create(w, &bd, &body), HGCD_OK);
+        }
+        assert_int_equal(hgcd_world_detect(w), HGCD_OK);
+        const hgcd_pair *got;
+        size_t count;
+        assert_int_equal(hgcd_world_pairs(w, &got, &count), HGCD_OK);
+        assert_int_equal(count, expect);
+        hgcd_world_destroy(w);
+    }
+}
+static void test_frame_extreme_scales(void **state) {
+    (void)state;
+    static double v[2][3 * (GRID + 1) * (GRID + 1)];
+    static uint32_t t[2][6 * GRID * GRID];
+    oracle_mesh m[2] = {{v[0], t[0], FAN + 1, FAN, 0}, {v[1], t[1], FAN + 1, FAN, 0}};
+    /* Subnormal world vertices: cones apart in their meshes (apexes at 31/32
+     * and 1) whose apexes round to the same world point at scale 2^-1070. */
+    cone(v[0], t[0], 31.0 / 32, 0.0, 0.5);
+    cone(v[1], t[1], 1.0, 2.0, 0.5);
+    const double origin[6] = {0, 0, 0, 0, 0, 0}, tiny[2] = {ldexp(1, -1070), ldexp(1, -1070)};
+    two_bodies(m, origin, tiny, 1);
+    const double unit[2] = {1, 1};
+    two_bodies(m, origin, unit, 0);
+    /* a of scale 1e-295 inside a grid 1e13 wide that passes through it: in
+     * a's frame the grid's node centres are near 1e308 and beyond. */
+    bipyramid(v[0], t[0]);
+    flat_grid(v[1], t[1], 0.9e13, 3.1e13, -1e13, 1e13);
+    const oracle_mesh closed_and_grid[2] = {{v[0], t[0], FAN + 2, 2 * FAN, 1},
+                                            {v[1], t[1], (GRID + 1) * (GRID + 1), 2 * GRID * GRID, 0}};
+    const double apart_x[6] = {0, 0, 0, -1e13, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+        const double s[3] = {1e-295, 1e-200, 1e-280};
+        const double scale[2] = {s[k], 1};
+        two_bodies(closed_and_grid, apart_x, scale, 1);
     }
 }
 
@@ -426,6 +527,7 @@ int main(void) {
         cmocka_unit_test(test_elongated_touching),
         cmocka_unit_test(test_fitted_touching),
         cmocka_unit_test(test_frame_touching),
+        cmocka_unit_test(test_frame_extreme_scales),
         cmocka_unit_test(test_moving_cluster),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));

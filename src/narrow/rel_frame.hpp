@@ -24,7 +24,8 @@
 // |pos_a|; likewise for b; sigma = s_b / s_a.
 //
 // a's vertices. w~ = T_a(p) + e, |e| <= g_5 (P_a + 1.74 s_a L_a) (the five
-// roundings of transform_point, as at BodyView::world_box). Phi(w~) = R_a^T
+// roundings of transform_point, as at BodyView::node_box; underflow at
+// prepare_frame). Phi(w~) = R_a^T
 // R_a p + R_a^T e / s_a = p + D p + R_a^T e / s_a with D = R_a^T R_a - I,
 // ||D||_inf <= rho_a (orthonormal_defect of R_a's columns), so |Phi(w~) - p|
 // <= rho_a L_a + 1.74 g_5 (P_a / s_a + 1.74 L_a) <= mu_a (RelFrame::mu_a,
@@ -94,8 +95,15 @@ inline f64x2 splat(const double *block, int k, int l) {
 inline f64x2 vabs(f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); }
 inline f64x2 both(double x) { return f64x2{x, x}; }
 
-// The frame of the pair (a, b): a's mesh frame.
-inline void prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
+// The frame of the pair (a, b): a's mesh frame. False when the frame's
+// values leave the range where the argument above holds (the caller then
+// takes the world-space node tests): a's frame divides by s_a, so a tiny
+// scale can push the centres towards overflow, where an infinite centre
+// would compare as apart against finite radii. With tmax, qmax, qmax L_b,
+// L_a and 1 / fl(sigma) at most 1e100, every centre, axis, difference and
+// dot product below stays under 1e250; radii may still overflow, which
+// only makes a test fail to separate.
+inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
     const double *ra = a.r.m, *rb = b.r.m;
     const double d[3] = {b.position[0] - a.position[0], b.position[1] - a.position[1],
                          b.position[2] - a.position[2]};
@@ -120,10 +128,21 @@ inline void prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
     const double pa = pmax(a.position) / a.scale, pab = (pmax(a.position) + pmax(b.position)) / a.scale;
     const double columns[9] = {ra[0], ra[3], ra[6], ra[1], ra[4], ra[7], ra[2], ra[5], ra[8]};
     const double rho = orthonormal_defect(columns);
-    f.mu_a = (2e-15 * pa + (4e-15 + 1.01 * rho) * la) * (1 + 1e-10) + 1e-300;
-    f.mu_b = (6e-15 * pab + 1e-14 * sigma * lb + 2e-15 * tmax) * (1 + 1e-10) + 1e-300;
+    const double big = 1e100;
+    if (!(tmax <= big && qmax <= big && qmax * lb <= big && la <= big && sigma * big >= 1)) return false;
+    // Underflow: each rounding of a world vertex may also be off by half a
+    // subnormal ulp (2^-1075, absolute), at most 2^-1070 over the five of
+    // transform_point; Phi maps that to 1.74 2^-1070 / s_a < 2^-1069 / s_a,
+    // and t~'s products add 3 2^-1075 / s_a. 2^-1068 / s_a covers both (at
+    // most 64, as s_a >= 2^-1074). Underflow in a's frame itself (images,
+    // products of Q~) is absolute there and below the 1e-300 terms or, for
+    // Q~'s entries, 1e-322 sigma L_b, within the 1e-14 sigma L_b term.
+    const double under = 0x1p-1068 / a.scale;
+    f.mu_a = (2e-15 * pa + (4e-15 + 1.01 * rho) * la) * (1 + 1e-10) + 1e-300 + under;
+    f.mu_b = (6e-15 * pab + 1e-14 * sigma * lb + 2e-15 * tmax) * (1 + 1e-10) + 1e-300 + under;
     f.node_eps = 2e-15 * qmax;
     f.qn = 1.001 * sigma;
+    return true;
 }
 
 // The images of the two nodes of b's block `in` (Bvh::lanes) in a's frame:

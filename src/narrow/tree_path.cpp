@@ -407,9 +407,8 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     // Both with trees: the node tests in a's mesh frame.
     RelFrame frame;
     Images img{&frame, nullptr, nullptr, nullptr, s.epoch};
-    const bool rel = !kMargin && va.nodes && vb.nodes;
+    const bool rel = !kMargin && va.nodes && vb.nodes && prepare_frame(va, vb, frame);
     if (rel) {
-        prepare_frame(va, vb, frame);
         NarrowScratch::Side &c = s.side[1];
         const size_t nn = b.mesh->bvh.lanes.size() / kLaneBlock;
         if (c.image_stamp.size() < nn) {

@@ -87,12 +87,15 @@ typedef struct {
     double *pos, *quat, *scale;
 } scene;
 
+/* 0: scene_init creates no shared meshes (for worlds with a mesh per body). */
+static int shared_meshes = 1;
+
 static void scene_init(scene *sc, size_t cap, uint32_t threads) {
     memset(sc, 0, sizeof *sc);
     hgcd_world_desc wd = hgcd_world_desc_default();
     wd.thread_count = threads;
     assert_int_equal(hgcd_world_create(&wd, &sc->w), HGCD_OK);
-    for (int k = 0; k < SHAPE_COUNT; ++k) {
+    for (int k = 0; k < SHAPE_COUNT && shared_meshes; ++k) {
         hgcd_mesh_desc md = hgcd_mesh_desc_default();
         md.vertices = shapes[k].verts;
         md.triangles = shapes[k].tris;
@@ -295,6 +298,30 @@ static void test_mesh_per_body(void **state) {
         total += check_against_oracle(&sc);
         scene_free(&sc);
     }
+    assert_true(total > 1000);
+}
+
+/* A world of tetrahedra alone, then other convex shapes: the tetrahedra
+ * created before the first other convex mesh get their convex data only
+ * then (a world of tetrahedra alone does not carry it), and their pairs
+ * with the new shapes must stay exact. A mesh per body, 1 and 2 threads. */
+static void test_tetra_first(void **state) {
+    (void)state;
+    static const int tetra[] = {TETRA}, mixed[] = {TETRA, BOX, ICOSPHERE, OFFHULL};
+    size_t total = 0;
+    shared_meshes = 0;
+    for (uint64_t seed = 1; seed <= 4; ++seed) {
+        rng r = {seed * 7368787};
+        scene sc;
+        scene_init(&sc, 200, (uint32_t)(seed % 2) + 1);
+        sc.per_body = 1;
+        fill_from(&sc, &r, 100, 9, (int)(seed % 2), tetra, 1);
+        total += check_against_oracle(&sc);
+        fill_from(&sc, &r, 100, 9, (int)(seed % 2), mixed, 4);
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+    }
+    shared_meshes = 1;
     assert_true(total > 1000);
 }
 
@@ -660,6 +687,7 @@ int main(void) {
         cmocka_unit_test(test_random_scenes),
         cmocka_unit_test(test_one_shape),
         cmocka_unit_test(test_few_shapes),
+        cmocka_unit_test(test_tetra_first),
         cmocka_unit_test(test_mesh_per_body),
         cmocka_unit_test(test_exact_contacts),
         cmocka_unit_test(test_hand_built),

@@ -325,8 +325,8 @@ void set_planes(const Mesh &m, SatData &d) {
 
 // The convex path's data (Mesh::sat): face normals, then edge directions,
 // parallel ones once; reach; adjacency; the kernel's vertex runs and planes.
-void set_sat(Mesh &m, const std::vector<char> &used, const SameSat &same) {
-    if (!m.convex || m.vertex_count > Mesh::kSatVertices) return;
+void set_sat(Mesh &m, const std::vector<char> &used, const SameSat &same, bool tetra_sat) {
+    if (!m.convex || m.vertex_count > Mesh::kSatVertices || (m.tetra && !tetra_sat)) return;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
         if (!used[v]) return;
     if (same && (m.sat = same(m))) return;
@@ -390,7 +390,7 @@ void set_sat(Mesh &m, const std::vector<char> &used, const SameSat &same) {
 }  // namespace
 
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
-                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same) {
+                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same, bool tetra_sat) {
     *error = check_arrays(vertices, vertex_count, triangles, triangle_count);
     if (!error->empty()) return false;
     Mesh m;
@@ -405,12 +405,19 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     m.closed = is_closed(m);
     set_convexity(m, used);
     set_tetra(m);
-    set_sat(m, used, same);
+    set_sat(m, used, same, tetra_sat);
     if (triangle_count > kBvhMinTriangles)
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
     *out = std::move(m);
     return true;
+}
+
+void add_tetra_sat(Mesh &m, const SameSat &same) {
+    if (!m.tetra || m.sat) return;
+    std::vector<char> used(m.vertex_count, 0);
+    for (uint32_t v : m.triangles) used[v] = 1;
+    set_sat(m, used, same, true);
 }
 
 }  // namespace hgcd

@@ -109,8 +109,15 @@ struct Mesh {
 // naming the problem when the data is refused. `same`, when given, is asked
 // (with the checked mesh) before Mesh::sat is built, for the SatData of a
 // mesh of the same arrays, taken instead (it is made from them alone).
+// `tetra_sat`: whether a tetrahedron gets Mesh::sat as well (only its pairs
+// with other small convex meshes read it: a world of tetrahedra alone does
+// not pay its kilobyte a mesh).
 using SameSat = std::function<std::shared_ptr<const SatData>(const Mesh &)>;
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
-                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same = nullptr);
+                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same = nullptr,
+                bool tetra_sat = true);
+// Gives a tetrahedron built without it its Mesh::sat (from `same` when that
+// lends one). May throw std::bad_alloc, leaving m as it was.
+void add_tetra_sat(Mesh &m, const SameSat &same);
 
 }  // namespace hgcd

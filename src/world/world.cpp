@@ -117,7 +117,7 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     };
     Mesh m;
     std::string error;
-    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error, same))
+    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error, same, tetra_sat_))
         return fail(HGCD_ERROR_INVALID_MESH, "mesh_create: " + error);
     uint32_t slot = mesh_free_.empty() ? uint32_t(meshes_.size()) : mesh_free_.back();
     pool_.reserve(slot, m);  // (may throw: nothing has changed yet)
@@ -150,6 +150,21 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     if (meshes_[slot].sat) {
         try {
             sat_slot_.emplace(sat_key(meshes_[slot]), slot);  // (kept for the first: only an economy)
+        } catch (const std::bad_alloc &) {
+        }
+    }
+    if (!tetra_sat_ && meshes_[slot].sat && !meshes_[slot].tetra) {
+        // The first small convex mesh other than a tetrahedron: from now on
+        // tetrahedra get their SatData too, those built before now, so that
+        // their pairs with it take the convex path. Out of memory leaves some
+        // without: their pairs take the general path, with the same answers.
+        tetra_sat_ = true;
+        try {
+            for (size_t k = 0; k < meshes_.size(); ++k)
+                if (mesh_alive_[k] && meshes_[k].tetra && !meshes_[k].sat) {
+                    add_tetra_sat(meshes_[k], same);
+                    if (meshes_[k].sat) sat_slot_.emplace(sat_key(meshes_[k]), uint32_t(k));
+                }
         } catch (const std::bad_alloc &) {
         }
     }

@@ -332,6 +332,9 @@ class World {
     // batch's steps that need one SatData per side of four pairs also serve
     // bodies that each have a copy of one mesh.
     std::unordered_map<uint64_t, uint32_t> sat_slot_;
+    // Set by the first small convex mesh other than a tetrahedron: from then
+    // on tetrahedra carry Mesh::sat too (create_mesh).
+    bool tetra_sat_ = false;
     int32_t narrow_phase_ = HGCD_NARROW_EXACT;
     bool contacts_on_ = false;
     bool contacts_recorded_ = true;  // contacts_ describe pairs_ (false: detected with contacts off)

@@ -282,7 +282,7 @@ static void test_few_shapes(void **state) {
 /* test_few_shapes's worlds with a mesh per body (copies of the shapes'
  * arrays: the copies share their convex data, so the batch's steps four
  * pairs at a time serve them too), the shared meshes of the shapes destroyed
- * halfway (copies made after that find one of the earlier copies). */
+ * halfway (copies made after that share a convex data of their own). */
 static void test_mesh_per_body(void **state) {
     (void)state;
     static const int sets[][2] = {{TETRA, BOX}, {BOX, HULL}, {TETRA, OFFHULL}, {SLAB, ICOSPHERE}};

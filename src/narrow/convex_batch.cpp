@@ -335,16 +335,19 @@ HGCD_CB_INLINE void later4(const ConvexPair *pairs, const uint32_t *index, const
         faces = open & ~surface & ~mask_of(c.ahi + c.bhi > kDeep * c.uu);
         if (faces) face_apart = faces4(A, B, c, faces);
     }
+    // (What collide_convex_after does for those two verdicts without a
+    // witness, in place: a count and the verdict.)
+    scratch.exact_tests += unsigned(__builtin_popcount((surface | face_apart) & open));
     for (int l = 0; l < 4; ++l) {
         if (!(open >> l & 1)) continue;
-        const ConvexPair &p = pairs[index[l]];
-        const BodyPose a = pose_of(p.mesh_a, *p.a), b = pose_of(p.mesh_b, *p.b);
         Contact &o = out[index[l]];
         if (surface >> l & 1) {
-            o = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Surface);
+            o = Contact::Surface;
         } else if (face_apart >> l & 1) {
-            o = collide_convex_after(a, b, scratch, nullptr, ConvexVerdict::Apart);
+            o = Contact::None;
         } else {
+            const ConvexPair &p = pairs[index[l]];
+            const BodyPose a = pose_of(p.mesh_a, *p.a), b = pose_of(p.mesh_b, *p.b);
             ConvexCentres one;
             lane_of(A, B, c, l, one);
             one.pokes_tried = true;

@@ -286,9 +286,9 @@ static void test_convex_only(void **state) {
         while (set[count] >= 0) ++count;
         only_meshes = set;
         scene sc;
-        scene_init(&sc, 200, (uint32_t)(seed % 2) + 1);
+        scene_init(&sc, 150, (uint32_t)(seed % 2) + 1);
         sc.per_body = seed >= 5;
-        fill_from(&sc, &r, 200, 10, (int)(seed / 2 % 2), set, count);
+        fill_from(&sc, &r, 150, 9.5, (int)(seed / 2 % 2), set, count);
         total += check_against_oracle(&sc);
         /* every body moved a little, and detected again */
         for (size_t i = 0; i < sc.n; ++i) {

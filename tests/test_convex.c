@@ -730,22 +730,31 @@ static void test_kernel_decides(void **state) {
     }
 }
 
+/* The scene globals back to their defaults before each test (a failed
+ * assertion leaves a test without its own reset). */
+static int reset_scene_globals(void **state) {
+    (void)state;
+    shared_meshes = 1;
+    only_meshes = NULL;
+    return 0;
+}
+
 int main(void) {
     make_shapes();
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_scenes),
-        cmocka_unit_test(test_one_shape),
-        cmocka_unit_test(test_few_shapes),
-        cmocka_unit_test(test_convex_only),
-        cmocka_unit_test(test_tetra_first),
-        cmocka_unit_test(test_mesh_per_body),
-        cmocka_unit_test(test_exact_contacts),
-        cmocka_unit_test(test_hand_built),
-        cmocka_unit_test(test_near_touching),
-        cmocka_unit_test(test_tip_to_tip),
-        cmocka_unit_test(test_kernel_decides),
-        cmocka_unit_test(test_edge_crossing),
-        cmocka_unit_test(test_nearly_symmetric),
+        cmocka_unit_test_setup(test_random_scenes, reset_scene_globals),
+        cmocka_unit_test_setup(test_one_shape, reset_scene_globals),
+        cmocka_unit_test_setup(test_few_shapes, reset_scene_globals),
+        cmocka_unit_test_setup(test_convex_only, reset_scene_globals),
+        cmocka_unit_test_setup(test_tetra_first, reset_scene_globals),
+        cmocka_unit_test_setup(test_mesh_per_body, reset_scene_globals),
+        cmocka_unit_test_setup(test_exact_contacts, reset_scene_globals),
+        cmocka_unit_test_setup(test_hand_built, reset_scene_globals),
+        cmocka_unit_test_setup(test_near_touching, reset_scene_globals),
+        cmocka_unit_test_setup(test_tip_to_tip, reset_scene_globals),
+        cmocka_unit_test_setup(test_kernel_decides, reset_scene_globals),
+        cmocka_unit_test_setup(test_edge_crossing, reset_scene_globals),
+        cmocka_unit_test_setup(test_nearly_symmetric, reset_scene_globals),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -616,6 +616,41 @@ static void test_tt_random_grid(void **state) {
     assert_true(misses > iters(5000));
 }
 
+/* Hulls of 1 to 3 points lying in one plane x_k = c (points, segments,
+ * triangles, degenerate ones among them) on a coarse grid, so that
+ * vertices, edges and containment touch exactly: flat_hulls_meet (the flat
+ * region's test) against the oracle's triangle test (a point or a segment
+ * as a triangle with repeated corners), both orders. */
+static void test_flat_hulls(void **state) {
+    long it;
+    int hits = 0, misses = 0;
+    (void)state;
+    for (it = 0; it < iters(40000); it++) {
+        const int k = irand(3), cells = it % 2 ? 2 : 4, n[2] = {1 + irand(3), 1 + irand(3)};
+        const double c = 0.25 * (double)irand(5) - 0.5;
+        double v[2][9];
+        const double *pt[2][3];
+        for (int h = 0; h < 2; ++h) {
+            for (int i = 0; i < 3; ++i) {
+                const int from = i < n[h] ? i : n[h] - 1; /* repeated corners */
+                double *x = &v[h][3 * i];
+                if (from == i)
+                    for (int a = 0; a < 3; ++a) x[a] = a == k ? c : (double)irand(cells + 1) * (2.0 / cells);
+                else
+                    memcpy(x, &v[h][3 * from], 3 * sizeof(double));
+                pt[h][i] = x;
+            }
+        }
+        const int o = oracle_tri_tri(v[0], v[1]);
+        assert_int_equal(hgcdi_flat_hulls_meet(k, pt[0], n[0], pt[1], n[1]), o);
+        assert_int_equal(hgcdi_flat_hulls_meet(k, pt[1], n[1], pt[0], n[0]), o);
+        if (o) ++hits;
+        else ++misses;
+    }
+    assert_true(hits > iters(5000));
+    assert_true(misses > iters(5000));
+}
+
 static void test_tt_random_perturbed(void **state) {
     long it;
     int hits = 0, misses = 0;
@@ -1118,6 +1153,7 @@ int main(void) {
         cmocka_unit_test(test_tt_edge_edge),
         cmocka_unit_test(test_tt_collinear_edges),
         cmocka_unit_test(test_tt_coplanar),
+        cmocka_unit_test(test_flat_hulls),
         cmocka_unit_test(test_tt_shared_edge_vertex),
         cmocka_unit_test(test_tt_near_parallel),
         cmocka_unit_test(test_tt_zero_area),

@@ -21,6 +21,12 @@ int orient2d(const double *a, const double *b, const double *c);
 bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
                        const double *q0, const double *q1, const double *q2);
 
+// True if the hulls of the points a[0, na) and b[0, nb) (na, nb in 1..3:
+// a point, a segment, a triangle, degenerate or not) share a point, all of
+// them lying in one plane x_k = c (so that dropping axis k, as
+// orient2d_proj does, maps that plane one to one). Exact.
+bool flat_hulls_meet(int k, const double *const *a, int na, const double *const *b, int nb);
+
 // True if the closed triangles (p0,p1,p2) and (q0,q1,q2) are within
 // Euclidean distance d of each other (some point of one and some point of
 // the other at most d apart; d = 0: tri_tri_intersect). Degenerate triangles

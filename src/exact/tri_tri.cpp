@@ -261,6 +261,24 @@ bool segment_triangle_intersect(const double *e0, const double *e1,
 //    X_ab <= X_ac iff g = -1, and Y_ab >= Y_ac iff f = -1. With (lo, hi) the
 //    endpoints so ordered, the segments overlap iff X_lo <= Y_hi and
 //    Y_lo <= X_hi: two more orientation tests (the Guigue-Devillers idea).
+bool flat_hulls_meet(int k, const double *const *a, int na, const double *const *b, int nb) {
+    // Closed convex sets in a plane meet iff their boundaries do or one holds
+    // a point of the other; a point or a segment is its own boundary.
+    const int ea = na == 1 ? 1 : na == 2 ? 1 : 3, eb = nb == 1 ? 1 : nb == 2 ? 1 : 3;
+    for (int i = 0; i < ea; ++i)
+        for (int j = 0; j < eb; ++j)
+            if (seg_seg_proj(k, a[i], a[(i + 1) % na], b[j], b[(j + 1) % nb])) return true;
+    if (na == 3) {
+        const int o = orient2d_proj(k, a[0], a[1], a[2]);
+        if (o != 0 && point_in_tri_proj(k, b[0], a, o)) return true;
+    }
+    if (nb == 3) {
+        const int o = orient2d_proj(k, b[0], b[1], b[2]);
+        if (o != 0 && point_in_tri_proj(k, a[0], b, o)) return true;
+    }
+    return false;
+}
+
 bool tri_tri_intersect(const double *p0, const double *p1, const double *p2,
                        const double *q0, const double *q1, const double *q2) {
     const double *p[3] = {p0, p1, p2};

@@ -12,6 +12,7 @@
 #include "narrow/boxes.hpp"
 #include "narrow/bvh.hpp"
 #include "narrow/convex.hpp"
+#include "narrow/flat.hpp"
 #include "narrow/tetra.hpp"
 #include "narrow/within.hpp"
 
@@ -187,12 +188,17 @@ bool separated_by_edge_axes(const Mesh &ma, const double *wa, const Mesh &mb, co
 }
 
 // The direct path's exact steps on the world vertices (wa, wb) and exact
-// boxes of two small meshes: the face planes (face_planes: unless the
-// convex path's axes have been tried), then triangle pairs, then
-// containment.
+// boxes of two small meshes: boxes that meet in a flat region decided there
+// (flat.hpp), else the face planes (face_planes: unless the convex path's
+// axes have been tried), then triangle pairs, then containment.
 Contact direct_exact(const BodyPose &a, const double *wa, const double *box_a, const BodyPose &b,
                      const double *wb, const double *box_b, NarrowScratch &s, Witness *witness, bool face_planes) {
     const Mesh &ma = *a.mesh, &mb = *b.mesh;
+    // (A witness request takes the triangle pairs' order below.)
+    if (!witness) {
+        const int flat = flat_contact(ma, wa, box_a, mb, wb, box_b);
+        if (flat >= 0) return flat ? Contact::Surface : Contact::None;
+    }
     if (face_planes && ma.convex && uint64_t(ma.triangle_count) * mb.vertex_count <= kFaceTestBudget &&
         separated_by_face(ma, wa, mb, wb))
         return Contact::None;

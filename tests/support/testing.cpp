@@ -116,6 +116,10 @@ int hgcdi_tri_tri(const double p[9], const double q[9]) {
     return hgcd::tri_tri_intersect(p, p + 3, p + 6, q, q + 3, q + 6) ? 1 : 0;
 }
 
+int hgcdi_flat_hulls_meet(int k, const double *const *a, int na, const double *const *b, int nb) {
+    return hgcd::flat_hulls_meet(k, a, na, b, nb) ? 1 : 0;
+}
+
 int hgcdi_tri_tri_within(const double p[9], const double q[9], double d) {
     return hgcd::tri_tri_within(p, p + 3, p + 6, q, q + 3, q + 6, d) ? 1 : 0;
 }

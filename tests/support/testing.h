@@ -17,6 +17,9 @@ int hgcdi_orient3d(const double *a, const double *b, const double *c,
 int hgcdi_orient2d(const double *a, const double *b, const double *c);
 /* 1 if the closed triangles p (p[0..8]) and q share a point, else 0. */
 int hgcdi_tri_tri(const double p[9], const double q[9]);
+/* hgcd::flat_hulls_meet: the hulls of a[0, na) and b[0, nb) (1 to 3
+ * points each, all in the plane x_k = c) share a point. */
+int hgcdi_flat_hulls_meet(int k, const double *const *a, int na, const double *const *b, int nb);
 /* hgcd::tri_tri_within: the closed triangles within distance d. */
 int hgcdi_tri_tri_within(const double p[9], const double q[9], double d);
 /* Same through hgcd::PreparedTriangle (prepare_triangle + tri_tri). */

@@ -226,8 +226,10 @@ enum hgcd_thread_policy {
      *  detect measures the time its threads spend off a core (two reads of
      *  the thread's CPU clock per thread and parallel region) and its time
      *  per unit of work (bodies plus candidate pairs); when threads lost a
-     *  quarter of their time, the next detect tries half as many threads,
-     *  and the world keeps the count that does the work faster. While on
+     *  quarter of their time, the next detect tries half as many threads
+     *  and the one after it the count before again; the world keeps the
+     *  fewer threads only if they did the work faster than both (one detect
+     *  slowed by a passing descheduling does not move it). While on
      *  fewer threads it tries the larger count again after 8 detects, then
      *  after 16, 32, ... 512 detects while that stays slower. Batch calls
      *  (hgcd_world_set_poses ...) use the count of the last detect.

@@ -184,6 +184,16 @@ inline void World::apply_pose_queued(size_t i, const double *p, const double *q,
     }, stream);
 }
 
+// Whether i starts an aligned run of eight stored bodies below e none of which
+// the call names (slot_of >= count): the apply passes skip such runs, for a
+// few bodies by index among many (static ones stored after them).
+static inline bool none_of_eight_named(const uint32_t *slot_of, size_t count, int64_t i, int64_t e) {
+    if ((i & 7) || i + 8 > e) return false;
+    bool named = false;
+    for (int64_t j = i; j < i + 8; ++j) named |= slot_of[j] < count;
+    return !named;
+}
+
 #if HGCD_AVX2
 // The pass's stage line and the body's placement share a layout (position,
 // orientation, then the scale in the placement): one 64-byte load of each,
@@ -207,14 +217,9 @@ __attribute__((target("avx2,avx512f"))) void World::apply_staged_avx512(int64_t 
     const bool no_margins = world_margin_ == 0 && margin_bodies_ == 0;  // (float_record_box: a record)
     const __mmask8 given = __mmask8((has_p ? 0x07 : 0) | (has_q ? 0x78 : 0));
     for (int64_t i = b; i < e; ++i) {
-        // (As in the portable pass.)
-        if (kSome && !(i & 7) && i + 8 <= e) {
-            bool named = false;
-            for (int64_t j = i; j < i + 8; ++j) named |= slot_of[j] < count;
-            if (!named) {
-                i += 7;
-                continue;
-            }
+        if (kSome && none_of_eight_named(slot_of, count, i, e)) {
+            i += 7;
+            continue;
         }
         if ((kSome && slot_of[i] >= count) || !stored_gen[i]) continue;
         const __m512d line = _mm512_load_pd(stage[i].position), old = _mm512_load_pd(place[i].position);
@@ -320,15 +325,9 @@ hgcd_status World::set_poses(const hgcd_body *bodies, size_t count, const double
         // (Two loops, with and without the skip below.)
         const auto pass = [&](auto skip) {
             for (int64_t i = b; i < e; ++i) {
-                // Eight bodies at a time skipped when none is named: a few
-                // bodies by index among many (static ones stored after them).
-                if (skip && !(i & 7) && i + 8 <= e) {
-                    bool named = false;
-                    for (int64_t j = i; j < i + 8; ++j) named |= slot_of[j] < count_;
-                    if (!named) {
-                        i += 7;
-                        continue;
-                    }
+                if (skip && none_of_eight_named(slot_of, count_, i, e)) {
+                    i += 7;
+                    continue;
                 }
                 // (With every index named, every stored body is.)
                 if ((skip && slot_of[i] >= count_) || !stored_gen[i]) continue;

@@ -17,7 +17,11 @@
  * tetrahedron instead: a mixed world, whose pairs are tetrahedron pairs,
  * mesh pairs and tetrahedron-mesh pairs.
  * --mesh-per-body 1 gives each body a mesh of its own (a copy of the same
- * arrays, hgcd_mesh_create once per body) instead of one shared mesh.
+ * arrays, hgcd_mesh_create once per body) instead of one shared mesh;
+ * --mesh-per-body 2 a shape of its own: body i's mesh is the shape stretched
+ * along x by 1 + (i mod 1024) / 1024 and along y by 1 + (i / 1024 mod 1024)
+ * / 1024 (different boxes, ellipsoidal icospheres, tetrahedra), so that no
+ * two bodies of the first million share a mesh's arrays.
  *
  * One world holds the scene; every tick runs hgcd_world_detect once per mode
  * (switching with hgcd_world_set_narrow_phase / hgcd_world_set_contacts, so
@@ -32,8 +36,9 @@
  *   pairs missing), libccd (hgcd_feature_libccd()), narrow_cpu_ms (median of
  *   the process's CPU time during the detect times the narrow phase's share
  *   of the detect's wall time: on a machine busy with other work, where wall
- *   times are inflated by waiting, the figure to compare on 1 thread) and
- *   cpu_ns_per_candidate.
+ *   times are inflated by waiting, the figure to compare on 1 thread),
+ *   cpu_ns_per_candidate, mesh_per_body and pairs_fnv (FNV-1a, 64-bit, hex,
+ *   of the mode's last-tick pairs, indices as 32-bit words, as bench_hgcd's).
  * and a table on stderr. Exit status 0, 1 on an API failure, 2 on usage. */
 #define _POSIX_C_SOURCE 200809L
 #include <hgcd/hgcd.h>
@@ -211,10 +216,22 @@ int main(int argc, char **argv) {
     if (mix && failed(hgcd_mesh_create(w, &td, &tetra_mesh), w, "mesh_create")) return 1;
     hgcd_body_desc bd = hgcd_body_desc_default();
     hgcd_body *ids = malloc(n * sizeof(hgcd_body));
+    double *own = malloc(3 * (size_t)(md.vertex_count > 4 ? md.vertex_count : 4) * sizeof(double));
+    if (!own) return 1;
     for (uint64_t i = 0; i < n; ++i) {
         const int tetra = mix && (i & 1);
         bd.mesh = tetra ? tetra_mesh : mesh;
-        if (per_body && failed(hgcd_mesh_create(w, tetra ? &td : &md, &bd.mesh), w, "mesh_create")) return 1;
+        hgcd_mesh_desc pd = tetra ? td : md;
+        if (per_body == 2) { /* a shape of its own */
+            const double fx = 1 + (double)(i % 1024) / 1024, fy = 1 + (double)(i / 1024 % 1024) / 1024;
+            for (uint32_t v = 0; v < pd.vertex_count; ++v) {
+                own[3 * v] = fx * pd.vertices[3 * v];
+                own[3 * v + 1] = fy * pd.vertices[3 * v + 1];
+                own[3 * v + 2] = pd.vertices[3 * v + 2];
+            }
+            pd.vertices = own;
+        }
+        if (per_body && failed(hgcd_mesh_create(w, &pd, &bd.mesh), w, "mesh_create")) return 1;
         memcpy(bd.position, centers + 3 * i, sizeof bd.position);
         memcpy(bd.orientation, quats + 4 * i, sizeof bd.orientation);
         bd.scale = sphere && !tetra ? scales[i] * 1.7320508075688772 : scales[i]; /* circumradius r */
@@ -224,6 +241,7 @@ int main(int argc, char **argv) {
 
     hgcd_stats last[MODE_COUNT];
     size_t last_differ[MODE_COUNT] = {0};
+    uint64_t last_fnv[MODE_COUNT] = {0};
     for (int t = 0; t < ticks; ++t) {
         for (int m = 0; m < MODE_COUNT; ++m) {
             if (!use[m]) continue;
@@ -245,6 +263,13 @@ int main(int argc, char **argv) {
             size_t count;
             hgcd_world_pairs(w, &p, &count);
             if (t == ticks - 1) {
+                uint64_t hash = 14695981039346656037ull; /* FNV-1a of the pairs, as bench_hgcd's pairs_fnv */
+                for (size_t k = 0; k < count; ++k) {
+                    const uint32_t ab[2] = {p[k].a.index, p[k].b.index};
+                    const unsigned char *byte = (const unsigned char *)ab;
+                    for (size_t i = 0; i < sizeof ab; ++i) hash = (hash ^ byte[i]) * 1099511628211ull;
+                }
+                last_fnv[m] = hash;
                 if (all_modes[m].narrow == HGCD_NARROW_EXACT && !exact_pairs) {
                     exact_pairs = malloc((count + 1) * sizeof(hgcd_pair));
                     memcpy(exact_pairs, p, count * sizeof(hgcd_pair));
@@ -263,7 +288,7 @@ int main(int argc, char **argv) {
                                    : "tetrahedron";
     fprintf(stderr, "tetra n=%llu seed %llu, mesh %s (%u triangles)%s, %u thread(s), %d ticks, libccd %s, commit %s\n",
             (unsigned long long)n, (unsigned long long)seed, mesh_name, md.triangle_count,
-            per_body ? ", a mesh per body" : "",
+            per_body == 2 ? ", a shape per body" : per_body ? ", a mesh per body" : "",
             last[0].thread_count ? last[0].thread_count : threads, ticks,
             hgcd_feature_libccd() == 2 ? "double" : hgcd_feature_libccd() == 1 ? "single" : "none", commit);
     fprintf(stderr, "%-8s %10s %10s %9s %10s %9s %12s %12s %12s\n", "mode", "narrow_ms", "detect_ms", "pairs", "candidates",
@@ -287,14 +312,16 @@ int main(int argc, char **argv) {
                "\"commit\":\"%s\",\"mesh_triangles\":%u,\"narrow\":\"%s\",\"contacts\":%u,\"narrow_ms\":%.3f,\"detect_ms\":%.3f,"
                "\"pairs\":%llu,\"candidate_pairs\":%llu,\"ns_per_candidate\":%.1f,\"mesh\":\"%s\",\"libccd_tests\":%llu,"
                "\"pairs_differ\":%zu,\"libccd\":%d,\"narrow_cpu_ms\":%.3f,\"cpu_ns_per_candidate\":%.1f,"
-               "\"mesh_per_body\":%d}\n",
+               "\"mesh_per_body\":%d,\"pairs_fnv\":\"%016llx\"}\n",
                (unsigned long long)n, (unsigned long long)seed, last[m].thread_count, ticks, commit,
                md.triangle_count, all_modes[m].narrow == HGCD_NARROW_EXACT ? "exact" : all_modes[m].narrow == HGCD_NARROW_GJK ? "gjk" : "mpr",
                all_modes[m].contacts, nmed, dmed, (unsigned long long)last[m].colliding_pairs,
                (unsigned long long)last[m].candidate_pairs, per, mesh_name,
-               (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd(), cmed, cpu_per, per_body);
+               (unsigned long long)last[m].libccd_tests, last_differ[m], hgcd_feature_libccd(), cmed, cpu_per, per_body,
+               (unsigned long long)last_fnv[m]);
     }
     hgcd_world_destroy(w);
+    free(own);
     free(ids);
     free(exact_pairs);
     free(sv);

@@ -85,10 +85,20 @@ typedef struct {
     int per_body; /* each body a mesh of its own, a copy of its shape's arrays */
     int *shape;
     double *pos, *quat, *scale;
+    hgcd_body *id;
 } scene;
 
 /* 0: scene_init creates no shared meshes (for worlds with a mesh per body). */
 static int shared_meshes = 1;
+/* When set, scene_init creates the shared meshes of these shapes alone
+ * (-1 ends the list): worlds whose every mesh is a small convex one. */
+static const int *only_meshes = NULL;
+
+static int in_list(const int *list, int k) {
+    for (; *list >= 0; ++list)
+        if (*list == k) return 1;
+    return 0;
+}
 
 static void scene_init(scene *sc, size_t cap, uint32_t threads) {
     memset(sc, 0, sizeof *sc);
@@ -96,6 +106,7 @@ static void scene_init(scene *sc, size_t cap, uint32_t threads) {
     wd.thread_count = threads;
     assert_int_equal(hgcd_world_create(&wd, &sc->w), HGCD_OK);
     for (int k = 0; k < SHAPE_COUNT && shared_meshes; ++k) {
+        if (only_meshes && !in_list(only_meshes, k)) continue;
         hgcd_mesh_desc md = hgcd_mesh_desc_default();
         md.vertices = shapes[k].verts;
         md.triangles = shapes[k].tris;
@@ -112,6 +123,7 @@ static void scene_init(scene *sc, size_t cap, uint32_t threads) {
     sc->pos = malloc(3 * cap * sizeof(double));
     sc->quat = malloc(4 * cap * sizeof(double));
     sc->scale = malloc(cap * sizeof(double));
+    sc->id = malloc(cap * sizeof(hgcd_body));
 }
 
 static void scene_free(scene *sc) {
@@ -120,6 +132,7 @@ static void scene_free(scene *sc) {
     free(sc->pos);
     free(sc->quat);
     free(sc->scale);
+    free(sc->id);
 }
 
 static void add(scene *sc, int shape, const double *p, const double *q, double scale) {
@@ -140,6 +153,7 @@ static void add(scene *sc, int shape, const double *p, const double *q, double s
     hgcd_body b;
     assert_int_equal(hgcd_body_create(sc->w, &bd, &b), HGCD_OK);
     assert_int_equal(b.index, sc->n); /* a fresh world: bodies in creation order */
+    sc->id[sc->n] = b;
     sc->shape[sc->n] = shape;
     memcpy(&sc->pos[3 * sc->n], p, 3 * sizeof(double));
     memcpy(&sc->quat[4 * sc->n], q, 4 * sizeof(double));
@@ -253,6 +267,41 @@ static void test_one_shape(void **state) {
         scene_free(&sc);
     }
     assert_true(total > 2000);
+}
+
+/* Worlds whose every mesh is a small convex one, none a tetrahedron (the
+ * narrow phase hands every candidate pair of a chunk to the convex batch in
+ * the chunk's order, and lists its hits from the chunk's pairs): one, two
+ * or three shapes, shared or a mesh per body, random and grid-snapped,
+ * dense, on 1 and 2 threads; each world also after a tick of motion. */
+static void test_convex_only(void **state) {
+    (void)state;
+    static const int sets[][4] = {{BOX, -1},          {BOX, HULL, -1},     {ICOSPHERE, OFFBOX, -1},
+                                  {SLAB, PARALLELEPIPED, OFFHULL, -1}, {OFFBOX, -1}, {HULL, ICOSAHEDRON, BOX, -1}};
+    size_t total = 0;
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+        rng r = {seed * 86028121};
+        const int *set = sets[seed - 1];
+        int count = 0;
+        while (set[count] >= 0) ++count;
+        only_meshes = set;
+        scene sc;
+        scene_init(&sc, 150, (uint32_t)(seed % 2) + 1);
+        sc.per_body = seed >= 5;
+        fill_from(&sc, &r, 150, 9.5, (int)(seed / 2 % 2), set, count);
+        total += check_against_oracle(&sc);
+        /* every body moved a little, and detected again */
+        for (size_t i = 0; i < sc.n; ++i) {
+            double *p = &sc.pos[3 * i];
+            for (int k = 0; k < 3; ++k) p[k] += sc.shape[i] == BOX ? 0.25 : 0.125 * (unif(&r) - 0.5);
+            assert_int_equal(hgcd_body_set_pose(sc.w, sc.id[i], p, &sc.quat[4 * i]), HGCD_OK);
+        }
+        total += check_against_oracle(&sc);
+        scene_free(&sc);
+        only_meshes = NULL;
+    }
+    fprintf(stderr, "test_convex_only: %zu pairs\n", total);
+    assert_true(total > 4000);
 }
 
 /* Worlds of two or three shapes, tetrahedra among them: the batch queues
@@ -681,21 +730,31 @@ static void test_kernel_decides(void **state) {
     }
 }
 
+/* The scene globals back to their defaults before each test (a failed
+ * assertion leaves a test without its own reset). */
+static int reset_scene_globals(void **state) {
+    (void)state;
+    shared_meshes = 1;
+    only_meshes = NULL;
+    return 0;
+}
+
 int main(void) {
     make_shapes();
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_scenes),
-        cmocka_unit_test(test_one_shape),
-        cmocka_unit_test(test_few_shapes),
-        cmocka_unit_test(test_tetra_first),
-        cmocka_unit_test(test_mesh_per_body),
-        cmocka_unit_test(test_exact_contacts),
-        cmocka_unit_test(test_hand_built),
-        cmocka_unit_test(test_near_touching),
-        cmocka_unit_test(test_tip_to_tip),
-        cmocka_unit_test(test_kernel_decides),
-        cmocka_unit_test(test_edge_crossing),
-        cmocka_unit_test(test_nearly_symmetric),
+        cmocka_unit_test_setup(test_random_scenes, reset_scene_globals),
+        cmocka_unit_test_setup(test_one_shape, reset_scene_globals),
+        cmocka_unit_test_setup(test_few_shapes, reset_scene_globals),
+        cmocka_unit_test_setup(test_convex_only, reset_scene_globals),
+        cmocka_unit_test_setup(test_tetra_first, reset_scene_globals),
+        cmocka_unit_test_setup(test_mesh_per_body, reset_scene_globals),
+        cmocka_unit_test_setup(test_exact_contacts, reset_scene_globals),
+        cmocka_unit_test_setup(test_hand_built, reset_scene_globals),
+        cmocka_unit_test_setup(test_near_touching, reset_scene_globals),
+        cmocka_unit_test_setup(test_tip_to_tip, reset_scene_globals),
+        cmocka_unit_test_setup(test_kernel_decides, reset_scene_globals),
+        cmocka_unit_test_setup(test_edge_crossing, reset_scene_globals),
+        cmocka_unit_test_setup(test_nearly_symmetric, reset_scene_globals),
     };
     if (getenv("HGCD_TEST_FILTER")) cmocka_set_test_filter(getenv("HGCD_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);

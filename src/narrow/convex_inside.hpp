@@ -169,18 +169,31 @@ HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatDa
     double g[kEdgePokeWork];
     const double *ca = a.position, *nx = sa.planes.data(), *ny = nx + np, *nz = ny + np, *k = nz + np;
     const f64x4 s = splat(a.scale);
+    {
+        // Four vertices at a time from b's runs (padded: at most
+        // kSatVertices), lane by lane vertex_inside's operations on
+        // transform_point's world vertex: the same bits.
+        const uint32_t pad = sb.padded;
+        const double *bx = sb.soa.data(), *by = bx + pad, *bz = by + pad, *cb = b.position;
+        const f64x4 sv = splat(b.scale);
+        for (uint32_t v = 0; v < nv; v += SatData::kLanes) {
+            const f64x4 lx = sv * load4(bx + v), ly = sv * load4(by + v), lz = sv * load4(bz + v);
+            f64x4 D[3], z[3];
+            for (int j = 0; j < 3; ++j)
+                D[j] = (splat(cb[j]) + ((splat(rb.m[3 * j]) * lx + splat(rb.m[3 * j + 1]) * ly) +
+                                        splat(rb.m[3 * j + 2]) * lz)) -
+                       splat(ca[j]);
+            for (int j = 0; j < 3; ++j)
+                z[j] = (splat(ra.m[j]) * D[0] + splat(ra.m[3 + j]) * D[1]) + splat(ra.m[6 + j]) * D[2];
+            const f64x4 d1 = (vabs(D[0]) + vabs(D[1])) + vabs(D[2]);
+            std::memcpy(zx + v, &z[0], sizeof z[0]);
+            std::memcpy(zy + v, &z[1], sizeof z[1]);
+            std::memcpy(zz + v, &z[2], sizeof z[2]);
+            std::memcpy(dist + v, &d1, sizeof d1);
+        }
+    }
     for (uint32_t v = 0; v < nv; ++v) {
-        double w[3], z[3];
-        double x[3];
-        vertex_of(sb, v, x);
-        transform_point(rb, b.position, b.scale, x, w);
-        const double D[3] = {w[0] - ca[0], w[1] - ca[1], w[2] - ca[2]};
-        rotate_t(ra, D, z);
-        zx[v] = z[0];
-        zy[v] = z[1];
-        zz[v] = z[2];
-        dist[v] = norm1(D);
-        const f64x4 vx = splat(z[0]), vy = splat(z[1]), vz = splat(z[2]);
+        const f64x4 vx = splat(zx[v]), vy = splat(zy[v]), vz = splat(zz[v]);
         for (uint32_t i = 0; i < np; i += SatData::kLanes) {
             const f64x4 gv = ((load4(nx + i) * vx + load4(ny + i) * vy) + load4(nz + i) * vz) - s * load4(k + i);
             std::memcpy(&g[v * np + i], &gv, sizeof gv);

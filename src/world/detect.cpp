@@ -60,6 +60,9 @@ struct World::NarrowPlan {
     // Likewise pairs of small convex meshes (Mesh::sat), when some live mesh
     // has it.
     bool convex_batch = false;
+    // Every live mesh small convex and none a tetrahedron: every pair goes
+    // to the convex batch, in the chunk's order.
+    bool all_convex = false;
     std::unique_ptr<ConvexPair[]> convex_pairs;
     std::unique_ptr<Contact[]> convex_verdicts;
 };
@@ -344,6 +347,7 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
     }
     // (The convex batch decides touching only: not with margins.)
     plan.convex_batch = plan.batch && !plan.margins && sat_meshes_ > 0;
+    plan.all_convex = plan.convex_batch && tetra_meshes_ == 0 && sat_meshes_ == live_meshes_;
     if (plan.convex_batch) {
         plan.convex_pairs.reset(new ConvexPair[size_t(threads) * kNarrowChunk]);
         plan.convex_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
@@ -438,6 +442,24 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
             t.tetra[tetras] = TetraPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b,
                                         records[record[a].block].d, records[record[b].block].d};
         }
+    } else if (plan.all_convex) {
+        const Mesh *meshes = meshes_.data();
+        const Placement *place = place_.data();
+        const uint32_t *body_mesh = body_mesh_.data();
+        const uint32_t *slot_of = slot_of_.data();
+        for (size_t k = chunk.begin; k < chunk.end; ++k) {
+            // (as above: the slots for the hits below; the batch asks for
+            // the placements itself)
+            if (k + 16 < chunk.end) {
+                const uint32_t a2 = uint32_t(list[k + 16] >> 32), b2 = uint32_t(list[k + 16]);
+                __builtin_prefetch(&body_mesh[a2]);
+                __builtin_prefetch(&body_mesh[b2]);
+                __builtin_prefetch(&slot_of[a2]);
+                __builtin_prefetch(&slot_of[b2]);
+            }
+            const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
+            t.convex[t.convex_count++] = ConvexPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b};
+        }
     } else {
         tetras = narrow_pairs(plan, list, chunk, t);
     }
@@ -472,12 +494,27 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
     const size_t n = t.convex_count;
     t.convex_count = 0;
     collide_convex_batch(t.convex, n, t.convex_verdict, t.scratch);
+    // (As the tetrahedra's hits: without a branch per pair.)
+    hit_count = 0;
     for (size_t k = 0; k < n; ++k) {
-        const Contact v = t.convex_verdict[k];
-        if (v == Contact::None) continue;
-        const ConvexPair &p = t.convex[k];
-        t.hits.push_back(pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]));
-        t.containment += v == Contact::Containment;
+        t.hit_index[hit_count] = uint32_t(k);
+        hit_count += t.convex_verdict[k] != Contact::None;
+        t.containment += t.convex_verdict[k] == Contact::Containment;
+    }
+    const size_t from = t.hits.size();
+    t.hits.resize(from + hit_count);
+    uint64_t *into = t.hits.data() + from;
+    if (plan.all_convex) {  // (the batch's pairs are the chunk's, in order; their slots asked for above)
+        const uint64_t *keys = list.begin() + chunk.begin;
+        for (size_t h = 0; h < hit_count; ++h) {
+            const uint64_t key = keys[t.hit_index[h]];
+            into[h] = pair_key(slot_of_[key >> 32], slot_of_[uint32_t(key)]);
+        }
+    } else {
+        for (size_t h = 0; h < hit_count; ++h) {
+            const ConvexPair &p = t.convex[t.hit_index[h]];
+            into[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
+        }
     }
 }
 

@@ -187,83 +187,41 @@ HGCD_CB_INLINE f64x4 vnorm1(const f64x4 *v) { return (vabs4(v[0]) + vabs4(v[1]))
 // The kernel's vertex poke (convex_kernel.cpp: vertex_poke, vertex_inside,
 // strictly_inside) lane by lane, by its operations on the same values, so
 // its argument holds in each lane: is vertex v[l] of body `out`'s mesh,
-// lane l, strictly inside body `in`? The vertices of `out` are read from
-// its convex data's runs (the same values as the meshes', which share it
-// only when their arrays are the same); kShared: each side of the four
-// pairs shares one SatData (the planes of `in` then splat), else each lane
-// reads its own (a plane index past a lane's planes reads its plane 0
-// again, which changes nothing). The lanes where it is, among the lanes
+// lane l, strictly inside body `in`? For four pairs whose sides each share
+// one SatData (the planes of `in` then splat, and the vertices of `out` are
+// read from its runs: the same values as the meshes', which share it only
+// when their arrays are the same); the lanes where it is, among the lanes
 // `want` (the others may be left undecided: the planes stop when every lane
 // wanted is outside one).
-template <bool kShared>
 HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, unsigned want) {
-    f64x4 l[3], w[3], D[3], z[3], reach, theta, inner;
-    const SatData *const *m = in.sat, *const *o = out.sat;
-    for (int j = 0; j < 3; ++j) {
-        if (kShared) {
-            const double *x = o[0]->soa.data() + j * size_t(o[0]->padded);
-            l[j] = out.scale * lanes(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
-        } else {
-            l[j] = out.scale * lanes(o[0]->soa[j * size_t(o[0]->padded) + size_t(v[0])],
-                                     o[1]->soa[j * size_t(o[1]->padded) + size_t(v[1])],
-                                     o[2]->soa[j * size_t(o[2]->padded) + size_t(v[2])],
-                                     o[3]->soa[j * size_t(o[3]->padded) + size_t(v[3])]);
-        }
-    }
-    if (kShared) {
-        reach = f64x4{} + m[0]->reach;
-        theta = f64x4{} + m[0]->theta;
-        inner = f64x4{} + m[0]->inner;
-    } else {
-        reach = lanes(m[0]->reach, m[1]->reach, m[2]->reach, m[3]->reach);
-        theta = lanes(m[0]->theta, m[1]->theta, m[2]->theta, m[3]->theta);
-        inner = lanes(m[0]->inner, m[1]->inner, m[2]->inner, m[3]->inner);
-    }
+    const SatData &m = *in.sat[0];
+    const uint32_t n = out.sat[0]->padded;
+    const double *x = out.sat[0]->soa.data();
+    f64x4 l[3], w[3], D[3], z[3];
+    for (int j = 0; j < 3; ++j, x += n)
+        l[j] = out.scale * lanes(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
     for (int j = 0; j < 3; ++j) w[j] = out.c[j] + ((out.m[3 * j] * l[0] + out.m[3 * j + 1] * l[1]) + out.m[3 * j + 2] * l[2]);
     for (int j = 0; j < 3; ++j) D[j] = w[j] - in.c[j];
     for (int j = 0; j < 3; ++j) z[j] = (in.m[j] * D[0] + in.m[3 + j] * D[1]) + in.m[6 + j] * D[2];
     const f64x4 dz = vnorm1(D), z1 = vnorm1(z);
     const f64x4 dq = vabs4(1.0 - in.n2) + 0x1p-50;
-    const f64x4 L = in.scale * reach;
+    const f64x4 L = in.scale * m.reach;
     const f64x4 cinf = vmax4(vmax4(vabs4(in.c[0]), vabs4(in.c[1])), vabs4(in.c[2]));
     const f64x4 margin =
-        0x1p-40 * (((cinf + L) + z1) + dz) + 12 * dq * L + (2 * theta) * (z1 + L) + tet::kUnderflowFloor;
-    const f64x4 t = (in.scale * inner) * (1 - 0x1p-48) - margin;
+        0x1p-40 * (((cinf + L) + z1) + dz) + 12 * dq * L + 2 * m.theta * (z1 + L) + tet::kUnderflowFloor;
+    const f64x4 t = (in.scale * m.inner) * (1 - 0x1p-48) - margin;
     const f64x4 zz2 = (z[0] * z[0] + z[1] * z[1]) + z[2] * z[2];
     const i64x4 ball = (t > 0.0) & (zz2 * (1 + 0x1p-46) < (t * t) * (1 - 0x1p-48));
+    const double *nx = m.planes.data(), *ny = nx + m.planes_padded, *nz = ny + m.planes_padded,
+                 *k = nz + m.planes_padded;
     const unsigned in_ball = mask_of(ball) & want;
     if (in_ball == want) return in_ball;
     const f64x4 lim = -margin;
     i64x4 outside = i64x4{};
-    if (kShared) {
-        const SatData &s = *m[0];
-        const double *nx = s.planes.data(), *ny = nx + s.planes_padded, *nz = ny + s.planes_padded,
-                     *k = nz + s.planes_padded;
-        for (uint32_t i = 0; i < s.plane_count; ++i) {
-            const f64x4 g = ((nx[i] * z[0] + ny[i] * z[1]) + nz[i] * z[2]) - in.scale * k[i];
-            outside |= g >= lim;
-            if ((i & 3) == 3 && (mask_of(outside) & want) == want) return in_ball;
-        }
-    } else {
-        const double *p[4];
-        uint32_t pad[4], count[4], most = 0;
-        for (int k = 0; k < 4; ++k) {
-            p[k] = m[k]->planes.data();
-            pad[k] = m[k]->planes_padded;
-            count[k] = m[k]->plane_count;
-            most = std::max(most, count[k]);
-        }
-        for (uint32_t i = 0; i < most; ++i) {
-            const uint32_t j[4] = {i < count[0] ? i : 0, i < count[1] ? i : 0, i < count[2] ? i : 0,
-                                   i < count[3] ? i : 0};
-            f64x4 n[4];
-            for (uint32_t r = 0; r < 4; ++r)
-                n[r] = lanes(p[0][r * pad[0] + j[0]], p[1][r * pad[1] + j[1]], p[2][r * pad[2] + j[2]],
-                             p[3][r * pad[3] + j[3]]);
-            const f64x4 g = ((n[0] * z[0] + n[1] * z[1]) + n[2] * z[2]) - in.scale * n[3];
-            outside |= g >= lim;
-            if ((i & 3) == 3 && (mask_of(outside) & want) == want) return in_ball;
-        }
+    for (uint32_t i = 0; i < m.plane_count; ++i) {
+        const f64x4 g = ((nx[i] * z[0] + ny[i] * z[1]) + nz[i] * z[2]) - in.scale * k[i];
+        outside |= g >= lim;
+        if ((i & 3) == 3 && (mask_of(outside) & want) == want) return in_ball;
     }
     return (in_ball | ~mask_of(outside)) & want;
 }
@@ -371,8 +329,8 @@ HGCD_CB_INLINE void later4(const ConvexPair *pairs, const uint32_t *index, const
     const unsigned bo = mask_of((c.uu - c.blo) - c.ahi > c.cmargin);
     const unsigned ao = mask_of((c.uu - c.bhi) - c.alo > c.cmargin);
     unsigned surface = 0, faces = 0, face_apart = 0;
-    if (open & bo) surface = pokes4<true>(A, B, c.b_toward, open & bo);
-    if (open & ~surface & ao) surface |= pokes4<true>(B, A, c.a_toward, open & ~surface & ao);
+    if (open & bo) surface = pokes4(A, B, c.b_toward, open & bo);
+    if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward, open & ~surface & ao);
     if (A.sat[0]->faces <= uint32_t(kFaceAxes) && B.sat[0]->faces <= uint32_t(kFaceAxes)) {
         faces = open & ~surface & ~mask_of(c.ahi + c.bhi > kDeep * c.uu);
         if (faces) face_apart = faces4(A, B, c, faces);
@@ -396,37 +354,6 @@ HGCD_CB_INLINE void later4(const ConvexPair *pairs, const uint32_t *index, const
             one.faces_tried = faces >> l & 1;
             o = collide_convex_after(a, b, scratch, nullptr, convex_decide_past_centres(a, b, one));
         }
-    }
-}
-
-// The open lanes `open` of four pairs (pair k + l in lane l) whose sides do
-// not each share one SatData and that found no queue (a shape per body, or
-// many shapes): the vertex pokes four pairs at a time, each lane with its
-// own meshes' data (pokes4<false>), for the lanes whose meshes both have
-// planes (inside_test); then the one-pair steps for the lanes left.
-HGCD_CB_INLINE void mixed4(const ConvexPair *pairs, size_t k, const Side &A, const Side &B, const Centres4 &c,
-                           unsigned open, Contact *out, NarrowScratch &scratch) {
-    unsigned inside = 0;
-    for (int l = 0; l < 4; ++l) inside |= unsigned(A.sat[l]->inside_test && B.sat[l]->inside_test) << l;
-    const unsigned poke = open & inside;
-    const unsigned bo = mask_of((c.uu - c.blo) - c.ahi > c.cmargin);
-    const unsigned ao = mask_of((c.uu - c.bhi) - c.alo > c.cmargin);
-    unsigned surface = 0;
-    if (poke & bo) surface = pokes4<false>(A, B, c.b_toward, poke & bo);
-    if (poke & ~surface & ao) surface |= pokes4<false>(B, A, c.a_toward, poke & ~surface & ao);
-    scratch.exact_tests += unsigned(__builtin_popcount(surface));  // (collide_convex_after's count)
-    for (int l = 0; l < 4; ++l) {
-        if (!(open >> l & 1)) continue;
-        if (surface >> l & 1) {
-            out[k + l] = Contact::Surface;
-            continue;
-        }
-        const ConvexPair &p = pairs[k + l];
-        const BodyPose a = pose_of(p.mesh_a, *p.a), b = pose_of(p.mesh_b, *p.b);
-        ConvexCentres one;
-        lane_of(A, B, c, l, one);
-        one.pokes_tried = poke >> l & 1;
-        out[k + l] = collide_convex_after(a, b, scratch, nullptr, convex_decide_past_centres(a, b, one));
     }
 }
 
@@ -576,10 +503,14 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
             later4(pairs, index, A, B, c, open, out, scratch);
             continue;
         }
-        unsigned left = 0;
-        for (int l = 0; l < 4; ++l)
-            if (open >> l & 1 && !enqueue(pairs, queues, A, B, c, l, uint32_t(k + l), out, scratch)) left |= 1u << l;
-        if (left) mixed4(pairs, k, A, B, c, left, out, scratch);
+        for (int l = 0; l < 4; ++l) {
+            if (!(open >> l & 1) || enqueue(pairs, queues, A, B, c, l, uint32_t(k + l), out, scratch)) continue;
+            const ConvexPair &p = pairs[k + l];
+            const BodyPose a = pose_of(p.mesh_a, *p.a), b = pose_of(p.mesh_b, *p.b);
+            ConvexCentres one;
+            lane_of(A, B, c, l, one);
+            out[k + l] = collide_convex_after(a, b, scratch, nullptr, convex_decide_past_centres(a, b, one));
+        }
     }
     for (Queue &q : queues)
         if (q.count) run_queue(pairs, q, out, scratch);

@@ -1,7 +1,7 @@
 // bench_shapes: worlds of other shapes than tetrahedra, hgcd beside FCL's
 // full pipeline (dynamic AABB tree + per-pair collide) in the same run.
 //
-//   bench_shapes --scene scanned|boxes|icospheres|meshes|mixed [--n N]
+//   bench_shapes --scene scanned|boxes|icospheres|meshes|mixed|resting [--n N]
 //                [--side L] [--seed S] [--threads K] [--ticks T]
 //                [--turn A] [--no-fcl] [--commit HASH]
 //
@@ -19,6 +19,12 @@
 //   mixed       n = 20000, side 100: by index mod 4 scanned meshes, boxes,
 //               icospheres (80 triangles) and boxes again, plus every 2000th
 //               body a box or an icosphere 50x the median size.
+//   resting     n = 100000 unit cubes, axis-aligned, in stacks of 8 on a
+//               grid of spacing 1.25 (side: the grid's extent), each cube's
+//               faces exactly on those above and below it; each tick they
+//               slide 0.01 in their own direction in x and y (no turn), so
+//               the stacked pairs stay exactly touching: the degenerate
+//               case of resting contact, every colliding pair touching.
 // Sizes other than `scanned`'s are rounded to one of 16 log-spaced values
 // (both libraries get the same ones), because FCL has no per-object scale:
 // each (shape, size) is one FCL model shared by its bodies.
@@ -178,7 +184,35 @@ void turn_bodies(Scene &s) {
     }
 }
 
+// Scene `resting` (above): cubes of half side 0.5 (size 0.5 reach: the
+// scale is exactly 0.5), centres and heights exact.
+Scene resting_scene(uint64_t n, uint64_t seed) {
+    Scene s;
+    s.shapes.push_back(cube());
+    const uint64_t stacks = (n + 7) / 8, row = uint64_t(std::ceil(std::sqrt(double(stacks))));
+    s.side = 1.25 * double(row);
+    s.kind.assign(n, 0);
+    s.size.assign(n, 0.5 * s.shapes[0].reach);
+    s.centers.resize(3 * n);
+    s.quats.assign(4 * n, 0.0);
+    s.velocities.assign(3 * n, 0.0);
+    uint64_t z = seed * 0x9E3779B97F4A7C15ull + 1;
+    for (uint64_t i = 0; i < n; ++i) {
+        const uint64_t stack = i / 8;
+        s.centers[3 * i] = 1.25 * double(stack % row) + 0.625;
+        s.centers[3 * i + 1] = 1.25 * double(stack / row) + 0.625;
+        s.centers[3 * i + 2] = 0.5 + double(i % 8);
+        s.quats[4 * i + 3] = 1;
+        z = z * 6364136223846793005ull + 1442695040888963407ull;
+        const double angle = double(z >> 11) / 9007199254740992.0 * 6.283185307179586;
+        s.velocities[3 * i] = 0.01 * std::cos(angle);
+        s.velocities[3 * i + 1] = 0.01 * std::sin(angle);
+    }
+    return s;
+}
+
 Scene make_scene(const std::string &name, uint64_t n, double side, uint64_t seed) {
+    if (name == "resting") return resting_scene(n, seed);
     Scene s;
     hgcd_scene_tetra_desc sd = hgcd_scene_tetra_desc_default();
     sd.n = n;
@@ -337,7 +371,7 @@ int main(int argc, char **argv) {
         else if (a == "--no-fcl") fcl = false;
         else {
             std::fprintf(stderr,
-                         "usage: %s --scene scanned|boxes|icospheres|meshes|mixed [--n N] [--side L] [--seed S]\n"
+                         "usage: %s --scene scanned|boxes|icospheres|meshes|mixed|resting [--n N] [--side L] [--seed S]\n"
                          "          [--threads K] [--ticks T] [--turn A] [--no-fcl] [--commit HASH]\n",
                          argv[0]);
             return 2;
@@ -348,12 +382,13 @@ int main(int argc, char **argv) {
         uint64_t n;
         double side;
     } defaults[] = {{"scanned", 20000, 86}, {"boxes", 750000, 200}, {"icospheres", 50000, 81},
-                    {"meshes", 1000, 30},    {"mixed", 20000, 100}};
+                    {"meshes", 1000, 30},    {"mixed", 20000, 100},     {"resting", 100000, 0}};
     for (const Default &d : defaults)
         if (scene == d.name) {
             if (n == 0) n = d.n;
             if (side == 0) side = d.side;
         }
+    if (scene == "resting") turn = 0;  // (a turn would end the exact touching)
     Scene s = make_scene(scene, n, side, seed);
     make_turns(s, turn);
 

@@ -478,6 +478,45 @@ static int oracle_pair(int sa, const double *pa, const double *qa, double s_a, i
     return oracle_colliding_pairs(2, m, p, q, s, NULL, 0) != 0;
 }
 
+/* Resting contact: stacks of axis-aligned boxes whose faces lie exactly on
+ * each other's (their boxes meet in a flat region, where the search for an
+ * edge through a triangle is skipped), shifted sideways by multiples of
+ * 1/4 so that faces overlap, edges and corners touch or the boxes are
+ * apart; slabs under them and icospheres and hulls resting on them, axis
+ * turned by quarter turns about z (exact quaternions). */
+static void test_resting_stacks(void **state) {
+    (void)state;
+    scene sc;
+    scene_init(&sc, 200, 1);
+    rng r = {7};
+    static const int top[] = {BOX, BOX, SLAB, ICOSAHEDRON, HULL, PARALLELEPIPED};
+    const double h = sqrt(0.5);
+    const double quarter[4][4] = {{0, 0, 0, 1}, {0, 0, h, h}, {0, 0, 1, 0}, {0, 0, h, -h}};
+    for (int st = 0; st < 24; ++st) {
+        const double x0 = 10.0 * (st % 6), y0 = 10.0 * (st / 6);
+        const double floor_p[3] = {x0, y0, -1};
+        add(&sc, SLAB, floor_p, quarter[0], 2); /* its top face at z = 1 */
+        double z = 1;                            /* the top of what is below */
+        for (int k = 0; k < 5; ++k) {
+            const int shape = k < 4 ? BOX : top[(next(&r) % 6)];
+            const double dx = 0.25 * (double)((int)(next(&r) % 17) - 8), dy = 0.25 * (double)((int)(next(&r) % 17) - 8);
+            const double *q = shape == BOX ? quarter[(next(&r) % 4)] : quarter[0];
+            /* Resting on z: the shape's lowest vertex (turned by q about z, so
+             * its z is unchanged) exactly at z. */
+            double low = INFINITY, high = -INFINITY;
+            for (uint32_t v = 0; v < shapes[shape].vertex_count; ++v) {
+                low = fmin(low, shapes[shape].verts[3 * v + 2]);
+                high = fmax(high, shapes[shape].verts[3 * v + 2]);
+            }
+            const double p[3] = {x0 + dx, y0 + dy, z - low};
+            add(&sc, shape, p, q, 1);
+            z = p[2] + high;
+        }
+    }
+    assert_true(check_against_oracle(&sc) >= 24); /* each stack on its slab */
+    scene_free(&sc);
+}
+
 static void test_near_touching(void **state) {
     (void)state;
     rng r = {99};
@@ -775,6 +814,7 @@ int main(void) {
         cmocka_unit_test_setup(test_exact_contacts, reset_scene_globals),
         cmocka_unit_test_setup(test_hand_built, reset_scene_globals),
         cmocka_unit_test_setup(test_near_touching, reset_scene_globals),
+        cmocka_unit_test_setup(test_resting_stacks, reset_scene_globals),
         cmocka_unit_test_setup(test_tip_to_tip, reset_scene_globals),
         cmocka_unit_test_setup(test_kernel_decides, reset_scene_globals),
         cmocka_unit_test_setup(test_edge_crossing, reset_scene_globals),

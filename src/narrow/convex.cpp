@@ -181,11 +181,19 @@ bool any_edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const do
 bool convex_surfaces_cross(const BodyPose &a, const double *wa, const double *box_a, const BodyPose &b,
                            const double *wb, const double *box_b) {
     const Mesh &ma = *a.mesh, &mb = *b.mesh;
-    if (edge_crosses(mb, wb, ma, wa, a.position) || edge_crosses(ma, wa, mb, wb, b.position)) return true;
-    // Then every edge in the region where the boxes meet.
     const double region[6] = {std::max(box_a[0], box_b[0]), std::max(box_a[1], box_b[1]),
                               std::max(box_a[2], box_b[2]), std::min(box_a[3], box_b[3]),
                               std::min(box_a[4], box_b[4]), std::min(box_a[5], box_b[5])};
+    // Boxes that meet in a flat region (faces resting on each other at one
+    // coordinate) leave no crossing to find: just past the point where an
+    // edge of b certainly crosses a triangle of a, the edge is inside a's
+    // solid, so in both solids, so in the region; a line with two points in
+    // the flat plane lies in it, but a's interior points near a face
+    // interior point lie strictly on one side of the box's face there.
+    for (int k = 0; k < 3; ++k)
+        if (!(region[3 + k] > region[k])) return false;
+    if (edge_crosses(mb, wb, ma, wa, a.position) || edge_crosses(ma, wa, mb, wb, b.position)) return true;
+    // Then every edge in the region where the boxes meet.
     return any_edge_crosses(mb, wb, ma, wa, region) || any_edge_crosses(ma, wa, mb, wb, region);
 }
 

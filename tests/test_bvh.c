@@ -486,6 +486,46 @@ static void test_containment(void **state) {
     hgcd_world_destroy(sc.w);
 }
 
+/* A small cube inside a large one (both with trees, turned alike), its face
+ * (and its first vertex, the one the containment test casts from) a few
+ * ulps to 1e-6 inside the large cube's face, with either body first: the
+ * containment test first tries that vertex against the outer root's boxes
+ * in the outer's frame, which must never put a vertex inside the solid out
+ * of it. The oracle decides between containment and surface contact. */
+static void test_containment_at_face(void **state) {
+    (void)state;
+    rng r = {29};
+    const double gaps[] = {0, 1e-15, 4e-15, 1e-14, 1e-13, 1e-12, 1e-9, 1e-6};
+    size_t held = 0;
+    for (int order = 0; order < 2; ++order)
+        for (int turn = 0; turn < 3; ++turn) {
+            double q[4];
+            random_quat(&r, q);
+            const double o[3] = {1000.25 * turn, -3.5, 7.0};
+            for (size_t g = 0; g < sizeof gaps / sizeof gaps[0]; ++g) {
+                scene sc;
+                scene_init(&sc, 1);
+                /* The inner cube's -x face at x = -3 + gap in the outer's frame. */
+                const double offset[3] = {-3.0 + 0.5 + 3.0 * gaps[g], 0.25, -0.5};
+                double p[3];
+                oracle_world_vertex(o, q, 1.0, offset, p);
+                if (order) {
+                    add(&sc, M_GRID_CUBE, p, q, 0.5);
+                    add(&sc, M_GRID_CUBE, o, q, 3.0);
+                } else {
+                    add(&sc, M_GRID_CUBE, o, q, 3.0);
+                    add(&sc, M_GRID_CUBE, p, q, 0.5);
+                }
+                size_t c;
+                assert_int_equal(check(&sc, &c), 1);
+                held += c;
+                hgcd_world_destroy(sc.w);
+            }
+        }
+    /* (Most gaps leave the small cube wholly inside.) */
+    assert_true(held >= 24);
+}
+
 /* The shell bounds a hollow ball: a body in the cavity does not collide
  * with it, one in the material does (containment), one across the inner
  * surface does (surface), one outside does not. */
@@ -582,6 +622,7 @@ int main(void) {
         cmocka_unit_test(test_random_pairs),
         cmocka_unit_test(test_shallow_contact),
         cmocka_unit_test(test_containment),
+        cmocka_unit_test(test_containment_at_face),
         cmocka_unit_test(test_nested_shells),
         cmocka_unit_test(test_exact_grid_contacts),
         cmocka_unit_test(test_meshes_scene_small),

@@ -287,16 +287,16 @@ inline double lane_dist2(const double *x, int k, int l, const double *y, int j, 
 // (a's two siblings against b's node, or a's node against b's two), so the
 // stack holds only pairs that passed.
 bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
-                       uint32_t start_b, uint32_t *meet, uint32_t *leaves) {
+                       uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
     const BvhNode *na = a.nodes, *nb = b.nodes;
     const double *lanes_a = a.mesh->bvh.lanes.data();
     const RelFrame &f = *img.f;
     auto block_a = [&](uint32_t n) { return lanes_a + kLaneBlock * lane_block(n); };
     std::vector<uint64_t> &stack = s.pair_stack;
     stack.clear();
-    if (rel_apart2<false, false>(f, block_a(start_a), lane_of(start_a), img.block(lane_block(start_b)),
-                                 lane_of(start_b)) &
-        1)
+    if (!start_tested && rel_apart2<false, false>(f, block_a(start_a), lane_of(start_a),
+                                                  img.block(lane_block(start_b)), lane_of(start_b)) &
+                             1)
         return false;
     stack.push_back((uint64_t(start_a) << 32) | start_b);
     while (!stack.empty()) {
@@ -346,14 +346,36 @@ bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, 
     return false;
 }
 
+// Is inner's mesh point v (its rounded world vertex) certainly outside
+// outer's root boxes? f: outer's frame, with inner as its other side
+// (prepare_frame(outer, inner)). The vertex as a node of its own (centre v,
+// halves 0, axes the identity: every point of it is exactly c + sum_i b_i
+// u_i with |b_i| <= 0, as NodeObb asks), whose image node_images bounds
+// like any node's; the root pair's test then proves that point and a's
+// root apart, and a's solid lies in the convex hull of its surface, inside
+// that root's certified boxes.
+bool vertex_outside(const RelFrame &f, const BodyView &outer, const double *v) {
+    double in[kLaneBlock] = {};
+    for (int k = 0; k < 3; ++k) {
+        in[2 * (6 + k)] = in[2 * (6 + k) + 1] = v[k];
+        in[2 * (9 + 4 * k)] = in[2 * (9 + 4 * k) + 1] = 1;  // u_k = e_k (field 9 + 3k + k)
+    }
+    double image[kImageBlock];
+    node_images(f, in, image);
+    return rel_apart2<false, false>(f, outer.mesh->bvh.lanes.data(), lane_of(0), image, 0) & 1;
+}
+
 // Is some component of `inner` inside the closed mesh `outer`? Asked once the
-// surfaces are disjoint, so no tested vertex lies on outer's surface.
-bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s) {
+// surfaces are disjoint, so no tested vertex lies on outer's surface. f
+// (both with trees, else null): outer's frame, prepare_frame(outer, inner),
+// in which a vertex is first tried against outer's root (vertex_outside).
+bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s, const RelFrame *f = nullptr) {
     const Mesh &mo = *outer.mesh;
     for (uint32_t v : inner.mesh->component_vertices) {
         const double *p = inner.vertex(v);
         const double *rb = outer.nodes ? outer.box(0) : outer.root_box;
         if (!point_in_box(p, rb)) continue;
+        if (f && vertex_outside(*f, outer, inner.local + 3 * size_t(v))) continue;
         bool inside;
         if (outer.nodes) {
             inside = point_in_closed_mesh_bvh(p, outer, s.node_stack);
@@ -419,14 +441,20 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         img.data = c.images.get();
         img.stamp = c.image_stamp.data();
     }
-    auto search = [&](uint32_t na, uint32_t nb, uint32_t *meet, uint32_t *leaves) {
-        return rel ? surfaces_meet_rel(va, vb, img, s, na, nb, meet, leaves)
+    auto search = [&](uint32_t na, uint32_t nb, uint32_t *meet, uint32_t *leaves, bool tested = false) {
+        return rel ? surfaces_meet_rel(va, vb, img, s, na, nb, meet, leaves, tested)
                    : surfaces_meet<kMargin>(va, vb, s, na, nb, meet, leaves, d);
     };
+    if (hint) hint->found = false;
     // Conservative prefilter: the solids lie inside the root boxes.
     if (kMargin ? boxes_apart(va.box(0), vb.box(0), d) : boxes_disjoint(va.box(0), vb.box(0)))
         return Contact::None;
     s.exact_tests += counted;
+    // The root pair apart in a's frame: so are the solids (each lies in the
+    // convex hull of its surface, inside its root's certified boxes), and
+    // containment need not be asked.
+    if (rel && (rel_apart2<false, false>(frame, a.mesh->bvh.lanes.data(), lane_of(0), img.block(0), lane_of(0)) & 1))
+        return Contact::None;
     // A side without a tree is one leaf of all its triangles: only those whose
     // exact boxes reach the other's root box can meet it, and the box of
     // those alone prunes the other's nodes (a body deep inside a large box
@@ -438,24 +466,24 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     if (hint) {
         // The subtrees near where the surfaces met at the last detect,
         // searched first: after a tick of motion they mostly still meet there.
-        hint->found = false;
         const uint32_t na = va.nodes ? uint32_t(a.mesh->bvh.nodes.size()) : 1;
         const uint32_t nb = vb.nodes ? uint32_t(b.mesh->bvh.nodes.size()) : 1;
         if (hint->node_a < na && hint->node_b < nb)
             met = search(hint->node_a, hint->node_b, meet, leaves);
     }
-    if (met || search(0, 0, meet, leaves)) {
+    if (met || search(0, 0, meet, leaves, rel)) {
         if (witness)
             *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
         if (hint) *hint = NodeHint{ancestor(a.mesh->bvh, leaves[0]), ancestor(b.mesh->bvh, leaves[1]), true};
         return kMargin ? Contact::Near : Contact::Surface;
     }
     if (kMargin) return Contact::None;  // (collide_within asked about containment first)
-    if (b.mesh->closed && view_holds_component(vb, va, s)) {
+    RelFrame frame_b;  // (b's frame, for b holding a: vertex_outside)
+    if (b.mesh->closed && view_holds_component(vb, va, s, rel && prepare_frame(vb, va, frame_b) ? &frame_b : nullptr)) {
         if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, false, true};
         return Contact::Containment;
     }
-    if (a.mesh->closed && view_holds_component(va, vb, s)) {
+    if (a.mesh->closed && view_holds_component(va, vb, s, rel ? &frame : nullptr)) {
         if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, true, true};
         return Contact::Containment;
     }

@@ -132,9 +132,17 @@ uint64_t World::keep_unmoved_pairs(int threads, std::vector<PairBuffer> &found) 
 }
 
 const World::NodeWitness *World::find_witness(uint64_t key) const {
-    const auto it = std::lower_bound(witness_.begin(), witness_.end(), key,
-                                     [](const NodeWitness &w, uint64_t k) { return w.key < k; });
-    return it != witness_.end() && it->key == key ? &*it : nullptr;
+    const NodeWitness *b = witness_.data(), *e = b + witness_.size();
+    if (!witness_start_.empty()) {
+        // The lower slot's few witnesses (pair_key: it is the high half).
+        const size_t lo = size_t(key >> 32);
+        if (lo + 1 >= witness_start_.size()) return nullptr;
+        for (const NodeWitness *w = b + witness_start_[lo], *end = b + witness_start_[lo + 1]; w != end; ++w)
+            if (w->key == key) return w;
+        return nullptr;
+    }
+    const auto it = std::lower_bound(b, e, key, [](const NodeWitness &w, uint64_t k) { return w.key < k; });
+    return it != e && it->key == key ? it : nullptr;
 }
 
 // A merge of three sorted lists: the new witnesses, the last ones (for pairs
@@ -158,9 +166,21 @@ void World::keep_witnesses(std::vector<NodeWitness> &fresh) {
             else if (o < witness_.size() && witness_[o].key == key)
                 out.push_back(witness_[o]);
         }
+        // Where each lower slot's run starts, when there are enough
+        // witnesses that one lookup's binary search costs more than its
+        // share of this pass (a lookup then reads one slot's run).
+        std::vector<uint32_t> start;
+        const size_t slots = live_gen_.size();
+        if (out.size() * 8 > slots) {
+            start.assign(slots + 1, 0);
+            for (const NodeWitness &w : out) ++start[(w.key >> 32) + 1];
+            for (size_t k = 0; k < slots; ++k) start[k + 1] += start[k];
+        }
         witness_.swap(out);
+        witness_start_.swap(start);
     } catch (const std::bad_alloc &) {
         witness_.clear();
+        witness_start_.clear();
     }
 }
 

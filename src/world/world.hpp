@@ -271,6 +271,10 @@ class World {
         uint32_t node[2];
     };
     std::vector<NodeWitness> witness_;
+    // Where each slot's witnesses (as the pair's lower slot) start in
+    // witness_, while there are more than slots / 8 of them (else empty:
+    // find_witness searches).
+    std::vector<uint32_t> witness_start_;
     const NodeWitness *find_witness(uint64_t key) const;
     // witness_ from this detect's new witnesses (any order) and the last
     // ones of the pairs kept untested, for the pairs in pairs_.

@@ -82,10 +82,12 @@ typedef struct {
     hgcd_world *w;
     hgcd_mesh mesh[SHAPE_COUNT];
     size_t n, cap;
-    int per_body; /* each body a mesh of its own, a copy of its shape's arrays */
+    int per_body; /* each body a mesh of its own: 1 a copy of its shape's arrays, 2 its shape stretched */
     int *shape;
     double *pos, *quat, *scale;
     hgcd_body *id;
+    oracle_mesh *own;  /* per_body 2: each body's mesh, for the oracle */
+    double *own_v;     /* and its vertices, 3 * 42 doubles a body */
 } scene;
 
 /* 0: scene_init creates no shared meshes (for worlds with a mesh per body). */
@@ -124,6 +126,8 @@ static void scene_init(scene *sc, size_t cap, uint32_t threads) {
     sc->quat = malloc(4 * cap * sizeof(double));
     sc->scale = malloc(cap * sizeof(double));
     sc->id = malloc(cap * sizeof(hgcd_body));
+    sc->own = malloc(cap * sizeof(oracle_mesh));
+    sc->own_v = malloc(cap * 3 * 42 * sizeof(double));
 }
 
 static void scene_free(scene *sc) {
@@ -133,6 +137,8 @@ static void scene_free(scene *sc) {
     free(sc->quat);
     free(sc->scale);
     free(sc->id);
+    free(sc->own);
+    free(sc->own_v);
 }
 
 static void add(scene *sc, int shape, const double *p, const double *q, double scale) {
@@ -142,6 +148,22 @@ static void add(scene *sc, int shape, const double *p, const double *q, double s
     if (sc->per_body) {
         hgcd_mesh_desc md = hgcd_mesh_desc_default();
         md.vertices = shapes[shape].verts;
+        if (sc->per_body == 2) {
+            /* A shape of its own: stretched along x by 1 + n / 256 and along
+             * y by 1 + (n % 3) / 4 (dyadic factors of few bits). */
+            const oracle_mesh *m = &shapes[shape];
+            double *v = &sc->own_v[3 * 42 * sc->n];
+            assert_true(m->vertex_count <= 42);
+            const double fx = 1 + (double)(sc->n % 256) / 256, fy = 1 + (double)(sc->n % 3) / 4;
+            for (uint32_t i = 0; i < m->vertex_count; ++i) {
+                v[3 * i] = fx * m->verts[3 * i];
+                v[3 * i + 1] = fy * m->verts[3 * i + 1];
+                v[3 * i + 2] = m->verts[3 * i + 2];
+            }
+            sc->own[sc->n] = *m;
+            sc->own[sc->n].verts = v;
+            md.vertices = v;
+        }
         md.triangles = shapes[shape].tris;
         md.vertex_count = shapes[shape].vertex_count;
         md.triangle_count = shapes[shape].triangle_count;
@@ -165,7 +187,7 @@ static void add(scene *sc, int shape, const double *p, const double *q, double s
 static size_t check_against_oracle(scene *sc) {
     assert_int_equal(hgcd_world_detect(sc->w), HGCD_OK);
     const oracle_mesh **meshes = malloc(sc->n * sizeof(*meshes));
-    for (size_t i = 0; i < sc->n; ++i) meshes[i] = &shapes[sc->shape[i]];
+    for (size_t i = 0; i < sc->n; ++i) meshes[i] = sc->per_body == 2 ? &sc->own[i] : &shapes[sc->shape[i]];
     const size_t n = oracle_colliding_pairs(sc->n, meshes, sc->pos, sc->quat, sc->scale, NULL, 0);
     uint32_t *expect = malloc((2 * n + 2) * sizeof(uint32_t));
     assert_int_equal(oracle_colliding_pairs(sc->n, meshes, sc->pos, sc->quat, sc->scale, expect, n), n);
@@ -272,8 +294,10 @@ static void test_one_shape(void **state) {
 /* Worlds whose every mesh is a small convex one, none a tetrahedron (the
  * narrow phase hands every candidate pair of a chunk to the convex batch in
  * the chunk's order, and lists its hits from the chunk's pairs): one, two
- * or three shapes, shared or a mesh per body, random and grid-snapped,
- * dense, on 1 and 2 threads; each world also after a tick of motion. */
+ * or three shapes, shared, a mesh per body, or a shape per body (each
+ * body's shape stretched by its own factors: the batch's lanes then read
+ * each its own meshes' data), random and grid-snapped, dense, on 1 and 2
+ * threads; each world also after a tick of motion. */
 static void test_convex_only(void **state) {
     (void)state;
     static const int sets[][4] = {{BOX, -1},          {BOX, HULL, -1},     {ICOSPHERE, OFFBOX, -1},
@@ -287,7 +311,7 @@ static void test_convex_only(void **state) {
         only_meshes = set;
         scene sc;
         scene_init(&sc, 150, (uint32_t)(seed % 2) + 1);
-        sc.per_body = seed >= 5;
+        sc.per_body = seed == 5 ? 1 : seed == 6 ? 2 : 0;
         fill_from(&sc, &r, 150, 9.5, (int)(seed / 2 % 2), set, count);
         total += check_against_oracle(&sc);
         /* every body moved a little, and detected again */

@@ -435,14 +435,49 @@ HGCD_CB_INLINE bool enqueue(const ConvexPair *pairs, Queue *queues, const Side &
     return false;
 }
 
+// Bodies with meshes of their own (a mesh or a shape per body): the mesh
+// records and their convex data lie anywhere in memory, each read through
+// the one before. So they are asked for in stages ahead of the group at k,
+// each stage reading what the one before asked for: the records eight
+// groups ahead, the convex data four groups ahead, its runs of vertices and
+// planes, its axes and its edge lists two groups ahead.
+HGCD_CB_INLINE void prefetch_meshes(const ConvexPair *pairs, size_t n, size_t k) {
+    if (k + 36 <= n)
+        for (size_t l = 32; l < 36; ++l) {
+            __builtin_prefetch(&pairs[k + l].mesh_a->sat);
+            __builtin_prefetch(&pairs[k + l].mesh_b->sat);
+        }
+    if (k + 20 <= n)
+        for (size_t l = 16; l < 20; ++l)
+            for (int side = 0; side < 2; ++side) {
+                const char *d = reinterpret_cast<const char *>((side ? pairs[k + l].mesh_b : pairs[k + l].mesh_a)->sat.get());
+                for (size_t b = 0; b < sizeof(SatData); b += 64) __builtin_prefetch(d + b);
+            }
+    if (k + 12 <= n)
+        for (size_t l = 8; l < 12; ++l)
+            for (int side = 0; side < 2; ++side) {
+                const SatData &d = *(side ? pairs[k + l].mesh_b : pairs[k + l].mesh_a)->sat;
+                for (int j = 0; j < 3; ++j) __builtin_prefetch(d.soa.data() + j * size_t(d.padded));
+                for (int j = 0; j < 4; ++j) __builtin_prefetch(d.planes.data() + j * size_t(d.planes_padded));
+                __builtin_prefetch(d.axes.data());
+                __builtin_prefetch(d.vertex_edge_start.data());
+                __builtin_prefetch(d.vertex_edges.data());
+            }
+}
+
 HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, NarrowScratch &scratch) {
     Queue queues[kQueues];
+    // (Meshes of their own: their pairs' meshes differ. Only speed depends
+    // on this guess.)
+    const bool spread = n > 1 && (pairs[0].mesh_a != pairs[n - 1].mesh_a || pairs[0].mesh_b != pairs[n - 1].mesh_b ||
+                                  pairs[0].mesh_a != pairs[n / 2].mesh_b);
     for (size_t k = 0; k < n; k += 4) {
         if (k + 20 <= n)  // (the placements four groups ahead, as the tetra batch)
             for (size_t l = 0; l < 4; ++l) {
                 __builtin_prefetch(pairs[k + 16 + l].a);
                 __builtin_prefetch(pairs[k + 16 + l].b);
             }
+        if (spread) prefetch_meshes(pairs, n, k);
         const Placement *pa[4], *pb[4];
         const Mesh *ma[4], *mb[4];
         for (size_t l = 0; l < 4; ++l) {

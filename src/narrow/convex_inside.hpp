@@ -65,7 +65,7 @@ HGCD_CK_INLINE bool strictly_inside(const BodyPose &in, const SatData &m, const 
     for (uint32_t i = 0; i < n; i += SatData::kLanes) {
         const f64x4 g = ((load4(nx + i) * zx + load4(ny + i) * zy) + load4(nz + i) * zz) - s * load4(k + i);
         const i64x4 out = g >= lim;
-        if ((out[0] | out[1]) | (out[2] | out[3])) return false;
+        if (any4(out)) return false;
     }
     return true;
 }
@@ -216,7 +216,7 @@ HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatDa
             i64x4 none = i64x4{};
             for (uint32_t i = 0; i < np; i += SatData::kLanes)
                 none |= (load4(&g[p * np + i]) >= zero) & (load4(&g[q * np + i]) >= zero);
-            if ((none[0] | none[1]) | (none[2] | none[3])) continue;
+            if (any4(none)) continue;
             f64x4 lo = zero, hi = one;
             for (uint32_t i = 0; i < np; i += SatData::kLanes) {
                 const f64x4 gp = load4(&g[p * np + i]), gq = load4(&g[q * np + i]);

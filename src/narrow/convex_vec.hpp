@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "common/simd.hpp"
 #include "common/transform.hpp"
@@ -36,6 +39,20 @@ HGCD_CK_INLINE double hmax4(f64x4 a) { return std::max(std::max(a[0], a[1]), std
 HGCD_CK_INLINE double hmin4(f64x4 a) { return std::min(std::min(a[0], a[1]), std::min(a[2], a[3])); }
 
 HGCD_CK_INLINE f64x4 vabs(f64x4 a) { return (f64x4)((i64x4)a & (i64x4{} + INT64_MAX)); }
+
+// Whether any lane of a comparison's result (each all ones or zero) is set:
+// by SSE2's sign mask where there is one (baseline x86-64, so inlined into
+// the AVX2 kernels too), else lane by lane.
+HGCD_CK_INLINE bool any4(i64x4 m) {
+#if defined(__SSE2__)
+    __m128d lo, hi;
+    std::memcpy(&lo, &m, sizeof lo);
+    std::memcpy(&hi, reinterpret_cast<const char *>(&m) + sizeof lo, sizeof hi);
+    return _mm_movemask_pd(_mm_or_pd(lo, hi)) != 0;
+#else
+    return ((m[0] | m[1]) | (m[2] | m[3])) != 0;
+#endif
+}
 
 HGCD_CK_INLINE void rotate_t(const Rotation &r, const double *v, double *out) {  // R^T v
     for (int j = 0; j < 3; ++j) out[j] = (r.m[j] * v[0] + r.m[3 + j] * v[1]) + r.m[6 + j] * v[2];

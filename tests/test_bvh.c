@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "support/shapes.h"
+#include "support/testing.h"
 
 #include <cmocka.h>
 
@@ -343,6 +344,24 @@ static double mesh_radius(int kind) {
 
 /* -------------------------------------------------------------- tests -- */
 
+/* A mesh's tree is built in pieces on the world's threads (above 2048
+ * triangles, 16 subtrees after the top levels): the same tree bit for bit on
+ * 1, 2 and 3 threads, for meshes below and above that size. */
+static void test_tree_same_on_threads(void **state) {
+    (void)state;
+    static const uint32_t sizes[][2] = {{12, 8}, {40, 30}, {92, 28}, {128, 64}};
+    for (int k = 0; k < 4; ++k) {
+        mesh_t m;
+        blob(&m, sizes[k][0], sizes[k][1]);
+        for (int threads = 2; threads <= 3; ++threads) {
+            uint32_t nodes = 0;
+            assert_int_equal(hgcdi_bvh_same_on_threads(m.v, m.t, m.nt, threads, &nodes), 1);
+            assert_true(nodes > 1);
+        }
+        mesh_free(&m);
+    }
+}
+
 static void test_mesh_info(void **state) {
     (void)state;
     scene sc;
@@ -618,6 +637,7 @@ static void test_meshes_scene_small(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tree_same_on_threads),
         cmocka_unit_test(test_mesh_info),
         cmocka_unit_test(test_random_pairs),
         cmocka_unit_test(test_shallow_contact),

@@ -696,7 +696,11 @@ HGCD_API hgcd_mesh_desc hgcd_mesh_desc_default(void);
  *  INVALID_MESH (see the descriptor's fields; the message says which index
  *  or vertex), CAPACITY, OUT_OF_MEMORY.
  *  Cost: O(n log n) in the mesh's size, plus the convexity test (at most
- *  5e7 orientation tests, see hgcd_mesh_info.convex). */
+ *  5e7 orientation tests, see hgcd_mesh_info.convex). The tree of a mesh of
+ *  more than 48 triangles is built on the world's threads (thread_count, or
+ *  the last detect's count under the adaptive policy, as the batch calls),
+ *  the same tree on any count: about 5 ms for 5120 triangles on 2 threads,
+ *  8.6 on 1. */
 HGCD_API hgcd_status hgcd_mesh_create(hgcd_world *world,
                                       const hgcd_mesh_desc *desc,
                                       hgcd_mesh *out_mesh);

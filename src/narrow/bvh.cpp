@@ -4,8 +4,9 @@
 #include <cmath>
 #include <numeric>
 
-#include "exact/geometry.hpp"
 #include "common/ieee.hpp"
+#include "common/parallel.hpp"
+#include "exact/geometry.hpp"
 
 namespace hgcd {
 
@@ -15,6 +16,9 @@ constexpr int kBins = 16;
 // Past this depth, splits are at the object median, which halves the count:
 // the depth stays below kSahDepth + 27 (at most 2^26 triangles).
 constexpr uint32_t kSahDepth = 48;
+// Trees of this many triangles or more are built in 2^kDeferLevel subtrees
+// at once (after the levels above them).
+constexpr uint32_t kDeferTriangles = 2048, kDeferLevel = 4;
 
 struct Builder {
     const double *v;
@@ -143,29 +147,75 @@ struct Builder {
         return cut;
     }
 
-    void build(uint32_t node, uint32_t begin, uint32_t end, uint32_t level) {
-        depth = std::max(depth, level + 1);
-        set_box(nodes[node], begin, end);
+    // A subtree left for later: its root's index, triangles, level.
+    struct Job {
+        uint32_t node, begin, end, level;
+    };
+
+    // Builds the subtree of out[node] over order[begin, end) into out (its
+    // nodes appended, children in adjacent pairs after their parent); with
+    // `defer`, a node at kDeferLevel is left unbuilt and listed there instead.
+    void build(std::vector<BvhNode> &out, uint32_t node, uint32_t begin, uint32_t end, uint32_t level,
+               uint32_t &deepest, std::vector<Job> *defer) {
+        deepest = std::max(deepest, level + 1);
+        if (defer && level == kDeferLevel) {
+            defer->push_back({node, begin, end, level});
+            return;
+        }
+        set_box(out[node], begin, end);
         if (end - begin <= kBvhLeafSize) {
-            nodes[node].first = begin;
-            nodes[node].count = end - begin;
+            out[node].first = begin;
+            out[node].count = end - begin;
             return;
         }
         const uint32_t cut = split(begin, end, level);
-        const uint32_t left = uint32_t(nodes.size());
+        const uint32_t left = uint32_t(out.size());
+        out.emplace_back();
+        out.emplace_back();
+        out[node].first = left;
+        out[node].count = 0;
+        build(out, left, begin, cut, level + 1, deepest, defer);
+        build(out, left + 1, cut, end, level + 1, deepest, defer);
+    }
+
+    // The whole tree: the levels above kDeferLevel on the calling thread,
+    // the subtrees below on `threads` (each into its own array, spliced in
+    // the order listed). The layout depends on the triangle count alone,
+    // not on the threads; trees of few triangles are built in one piece.
+    void build_all(int threads) {
+        const uint32_t n = uint32_t(order.size());
         nodes.emplace_back();
-        nodes.emplace_back();
-        nodes[node].first = left;
-        nodes[node].count = 0;
-        build(left, begin, cut, level + 1);
-        build(left + 1, cut, end, level + 1);
+        std::vector<Job> jobs;
+        build(nodes, 0, 0, n, 0, depth, n >= kDeferTriangles ? &jobs : nullptr);
+        if (jobs.empty()) return;
+        std::vector<std::vector<BvhNode>> sub(jobs.size());
+        std::vector<uint32_t> sub_depth(jobs.size(), 0);
+        parallel_for(threads, int64_t(jobs.size()), 1, Schedule::Dynamic, [&](int64_t b, int64_t e, int) {
+            for (int64_t j = b; j < e; ++j) {
+                const Job &job = jobs[size_t(j)];
+                sub[size_t(j)].reserve(2 * ((job.end - job.begin) / kBvhLeafSize + 1));
+                sub[size_t(j)].emplace_back();
+                build(sub[size_t(j)], 0, job.begin, job.end, job.level, sub_depth[size_t(j)], nullptr);
+            }
+        });
+        // Splice: a subtree's node i >= 1 goes to base + i - 1 (base is odd,
+        // as is every left child's index, so sibling pairs keep their lanes).
+        for (size_t j = 0; j < jobs.size(); ++j) {
+            const uint32_t base = uint32_t(nodes.size());
+            for (BvhNode &x : sub[j])
+                if (x.count == 0) x.first += base - 1;
+            nodes[jobs[j].node] = sub[j][0];
+            nodes.insert(nodes.end(), sub[j].begin() + 1, sub[j].end());
+            depth = std::max(depth, sub_depth[j]);
+            std::vector<BvhNode>().swap(sub[j]);
+        }
     }
 };
 
 }  // namespace
 
-void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t triangle_count,
-               Bvh *out) {
+void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t triangle_count, Bvh *out,
+               int threads) {
     Builder b;
     b.v = vertices;
     b.t = triangles;
@@ -186,8 +236,7 @@ void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t trian
     b.order.resize(n);
     std::iota(b.order.begin(), b.order.end(), 0u);
     b.nodes.reserve(2 * (n / kBvhLeafSize + 1));
-    b.nodes.emplace_back();
-    b.build(0, 0, uint32_t(n), 0);
+    b.build_all(threads);
     Bvh bvh;
     bvh.nodes = std::move(b.nodes);
     bvh.depth = b.depth;
@@ -198,7 +247,7 @@ void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t trian
     bvh.tri_ids = b.order;
     for (size_t i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) bvh.tris[3 * i + k] = triangles[3 * size_t(b.order[i]) + k];
-    fit_node_obbs(vertices, bvh);
+    fit_node_obbs(vertices, bvh, threads);
     *out = std::move(bvh);
 }
 

@@ -70,9 +70,10 @@ struct Bvh {
 };
 
 // Builds the tree of a mesh (binned surface area heuristic, object-median
-// splits past a depth guard, so the depth stays below 80).
-void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t triangle_count,
-               Bvh *out);
+// splits past a depth guard, so the depth stays below 80), on up to
+// `threads` threads (parallel_for); the tree does not depend on them.
+void build_bvh(const double *vertices, const uint32_t *triangles, uint32_t triangle_count, Bvh *out,
+               int threads = 1);
 
 // A bound eps >= ||U U^T - I||_inf for the 3x3 matrix U of rows u (row-major),
 // infinity when not finite: fl(u_i . u_j) is within g_3 sum_k |u_ik u_jk| of
@@ -95,8 +96,8 @@ inline double orthonormal_defect(const double *u) {
 }
 
 // Fits an oriented box to each of the tree's nodes (principal axes of their
-// vertices) and fills bvh.lanes.
-void fit_node_obbs(const double *vertices, Bvh &bvh);
+// vertices) and fills bvh.lanes, on up to `threads` threads.
+void fit_node_obbs(const double *vertices, Bvh &bvh, int threads = 1);
 
 struct Mesh;
 

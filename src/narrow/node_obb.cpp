@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/parallel.hpp"
 #include "narrow/bvh.hpp"
 
 namespace hgcd {
@@ -121,7 +122,7 @@ void fit_node(const double *vertices, const uint32_t *corners, size_t corner_cou
 
 }  // namespace
 
-void fit_node_obbs(const double *vertices, Bvh &bvh) {
+void fit_node_obbs(const double *vertices, Bvh &bvh, int threads) {
     const size_t nn = bvh.nodes.size();
     std::vector<NodeObb> obb(nn);
     // Triangle ranges: children follow their parents and split the parent's
@@ -137,8 +138,11 @@ void fit_node_obbs(const double *vertices, Bvh &bvh) {
             count[k] = count[n.first] + count[n.first + 1];
         }
     }
-    for (size_t k = 0; k < nn; ++k)
-        fit_node(vertices, &bvh.tris[3 * size_t(first[k])], 3 * size_t(count[k]), obb[k]);
+    // (Each node's fit reads its corners alone: the top ones cost most.)
+    parallel_for(nn >= 256 ? threads : 1, int64_t(nn), 16, Schedule::Dynamic, [&](int64_t b, int64_t e, int) {
+        for (int64_t k = b; k < e; ++k)
+            fit_node(vertices, &bvh.tris[3 * size_t(first[k])], 3 * size_t(count[k]), obb[size_t(k)]);
+    });
     // The blocks of sibling pairs (kLaneBlock), the root in both lanes of
     // block 0.
     bvh.lanes.assign(kLaneBlock * (nn / 2 + 1), 0.0);

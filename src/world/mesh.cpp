@@ -390,7 +390,8 @@ void set_sat(Mesh &m, const std::vector<char> &used, const SameSat &same, bool t
 }  // namespace
 
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
-                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same, bool tetra_sat) {
+                uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same, bool tetra_sat,
+                int threads) {
     *error = check_arrays(vertices, vertex_count, triangles, triangle_count);
     if (!error->empty()) return false;
     Mesh m;
@@ -407,7 +408,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     set_tetra(m);
     set_sat(m, used, same, tetra_sat);
     if (triangle_count > kBvhMinTriangles)
-        build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh);
+        build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh, threads);
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
     *out = std::move(m);
     return true;

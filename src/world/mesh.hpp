@@ -111,11 +111,12 @@ struct Mesh {
 // mesh of the same arrays, taken instead (it is made from them alone).
 // `tetra_sat`: whether a tetrahedron gets Mesh::sat as well (only its pairs
 // with other small convex meshes read it: a world of tetrahedra alone does
-// not pay its kilobyte a mesh).
+// not pay its kilobyte a mesh). `threads`: the tree is built on up to that
+// many (build_bvh).
 using SameSat = std::function<std::shared_ptr<const SatData>(const Mesh &)>;
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
                 uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same = nullptr,
-                bool tetra_sat = true);
+                bool tetra_sat = true, int threads = 1);
 // Gives a tetrahedron built without it its Mesh::sat (from `same` when that
 // lends one). May throw std::bad_alloc, leaving m as it was.
 void add_tetra_sat(Mesh &m, const SameSat &same);

@@ -117,7 +117,8 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     };
     Mesh m;
     std::string error;
-    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error, same, tetra_sat_))
+    if (!build_mesh(d.vertices, d.vertex_count, d.triangles, d.triangle_count, &m, &error, same, tetra_sat_,
+                    threads()))
         return fail(HGCD_ERROR_INVALID_MESH, "mesh_create: " + error);
     uint32_t slot = mesh_free_.empty() ? uint32_t(meshes_.size()) : mesh_free_.back();
     pool_.reserve(slot, m);  // (may throw: nothing has changed yet)

@@ -116,6 +116,19 @@ int hgcdi_tri_tri(const double p[9], const double q[9]) {
     return hgcd::tri_tri_intersect(p, p + 3, p + 6, q, q + 3, q + 6) ? 1 : 0;
 }
 
+int hgcdi_bvh_same_on_threads(const double *vertices, const uint32_t *triangles, uint32_t triangle_count,
+                              int threads, uint32_t *nodes) {
+    hgcd::Bvh one, many;
+    hgcd::build_bvh(vertices, triangles, triangle_count, &one, 1);
+    hgcd::build_bvh(vertices, triangles, triangle_count, &many, threads);
+    *nodes = uint32_t(one.nodes.size());
+    const auto same = [](const auto &x, const auto &y) {
+        return x.size() == y.size() && (x.empty() || !std::memcmp(x.data(), y.data(), x.size() * sizeof x[0]));
+    };
+    return same(one.nodes, many.nodes) && same(one.lanes, many.lanes) && same(one.tris, many.tris) &&
+           same(one.tri_ids, many.tri_ids) && same(one.parent, many.parent) && one.depth == many.depth;
+}
+
 int hgcdi_flat_hulls_meet(int k, const double *const *a, int na, const double *const *b, int nb) {
     return hgcd::flat_hulls_meet(k, a, na, b, nb) ? 1 : 0;
 }

@@ -17,6 +17,12 @@ int hgcdi_orient3d(const double *a, const double *b, const double *c,
 int hgcdi_orient2d(const double *a, const double *b, const double *c);
 /* 1 if the closed triangles p (p[0..8]) and q share a point, else 0. */
 int hgcdi_tri_tri(const double p[9], const double q[9]);
+/* Builds the tree of a mesh (hgcd::build_bvh) on 1 thread and on `threads`
+ * threads (parallel_for on OpenMP) and compares the two bit for bit (nodes,
+ * node data blocks, triangle order, parents, depth): 1 if equal, 0 if not;
+ * *nodes gets the node count. */
+int hgcdi_bvh_same_on_threads(const double *vertices, const uint32_t *triangles, uint32_t triangle_count,
+                              int threads, uint32_t *nodes);
 /* hgcd::flat_hulls_meet: the hulls of a[0, na) and b[0, nb) (1 to 3
  * points each, all in the plane x_k = c) share a point. */
 int hgcdi_flat_hulls_meet(int k, const double *const *a, int na, const double *const *b, int nb);

@@ -1789,7 +1789,11 @@ extern "C" {
     #[doc = "  INVALID_MESH (see the descriptor's fields; the message says which index"]
     #[doc = "  or vertex), CAPACITY, OUT_OF_MEMORY."]
     #[doc = "  Cost: O(n log n) in the mesh's size, plus the convexity test (at most"]
-    #[doc = "  5e7 orientation tests, see hgcd_mesh_info.convex)."]
+    #[doc = "  5e7 orientation tests, see hgcd_mesh_info.convex). The tree of a mesh of"]
+    #[doc = "  more than 48 triangles is built on the world's threads (thread_count, or"]
+    #[doc = "  the last detect's count under the adaptive policy, as the batch calls),"]
+    #[doc = "  the same tree on any count: about 5 ms for 5120 triangles on 2 threads,"]
+    #[doc = "  8.6 on 1."]
     pub fn hgcd_mesh_create(
         world: *mut hgcd_world,
         desc: *const hgcd_mesh_desc,

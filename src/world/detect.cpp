@@ -412,6 +412,35 @@ void World::narrow_phase(int threads, const NarrowPlan &plan,
     }
 }
 
+// Appends the pairs among n batch verdicts that met to t.hits: listed first
+// without a branch (a branch per pair on its verdict mispredicted often:
+// hits are 28% of the pairs), then keyed by slots, read from `keys` when the
+// batch's pairs are the chunk's in order (keys non-null), else from the pairs.
+template <class Pair>
+void World::append_hits(const Contact *verdict, size_t n, const Pair *pairs, const uint64_t *keys,
+                        NarrowThread &t) const {
+    size_t hit_count = 0;
+    for (size_t k = 0; k < n; ++k) {
+        t.hit_index[hit_count] = uint32_t(k);
+        hit_count += verdict[k] != Contact::None;
+        t.containment += verdict[k] == Contact::Containment;
+    }
+    const size_t at = t.hits.size();
+    t.hits.resize(at + hit_count);
+    uint64_t *to = t.hits.data() + at;
+    if (keys) {
+        for (size_t h = 0; h < hit_count; ++h) {
+            const uint64_t key = keys[t.hit_index[h]];
+            to[h] = pair_key(slot_of_[key >> 32], slot_of_[uint32_t(key)]);
+        }
+    } else {
+        for (size_t h = 0; h < hit_count; ++h) {
+            const Pair &p = pairs[t.hit_index[h]];
+            to[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
+        }
+    }
+}
+
 void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const {
     const PairBuffer &list = candidates_[chunk.list];
     size_t tetras = 0;
@@ -467,55 +496,12 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
         collide_tetra_batch(t.tetra, tetras, t.verdict, t.scratch);
         if (plan.margins) within_margins(tetras, t);
     }
-    // The batch's hits listed first without a branch (a branch per pair on
-    // its verdict mispredicted often: hits are 28% of the pairs).
-    size_t hit_count = 0;
-    for (size_t k = 0; k < tetras; ++k) {
-        t.hit_index[hit_count] = uint32_t(k);
-        hit_count += t.verdict[k] != Contact::None;
-        t.containment += t.verdict[k] == Contact::Containment;
-    }
-    const size_t at = t.hits.size();
-    t.hits.resize(at + hit_count);
-    uint64_t *to = t.hits.data() + at;
-    if (plan.all_tetra) {  // (the batch's pairs are the chunk's, in order)
-        const uint64_t *keys = list.begin() + chunk.begin;
-        for (size_t h = 0; h < hit_count; ++h) {
-            const uint64_t key = keys[t.hit_index[h]];
-            to[h] = pair_key(slot_of_[key >> 32], slot_of_[uint32_t(key)]);
-        }
-    } else {
-        for (size_t h = 0; h < hit_count; ++h) {
-            const TetraPair &p = t.tetra[t.hit_index[h]];
-            to[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
-        }
-    }
+    append_hits(t.verdict, tetras, t.tetra, plan.all_tetra ? list.begin() + chunk.begin : nullptr, t);
     if (!t.convex_count) return;
     const size_t n = t.convex_count;
     t.convex_count = 0;
     collide_convex_batch(t.convex, n, t.convex_verdict, t.scratch);
-    // (As the tetrahedra's hits: without a branch per pair.)
-    hit_count = 0;
-    for (size_t k = 0; k < n; ++k) {
-        t.hit_index[hit_count] = uint32_t(k);
-        hit_count += t.convex_verdict[k] != Contact::None;
-        t.containment += t.convex_verdict[k] == Contact::Containment;
-    }
-    const size_t from = t.hits.size();
-    t.hits.resize(from + hit_count);
-    uint64_t *into = t.hits.data() + from;
-    if (plan.all_convex) {  // (the batch's pairs are the chunk's, in order; their slots asked for above)
-        const uint64_t *keys = list.begin() + chunk.begin;
-        for (size_t h = 0; h < hit_count; ++h) {
-            const uint64_t key = keys[t.hit_index[h]];
-            into[h] = pair_key(slot_of_[key >> 32], slot_of_[uint32_t(key)]);
-        }
-    } else {
-        for (size_t h = 0; h < hit_count; ++h) {
-            const ConvexPair &p = t.convex[t.hit_index[h]];
-            into[h] = pair_key(slot_of_[p.a - place_.data()], slot_of_[p.b - place_.data()]);
-        }
-    }
+    append_hits(t.convex_verdict, n, t.convex, plan.all_convex ? list.begin() + chunk.begin : nullptr, t);
 }
 
 // The batch's pairs whose solids do not touch, with a margin d > 0: Near

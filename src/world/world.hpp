@@ -282,6 +282,8 @@ class World {
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts,
                       std::vector<NodeWitness> &fresh);
     void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;
+    template <class Pair>
+    void append_hits(const Contact *verdict, size_t n, const Pair *pairs, const uint64_t *keys, NarrowThread &t) const;
     void within_margins(size_t tetras, NarrowThread &t) const;
     size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                         NarrowThread &t) const;

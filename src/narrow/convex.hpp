@@ -73,6 +73,14 @@ struct ConvexCentres {
     bool faces_tried = false;  // and the face axes
 };
 
+// Whether the two bodies' ranges on the line of centres (a's up to ahi, b's
+// from uu - bhi) meet within the margin of its comparisons: neither apart
+// nor overlapping past it. (The batch evaluates the same four lanes at once.)
+inline bool grazing(double uu, double ahi, double bhi, double cmargin) {
+    const double gap = uu - (ahi + bhi);
+    return gap <= cmargin && gap >= -cmargin;
+}
+
 // convex_decide for a pair its line of centres does not separate, from that
 // step's values computed by the caller with the same bits (the batch,
 // convex_batch.cpp).

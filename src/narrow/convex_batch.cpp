@@ -329,10 +329,13 @@ HGCD_CB_INLINE void later4(const ConvexPair *pairs, const uint32_t *index, const
     const unsigned bo = mask_of((c.uu - c.blo) - c.ahi > c.cmargin);
     const unsigned ao = mask_of((c.uu - c.bhi) - c.alo > c.cmargin);
     unsigned surface = 0, faces = 0, face_apart = 0;
-    if (open & bo) surface = pokes4(A, B, c.b_toward, open & bo);
-    if (open & ~surface & ao) surface |= pokes4(B, A, c.a_toward, open & ~surface & ao);
+    // (Grazing lanes go to the exact steps: rest, the kernel's, says why.)
+    const f64x4 gap = c.uu - (c.ahi + c.bhi);  // (grazing, in four lanes)
+    const unsigned try_lanes = open & ~mask_of((gap <= c.cmargin) & (gap >= -c.cmargin));
+    if (try_lanes & bo) surface = pokes4(A, B, c.b_toward, try_lanes & bo);
+    if (try_lanes & ~surface & ao) surface |= pokes4(B, A, c.a_toward, try_lanes & ~surface & ao);
     if (A.sat[0]->faces <= uint32_t(kFaceAxes) && B.sat[0]->faces <= uint32_t(kFaceAxes)) {
-        faces = open & ~surface & ~mask_of(c.ahi + c.bhi > kDeep * c.uu);
+        faces = try_lanes & ~surface & ~mask_of(c.ahi + c.bhi > kDeep * c.uu);
         if (faces) face_apart = faces4(A, B, c, faces);
     }
     // (What collide_convex_after does for those two verdicts without a

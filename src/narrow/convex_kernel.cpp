@@ -300,6 +300,12 @@ HGCD_CK_INLINE bool centres(const BodyPose &a, const BodyPose &b, ConvexCentres 
 
 // Everything after the line of centres, for a pair it does not separate.
 HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const ConvexCentres &c) {
+    // Grazing on the line of centres (projections meeting within the
+    // margin: faces, edges or corners exactly on each other, as cubes on an
+    // integer grid): no certificate here can succeed (each needs a point
+    // strictly inside a body, or a gap), so the exact steps take the pair
+    // at once (collide_convex_after, flat.cpp).
+    if (grazing(c.uu, c.ahi, c.bhi, c.cmargin)) return ConvexVerdict::Open;
     PairView p(a, b, c.ra, c.rb);
     const SatData &sa = p.sa, &sb = p.sb;
     const double *ca = a.position, *cb = b.position;

@@ -72,9 +72,8 @@ int flat_contact(const Mesh &ma, const double *wa, const double *box_a, const Me
         if (region[3 + k] == c && (box_a[k] == c || box_a[3 + k] == c) && (box_b[k] == c || box_b[3 + k] == c))
             break;
     }
-    if (k == 3) return -1;
+    if (k == 3 || ma.triangle_count > kBvhMinTriangles || mb.triangle_count > kBvhMinTriangles) return -1;
     Section sa[kBvhMinTriangles], sb[kBvhMinTriangles];
-    if (ma.triangle_count > kBvhMinTriangles || mb.triangle_count > kBvhMinTriangles) return -1;
     const uint32_t na = sections(ma, wa, k, c, region, sa);
     const uint32_t nb = na ? sections(mb, wb, k, c, region, sb) : 0;
     for (uint32_t x = 0; x < na; ++x)

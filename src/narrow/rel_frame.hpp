@@ -62,9 +62,17 @@
 #include <cstring>
 
 #include "common/simd.hpp"
+
+// (f64x4 values passed between inlined helpers: no ABI boundary is crossed.)
+#pragma GCC diagnostic ignored "-Wpsabi"
 #include "narrow/bvh.hpp"
 
 namespace hgcd {
+
+// The node tests are expanded in place in both builds of the traversal
+// (tree_path.cpp: SSE2, and AVX2 where the CPU has it), so that each gets
+// its own instruction set; the same IEEE operations either way.
+#define HGCD_RF_INLINE inline __attribute__((always_inline))
 
 struct RelFrame {
     double t[3];      // t~
@@ -83,17 +91,17 @@ struct RelFrame {
 constexpr size_t kImageBlock = 50;
 
 // Both lanes of a block of doubles (field k), or lane l of it in both.
-inline f64x2 lanes2(const double *block, int k) {
+HGCD_RF_INLINE f64x2 lanes2(const double *block, int k) {
     f64x2 r;
     std::memcpy(&r, block + 2 * k, sizeof r);
     return r;
 }
-inline f64x2 splat(const double *block, int k, int l) {
+HGCD_RF_INLINE f64x2 splat(const double *block, int k, int l) {
     const double x = block[2 * k + l];
     return f64x2{x, x};
 }
-inline f64x2 vabs(f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); }
-inline f64x2 both(double x) { return f64x2{x, x}; }
+HGCD_RF_INLINE f64x2 vabs(f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); }
+HGCD_RF_INLINE f64x2 both(double x) { return f64x2{x, x}; }
 
 // The frame of the pair (a, b): a's mesh frame. False when the frame's
 // values leave the range where the argument above holds (the caller then
@@ -147,7 +155,7 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
 
 // The images of the two nodes of b's block `in` (Bvh::lanes) in a's frame:
 // the image block `out`. Each lane is the scalar formula on its node.
-inline void node_images(const RelFrame &f, const double *in, double *out) {
+HGCD_RF_INLINE void node_images(const RelFrame &f, const double *in, double *out) {
     const double *q = f.q;
     f64x2 c[3], h[3], V[9];
     for (int k = 0; k < 3; ++k) {
@@ -187,10 +195,12 @@ inline void node_images(const RelFrame &f, const double *in, double *out) {
     std::memcpy(out + 6, field, sizeof field);
 }
 
-// Two node pairs at once, one per lane (f64x2: each lane does the IEEE
-// double operations of the scalar formulas, so the bits do not depend on the
-// vector width): lane l pairs a node of a (its fields in Bvh::lanes: the
-// mesh-frame box, the fitted box) with a node image of b. Bit l of the result is set when that pair is certainly apart. First the
+// Node pairs several at once, one per lane (f64x2, f64x4: each lane does
+// the IEEE double operations of the scalar formulas, so the bits do not
+// depend on the vector width): lane l pairs a node of a (its fields in
+// Bvh::lanes: the mesh-frame box, the fitted box; field k from A(k)) with a
+// node image of b (B(k)). A lane of the result is set when that pair is
+// certainly apart. First the
 // boxes in a's frame: a's vertices lie within mu_a of [c - h, c + h]
 // (BvhNode), b's within the half extents of C (the image's fitted box and its
 // eps, projected on the frame's axes). Then the fitted boxes on their six
@@ -203,54 +213,96 @@ inline void node_images(const RelFrame &f, const double *in, double *out) {
 // c_a|_inf < 5e-16 |z|_1 |C - c_a|_1 of exact (dl below is |C - c_a|_1,
 // computed within 2u): the slack 2e-15 dl on a's axes (|z|_1 <= 1.74), 1e-15
 // |V_j|_1 dl on b's.
-// kPairA: a's two lanes are the two nodes of block `a` (else lane la of it
-// in both); likewise kPairB for b's image block.
-template <bool kPairA, bool kPairB>
-inline unsigned rel_apart2(const RelFrame &f, const double *a, int la, const double *b, int lb) {
-    auto A = [&](int k) { return kPairA ? lanes2(a, k) : splat(a, k, la); };
-    auto B = [&](int k) { return kPairB ? lanes2(b, k) : splat(b, k, lb); };
-    auto bits = [](i64x2 x) { return unsigned((x[0] & 1) | (x[1] & 2)); };
-    const f64x2 mu_a = both(f.mu_a), grow = both(1 + 1e-12), tiny = both(1e-300);
-    i64x2 apart = {0, 0};
+template <class V>
+HGCD_RF_INLINE V vsplat(double x) {
+    V v;
+    for (size_t l = 0; l < sizeof(V) / sizeof(double); ++l) v[l] = x;
+    return v;
+}
+template <class V, class I>
+HGCD_RF_INLINE V vabs_lanes(V x) {
+    return (V)((I)x & (vsplat<I>(0) + INT64_MAX));
+}
+template <class I>
+HGCD_RF_INLINE bool all_lanes(I m) {
+    int64_t all = -1;
+    for (size_t l = 0; l < sizeof(I) / sizeof(int64_t); ++l) all &= m[l];
+    return all != 0;
+}
+template <class I>
+HGCD_RF_INLINE unsigned lane_bits(I m) {
+    unsigned bits = 0;
+    for (size_t l = 0; l < sizeof(I) / sizeof(int64_t); ++l) bits |= unsigned(m[l] & 1) << l;
+    return bits;
+}
+
+template <class V, class I, class LoadA, class LoadB>
+HGCD_RF_INLINE unsigned rel_apart_lanes(const RelFrame &f, LoadA A, LoadB B) {
+    auto vabs = [](V x) __attribute__((always_inline)) { return vabs_lanes<V, I>(x); };
+    auto all = [](double x) __attribute__((always_inline)) { return vsplat<V>(x); };
+    const V mu_a = all(f.mu_a), grow = all(1 + 1e-12), tiny = all(1e-300);
+    I apart = vsplat<I>(0);
     for (int k = 0; k < 3; ++k)
         apart |= vabs(B(k) - A(k)) > ((A(3 + k) + mu_a) + B(15 + k)) * grow;
-    if ((apart[0] & apart[1]) != 0) return 3;
-    f64x2 d[3], V[9], ha[3], hb[3], u[9];
+    if (all_lanes(apart)) return lane_bits(apart);
+    V d[3], Vb[9], ha[3], hb[3], u[9];
     for (int k = 0; k < 3; ++k) {
         d[k] = B(k) - A(6 + k);
         ha[k] = A(18 + k);
         hb[k] = B(12 + k);
     }
     for (int k = 0; k < 9; ++k) {
-        V[k] = B(3 + k);
+        Vb[k] = B(3 + k);
         u[k] = A(9 + k);
     }
-    const f64x2 dl = (vabs(d[0]) + vabs(d[1])) + vabs(d[2]);
-    const f64x2 hsum = (ha[0] + ha[1]) + ha[2];
-    f64x2 rel[3][3];  // |u_i . V_j|
+    const V dl = (vabs(d[0]) + vabs(d[1])) + vabs(d[2]);
+    const V hsum = (ha[0] + ha[1]) + ha[2];
+    V rel[3][3];  // |u_i . V_j|
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
-            const f64x2 *x = u + 3 * i, *y = V + 3 * j;
+            const V *x = u + 3 * i, *y = Vb + 3 * j;
             rel[i][j] = vabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
         }
-    const f64x2 own_a = (both(1e-12) * hsum + both(1.74) * mu_a) + tiny;
-    const f64x2 slack_a = both(2e-15) * dl + tiny;
-    const f64x2 extra_b = B(24);
+    const V own_a = (all(1e-12) * hsum + all(1.74) * mu_a) + tiny;
+    const V slack_a = all(2e-15) * dl + tiny;
+    const V extra_b = B(24);
     for (int i = 0; i < 3; ++i) {
-        const f64x2 *z = u + 3 * i;
-        const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
-        const f64x2 rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + extra_b;
+        const V *z = u + 3 * i;
+        const V t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const V rb = ((hb[0] * rel[i][0] + hb[1] * rel[i][1]) + hb[2] * rel[i][2]) + extra_b;
         apart |= vabs(t) > ((ha[i] + own_a) + rb) * grow + slack_a;
     }
-    const f64x2 cross_a = both(1e-15 * f.qn) * hsum + tiny;
+    const V cross_a = all(1e-15 * f.qn) * hsum + tiny;
     for (int j = 0; j < 3; ++j) {
-        const f64x2 *z = V + 3 * j;
-        const f64x2 t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
-        const f64x2 l1 = B(21 + j);
-        const f64x2 ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) + (cross_a + mu_a * l1);
-        apart |= vabs(t) > (B(18 + j) + ra) * grow + (both(1e-15) * l1 * dl + tiny);
+        const V *z = Vb + 3 * j;
+        const V t = (z[0] * d[0] + z[1] * d[1]) + z[2] * d[2];
+        const V l1 = B(21 + j);
+        const V ra = ((ha[0] * rel[0][j] + ha[1] * rel[1][j]) + ha[2] * rel[2][j]) + (cross_a + mu_a * l1);
+        apart |= vabs(t) > (B(18 + j) + ra) * grow + (all(1e-15) * l1 * dl + tiny);
     }
-    return bits(apart);
+    return lane_bits(apart);
+}
+
+// Two pairs: bit l for lane l. kPairA: a's two lanes are the two nodes of
+// block `a` (else lane la of it in both); likewise kPairB for b's image
+// block.
+template <bool kPairA, bool kPairB>
+HGCD_RF_INLINE unsigned rel_apart2(const RelFrame &f, const double *a, int la, const double *b, int lb) {
+    auto A = [&](int k) __attribute__((always_inline)) { return kPairA ? lanes2(a, k) : splat(a, k, la); };
+    auto B = [&](int k) __attribute__((always_inline)) { return kPairB ? lanes2(b, k) : splat(b, k, lb); };
+    return rel_apart_lanes<f64x2, i64x2>(f, A, B);
+}
+
+// The four pairs of a's two nodes of block `a` with b's two of image block
+// `b`: bit la + 2 lb for the pair (lane la of a, lane lb of b).
+HGCD_RF_INLINE unsigned rel_apart4(const RelFrame &f, const double *a, const double *b) {
+    auto A = [&](int k) __attribute__((always_inline)) {
+        return f64x4{a[2 * k], a[2 * k + 1], a[2 * k], a[2 * k + 1]};
+    };
+    auto B = [&](int k) __attribute__((always_inline)) {
+        return f64x4{b[2 * k], b[2 * k], b[2 * k + 1], b[2 * k + 1]};
+    };
+    return rel_apart_lanes<f64x4, i64x4>(f, A, B);
 }
 
 }  // namespace hgcd

@@ -13,6 +13,7 @@
 // a point with the other; leaves get exact triangle boxes from the world
 // vertices and the exact triangle test, exactly as the direct path.
 #include "common/ieee.hpp"
+#include "common/cpu.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -262,7 +263,7 @@ struct Images {
     double *data;
     uint32_t *stamp;
     uint32_t epoch;
-    const double *block(size_t p) {
+    HGCD_RF_INLINE const double *block(size_t p) {
         double *m = data + kImageBlock * p;
         if (stamp[p] != epoch) {
             node_images(*f, lanes + kLaneBlock * p, m);
@@ -286,12 +287,12 @@ inline double lane_dist2(const double *x, int k, int l, const double *y, int j, 
 // pair is tested before it is pushed, the two children of a descent at once
 // (a's two siblings against b's node, or a's node against b's two), so the
 // stack holds only pairs that passed.
-bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
-                       uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
+HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
+                             uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
     const BvhNode *na = a.nodes, *nb = b.nodes;
     const double *lanes_a = a.mesh->bvh.lanes.data();
     const RelFrame &f = *img.f;
-    auto block_a = [&](uint32_t n) { return lanes_a + kLaneBlock * lane_block(n); };
+    auto block_a = [&](uint32_t n) __attribute__((always_inline)) { return lanes_a + kLaneBlock * lane_block(n); };
     std::vector<uint64_t> &stack = s.pair_stack;
     stack.clear();
     if (!start_tested && rel_apart2<false, false>(f, block_a(start_a), lane_of(start_a),
@@ -323,7 +324,31 @@ bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, 
             }
             continue;
         }
-        // As surfaces_meet: the larger node descended, the child farther from
+        // Nodes of like sizes: both descended at once, their four child
+        // pairs tested in one go, the nearest pair (centres in a's frame)
+        // searched first.
+        if (!la && !lb && size_a <= 2 * size_b && size_b <= 2 * size_a) {
+            const uint32_t c = na[i].first, e = nb[j].first;
+            const double *x = block_a(c), *y = img.block(lane_block(e));
+            const unsigned apart = rel_apart4(f, x, y);
+            uint64_t item[4];
+            double far[4];
+            int n = 0;
+            for (int q = 0; q < 4; ++q) {
+                if (apart >> q & 1) continue;
+                const double dq = lane_dist2(x, 0, q & 1, y, 0, q >> 1);
+                int at = n++;
+                for (; at > 0 && far[at - 1] < dq; --at) {  // farthest first on the stack
+                    far[at] = far[at - 1];
+                    item[at] = item[at - 1];
+                }
+                far[at] = dq;
+                item[at] = (uint64_t(c + (q & 1)) << 32) | (e + (q >> 1));
+            }
+            stack.insert(stack.end(), item, item + n);
+            continue;
+        }
+        // Else as surfaces_meet: the larger node descended, the child farther from
         // the other node first (sizes and centres in a's frame).
         if (lb || (!la && size_a >= size_b)) {
             const uint32_t c = na[i].first;
@@ -344,6 +369,28 @@ bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, 
         }
     }
     return false;
+}
+
+// meet_rel built for AVX2 where the CPU has it (common/cpu.hpp), else SSE2.
+#if HGCD_AVX2
+__attribute__((target("avx2"), noinline)) bool surfaces_meet_rel_avx2(BodyView &a, BodyView &b, Images &img,
+                                                                     NarrowScratch &s, uint32_t start_a,
+                                                                     uint32_t start_b, uint32_t *meet,
+                                                                     uint32_t *leaves, bool start_tested) {
+    return meet_rel(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+}
+#endif
+__attribute__((noinline)) bool surfaces_meet_rel_base(BodyView &a, BodyView &b, Images &img, NarrowScratch &s,
+                                                      uint32_t start_a, uint32_t start_b, uint32_t *meet,
+                                                      uint32_t *leaves, bool start_tested) {
+    return meet_rel(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+}
+bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
+                       uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
+#if HGCD_AVX2
+    if (use_avx2()) return surfaces_meet_rel_avx2(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+#endif
+    return surfaces_meet_rel_base(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
 }
 
 // Is inner's mesh point v (its rounded world vertex) certainly outside

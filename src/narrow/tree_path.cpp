@@ -393,6 +393,24 @@ bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, 
     return surfaces_meet_rel_base(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
 }
 
+// The roots' pair apart in a's frame (the first test of a pair), built as
+// meet_rel is.
+HGCD_RF_INLINE bool roots_apart_in(const RelFrame &f, const double *lanes_a, Images &img) {
+    return rel_apart2<false, false>(f, lanes_a, lane_of(0), img.block(0), lane_of(0)) & 1;
+}
+#if HGCD_AVX2
+__attribute__((target("avx2"), noinline)) bool roots_apart_avx2(const RelFrame &f, const double *lanes_a,
+                                                               Images &img) {
+    return roots_apart_in(f, lanes_a, img);
+}
+#endif
+bool roots_apart(const RelFrame &f, const double *lanes_a, Images &img) {
+#if HGCD_AVX2
+    if (use_avx2()) return roots_apart_avx2(f, lanes_a, img);
+#endif
+    return roots_apart_in(f, lanes_a, img);
+}
+
 // Is inner's mesh point v (its rounded world vertex) certainly outside
 // outer's root boxes? f: outer's frame, with inner as its other side
 // (prepare_frame(outer, inner)). The vertex as a node of its own (centre v,
@@ -412,17 +430,34 @@ bool vertex_outside(const RelFrame &f, const BodyView &outer, const double *v) {
     return rel_apart2<false, false>(f, outer.mesh->bvh.lanes.data(), lane_of(0), image, 0) & 1;
 }
 
+// Outer's frame with inner as its other side (prepare_frame(outer, inner)),
+// made when first asked for: null when there is none (a side without a
+// tree, or the frame's range refused).
+struct LazyFrame {
+    const BodyView *outer = nullptr, *inner = nullptr;  // null: none
+    const RelFrame *made = nullptr;
+    RelFrame frame;
+    const RelFrame *get() {
+        if (outer && !made) {
+            made = prepare_frame(*outer, *inner, frame) ? &frame : nullptr;
+            outer = nullptr;
+        }
+        return made;
+    }
+};
+
 // Is some component of `inner` inside the closed mesh `outer`? Asked once the
-// surfaces are disjoint, so no tested vertex lies on outer's surface. f
-// (both with trees, else null): outer's frame, prepare_frame(outer, inner),
-// in which a vertex is first tried against outer's root (vertex_outside).
-bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s, const RelFrame *f = nullptr) {
+// surfaces are disjoint, so no tested vertex lies on outer's surface. f:
+// outer's frame (both with trees), in which a vertex is first tried against
+// outer's root (vertex_outside).
+bool view_holds_component(BodyView &outer, BodyView &inner, NarrowScratch &s, LazyFrame &f) {
     const Mesh &mo = *outer.mesh;
     for (uint32_t v : inner.mesh->component_vertices) {
         const double *p = inner.vertex(v);
         const double *rb = outer.nodes ? outer.box(0) : outer.root_box;
         if (!point_in_box(p, rb)) continue;
-        if (f && vertex_outside(*f, outer, inner.local + 3 * size_t(v))) continue;
+        const RelFrame *frame = f.get();
+        if (frame && vertex_outside(*frame, outer, inner.local + 3 * size_t(v))) continue;
         bool inside;
         if (outer.nodes) {
             inside = point_in_closed_mesh_bvh(p, outer, s.node_stack);
@@ -500,8 +535,7 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     // The root pair apart in a's frame: so are the solids (each lies in the
     // convex hull of its surface, inside its root's certified boxes), and
     // containment need not be asked.
-    if (rel && (rel_apart2<false, false>(frame, a.mesh->bvh.lanes.data(), lane_of(0), img.block(0), lane_of(0)) & 1))
-        return Contact::None;
+    if (rel && roots_apart(frame, a.mesh->bvh.lanes.data(), img)) return Contact::None;
     // A side without a tree is one leaf of all its triangles: only those whose
     // exact boxes reach the other's root box can meet it, and the box of
     // those alone prunes the other's nodes (a body deep inside a large box
@@ -525,12 +559,15 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         return kMargin ? Contact::Near : Contact::Surface;
     }
     if (kMargin) return Contact::None;  // (collide_within asked about containment first)
-    RelFrame frame_b;  // (b's frame, for b holding a: vertex_outside)
-    if (b.mesh->closed && view_holds_component(vb, va, s, rel && prepare_frame(vb, va, frame_b) ? &frame_b : nullptr)) {
+    LazyFrame frame_b;  // (b's frame, for b holding a: vertex_outside)
+    if (rel) frame_b = LazyFrame{&vb, &va, nullptr, {}};
+    if (b.mesh->closed && view_holds_component(vb, va, s, frame_b)) {
         if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, false, true};
         return Contact::Containment;
     }
-    if (a.mesh->closed && view_holds_component(va, vb, s, rel ? &frame : nullptr)) {
+    LazyFrame frame_a;
+    frame_a.made = rel ? &frame : nullptr;
+    if (a.mesh->closed && view_holds_component(va, vb, s, frame_a)) {
         if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, true, true};
         return Contact::Containment;
     }

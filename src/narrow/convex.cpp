@@ -73,9 +73,9 @@ inline uint32_t nearest_vertex(const double *w, uint32_t n, const double *c) {
     return best;
 }
 
-// Meshes of at most this many triangles have all of them tried against
-// each edge; larger ones those at the vertex nearest the edge's start.
-constexpr uint32_t kAllTriangles = 16;
+// Meshes of at most SatData::kAllTriangles triangles have all of them tried
+// against each edge; larger ones those at the vertex nearest the edge's
+// start (at most this many).
 constexpr uint32_t kMaxTried = 32;
 
 // An edge of mesh me (world vertices we) that certainly crosses the
@@ -86,21 +86,21 @@ bool edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double
     const double *p = &we[3 * size_t(v)];
     uint32_t tris[kMaxTried];
     uint32_t count = 0;
-    if (mt.triangle_count <= kAllTriangles) {
+    if (mt.triangle_count <= SatData::kAllTriangles) {
         for (uint32_t t = 0; t < mt.triangle_count; ++t) tris[count++] = t;
     } else {
         const uint32_t u = nearest_vertex(wt, mt.vertex_count, p);
         const SatData &st = *mt.sat;
-        for (uint32_t k = st.vertex_tri_start[u]; k < st.vertex_tri_start[u + 1] && count < kMaxTried; ++k)
-            tris[count++] = st.vertex_tris[k];
+        for (uint32_t k = st.vertex_tri_start()[u]; k < st.vertex_tri_start()[u + 1] && count < kMaxTried; ++k)
+            tris[count++] = st.vertex_tris()[k];
     }
     // The box of the edges at p: an edge crosses only triangles its box
     // meets, and the planes are prepared only for the triangles that meet
     // this one and have p certainly on one side.
     const SatData &se = *me.sat;
     double reach[6] = {p[0], p[1], p[2], p[0], p[1], p[2]};
-    for (uint32_t e = se.vertex_edge_start[v]; e < se.vertex_edge_start[v + 1]; ++e) {
-        const double *q = &we[3 * size_t(se.vertex_edges[e])];
+    for (uint32_t e = se.vertex_edge_start()[v]; e < se.vertex_edge_start()[v + 1]; ++e) {
+        const double *q = &we[3 * size_t(se.vertex_edges()[e])];
         for (int i = 0; i < 3; ++i) {
             reach[i] = std::min(reach[i], q[i]);
             reach[3 + i] = std::max(reach[3 + i], q[i]);
@@ -120,8 +120,8 @@ bool edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const double
         side_p[kept] = plane_side(plane[kept], p);
         kept += side_p[kept] != 0;
     }
-    for (uint32_t e = se.vertex_edge_start[v]; e < se.vertex_edge_start[v + 1]; ++e) {
-        const double *q = &we[3 * size_t(se.vertex_edges[e])];
+    for (uint32_t e = se.vertex_edge_start()[v]; e < se.vertex_edge_start()[v + 1]; ++e) {
+        const double *q = &we[3 * size_t(se.vertex_edges()[e])];
         const double edge_box[6] = {std::min(p[0], q[0]), std::min(p[1], q[1]), std::min(p[2], q[2]),
                                     std::max(p[0], q[0]), std::max(p[1], q[1]), std::max(p[2], q[2])};
         for (uint32_t k = 0; k < kept; ++k)
@@ -158,8 +158,8 @@ bool any_edge_crosses(const Mesh &me, const double *we, const Mesh &mt, const do
     const SatData &se = *me.sat;
     for (uint32_t v = 0; v < me.vertex_count; ++v) {
         const double *p = &we[3 * size_t(v)];
-        for (uint32_t e = se.vertex_edge_start[v]; e < se.vertex_edge_start[v + 1]; ++e) {
-            const uint32_t w = se.vertex_edges[e];
+        for (uint32_t e = se.vertex_edge_start()[v]; e < se.vertex_edge_start()[v + 1]; ++e) {
+            const uint32_t w = se.vertex_edges()[e];
             if (w < v) continue;  // (each edge once)
             const double *q = &we[3 * size_t(w)];
             const double edge_box[6] = {std::min(p[0], q[0]), std::min(p[1], q[1]), std::min(p[2], q[2]),

@@ -89,7 +89,7 @@ HGCD_CB_INLINE f64x4 vmin4(f64x4 a, f64x4 b) { return a < b ? a : b; }
 HGCD_CB_INLINE void range4_half(const Side &s, const f64x4 *d, f64x4 &lo, f64x4 &hi, i64x4 &arg) {
     const SatData &m = *s.sat[0];
     const uint32_t n = m.half_padded;
-    const double *x = m.half_soa.data(), *y = x + n, *z = y + n;
+    const double *x = m.half_soa(), *y = x + n, *z = y + n;
     f64x4 mx = f64x4{} - 1.0, sign = f64x4{};
     i64x4 best = i64x4{};
     for (uint32_t lane = 0; lane < SatData::kLanes; ++lane)
@@ -104,7 +104,7 @@ HGCD_CB_INLINE void range4_half(const Side &s, const f64x4 *d, f64x4 &lo, f64x4 
     hi = mx;
     lo = -1.0 * mx;
     const i64x4 at = 2 * best - (sign < 0.0);  // (a true lane is -1)
-    for (int k = 0; k < 4; ++k) arg[k] = m.half_arg[size_t(at[k])];
+    for (int k = 0; k < 4; ++k) arg[k] = m.half_arg()[size_t(at[k])];
 }
 
 HGCD_CB_INLINE void range4(const Side &s, const f64x4 *d, f64x4 &lo, f64x4 &hi, i64x4 &arg) {
@@ -117,7 +117,7 @@ HGCD_CB_INLINE void range4(const Side &s, const f64x4 *d, f64x4 &lo, f64x4 &hi, 
     for (int k = 0; k < 4; ++k) {
         padded[k] = m[k]->padded;
         most = std::max(most, padded[k]);
-        x[k] = m[k]->soa.data();
+        x[k] = m[k]->soa();
         y[k] = x[k] + padded[k];
         z[k] = y[k] + padded[k];
     }
@@ -196,7 +196,7 @@ HGCD_CB_INLINE f64x4 vnorm1(const f64x4 *v) { return (vabs4(v[0]) + vabs4(v[1]))
 HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, unsigned want) {
     const SatData &m = *in.sat[0];
     const uint32_t n = out.sat[0]->padded;
-    const double *x = out.sat[0]->soa.data();
+    const double *x = out.sat[0]->soa();
     f64x4 l[3], w[3], D[3], z[3];
     for (int j = 0; j < 3; ++j, x += n)
         l[j] = out.scale * lanes(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
@@ -212,7 +212,7 @@ HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, 
     const f64x4 t = (in.scale * m.inner) * (1 - 0x1p-48) - margin;
     const f64x4 zz2 = (z[0] * z[0] + z[1] * z[1]) + z[2] * z[2];
     const i64x4 ball = (t > 0.0) & (zz2 * (1 + 0x1p-46) < (t * t) * (1 - 0x1p-48));
-    const double *nx = m.planes.data(), *ny = nx + m.planes_padded, *nz = ny + m.planes_padded,
+    const double *nx = m.planes(), *ny = nx + m.planes_padded, *nz = ny + m.planes_padded,
                  *k = nz + m.planes_padded;
     const unsigned in_ball = mask_of(ball) & want;
     if (in_ball == want) return in_ball;
@@ -232,7 +232,7 @@ HGCD_CB_INLINE unsigned pokes4(const Side &in, const Side &out, const i64x4 &v, 
 HGCD_CB_INLINE void shared_range4(const SatData &m, f64x4 scale, const f64x4 *d, f64x4 &lo, f64x4 &hi) {
     if (m.half_padded) {
         const uint32_t n = m.half_padded;
-        const double *x = m.half_soa.data(), *y = x + n, *z = y + n;
+        const double *x = m.half_soa(), *y = x + n, *z = y + n;
         f64x4 mx = f64x4{};
         for (uint32_t i = 0; i < n; ++i)
             mx = vmax4(mx, vabs4(((scale * x[i]) * d[0] + (scale * y[i]) * d[1]) + (scale * z[i]) * d[2]));
@@ -241,7 +241,7 @@ HGCD_CB_INLINE void shared_range4(const SatData &m, f64x4 scale, const f64x4 *d,
         return;
     }
     const uint32_t n = m.padded;
-    const double *x = m.soa.data(), *y = x + n, *z = y + n;
+    const double *x = m.soa(), *y = x + n, *z = y + n;
     f64x4 mx = f64x4{} - INFINITY, mn = f64x4{} + INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         const f64x4 p = ((scale * x[i]) * d[0] + (scale * y[i]) * d[1]) + (scale * z[i]) * d[2];
@@ -275,14 +275,14 @@ HGCD_CB_INLINE unsigned faces4(const Side &A, const Side &B, const Centres4 &c, 
         for (int side = 0; side < 2; ++side) {
             const SatData &own = side ? sb : sa, &other = side ? sa : sb;
             if (k >= own.faces) continue;
-            const double *n = &own.axes[3 * k];
+            const double *n = &own.axes()[3 * k];
             f64x4 d[3], olo, ohi;
             for (int j = 0; j < 3; ++j)
                 d[j] = side ? (C[j] * n[0] + C[3 + j] * n[1]) + C[6 + j] * n[2]
                             : (C[3 * j] * n[0] + C[3 * j + 1] * n[1]) + C[3 * j + 2] * n[2];
             const f64x4 s_own = side ? B.scale : A.scale;
             shared_range4(other, side ? A.scale : B.scale, d, olo, ohi);
-            const f64x4 alo = s_own * own.face_range[2 * k], ahi = s_own * own.face_range[2 * k + 1];
+            const f64x4 alo = s_own * own.face_range()[2 * k], ahi = s_own * own.face_range()[2 * k + 1];
             // (b's faces take a's offset along -ub = db)
             const f64x4 *t = side ? c.db : c.da;
             const f64x4 o = (t[0] * n[0] + t[1] * n[1]) + t[2] * n[2];
@@ -442,8 +442,8 @@ HGCD_CB_INLINE bool enqueue(const ConvexPair *pairs, Queue *queues, const Side &
 // records and their convex data lie anywhere in memory, each read through
 // the one before. So they are asked for in stages ahead of the group at k,
 // each stage reading what the one before asked for: the records eight
-// groups ahead, the convex data four groups ahead, its runs of vertices and
-// planes, its axes and its edge lists two groups ahead.
+// groups ahead, the convex data's header four groups ahead, the rest of the
+// block the kernel reads (SatData::hot_bytes) two groups ahead.
 HGCD_CB_INLINE void prefetch_meshes(const ConvexPair *pairs, size_t n, size_t k) {
     if (k + 36 <= n)
         for (size_t l = 32; l < 36; ++l) {
@@ -451,20 +451,16 @@ HGCD_CB_INLINE void prefetch_meshes(const ConvexPair *pairs, size_t n, size_t k)
             __builtin_prefetch(&pairs[k + l].mesh_b->sat);
         }
     if (k + 20 <= n)
-        for (size_t l = 16; l < 20; ++l)
-            for (int side = 0; side < 2; ++side) {
-                const char *d = reinterpret_cast<const char *>((side ? pairs[k + l].mesh_b : pairs[k + l].mesh_a)->sat.get());
-                for (size_t b = 0; b < sizeof(SatData); b += 64) __builtin_prefetch(d + b);
-            }
+        for (size_t l = 16; l < 20; ++l) {
+            __builtin_prefetch(pairs[k + l].mesh_a->sat.get());
+            __builtin_prefetch(pairs[k + l].mesh_b->sat.get());
+        }
     if (k + 12 <= n)
         for (size_t l = 8; l < 12; ++l)
             for (int side = 0; side < 2; ++side) {
-                const SatData &d = *(side ? pairs[k + l].mesh_b : pairs[k + l].mesh_a)->sat;
-                for (int j = 0; j < 3; ++j) __builtin_prefetch(d.soa.data() + j * size_t(d.padded));
-                for (int j = 0; j < 4; ++j) __builtin_prefetch(d.planes.data() + j * size_t(d.planes_padded));
-                __builtin_prefetch(d.axes.data());
-                __builtin_prefetch(d.vertex_edge_start.data());
-                __builtin_prefetch(d.vertex_edges.data());
+                const SatData *d = (side ? pairs[k + l].mesh_b : pairs[k + l].mesh_a)->sat.get();
+                const char *at = reinterpret_cast<const char *>(d);
+                for (size_t b = 64; b < d->hot_bytes; b += 64) __builtin_prefetch(at + b);
             }
 }
 

@@ -60,7 +60,7 @@ HGCD_CK_INLINE bool strictly_inside(const BodyPose &in, const SatData &m, const 
     const double zz2 = (z[0] * z[0] + z[1] * z[1]) + z[2] * z[2];
     if (t > 0 && zz2 * (1 + 0x1p-46) < (t * t) * (1 - 0x1p-48)) return true;
     const uint32_t n = m.planes_padded;
-    const double *nx = m.planes.data(), *ny = nx + n, *nz = ny + n, *k = nz + n;
+    const double *nx = m.planes(), *ny = nx + n, *nz = ny + n, *k = nz + n;
     const f64x4 zx = splat(z[0]), zy = splat(z[1]), zz = splat(z[2]), s = splat(in.scale), lim = splat(-margin);
     for (uint32_t i = 0; i < n; i += SatData::kLanes) {
         const f64x4 g = ((load4(nx + i) * zx + load4(ny + i) * zy) + load4(nz + i) * zz) - s * load4(k + i);
@@ -100,7 +100,7 @@ HGCD_CK_INLINE bool vertex_poke(const BodyPose &a, const Rotation &ra, const Sat
 // planes facing d. Only a guess (the point it yields is certified later).
 HGCD_CK_INLINE double exit_along(const SatData &m, double s, const double *d) {
     const uint32_t n = m.planes_padded;
-    const double *nx = m.planes.data(), *ny = nx + n, *nz = ny + n, *k = nz + n;
+    const double *nx = m.planes(), *ny = nx + n, *nz = ny + n, *k = nz + n;
     const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s), inf = splat(INFINITY);
     f64x4 t = inf;
     for (uint32_t i = 0; i < n; i += SatData::kLanes) {
@@ -162,19 +162,18 @@ constexpr uint32_t kEdgePokeWork = 512;
 // strictly_inside's dz = 2 (D_p + D_q) covers the 18 eps (D_p + D_q).
 HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatData &sa, const BodyPose &b,
                               const Rotation &rb, const SatData &sb, bool b_out) {
-    const Mesh &mb = *b.mesh;
-    const uint32_t nv = mb.vertex_count, np = sa.planes_padded;
+    const uint32_t nv = sb.vertex_count, np = sa.planes_padded;
     if (nv * np > kEdgePokeWork) return false;
     double zx[Mesh::kSatVertices], zy[Mesh::kSatVertices], zz[Mesh::kSatVertices], dist[Mesh::kSatVertices];
     double g[kEdgePokeWork];
-    const double *ca = a.position, *nx = sa.planes.data(), *ny = nx + np, *nz = ny + np, *k = nz + np;
+    const double *ca = a.position, *nx = sa.planes(), *ny = nx + np, *nz = ny + np, *k = nz + np;
     const f64x4 s = splat(a.scale);
     {
         // Four vertices at a time from b's runs (padded: at most
         // kSatVertices), lane by lane vertex_inside's operations on
         // transform_point's world vertex: the same bits.
         const uint32_t pad = sb.padded;
-        const double *bx = sb.soa.data(), *by = bx + pad, *bz = by + pad, *cb = b.position;
+        const double *bx = sb.soa(), *by = bx + pad, *bz = by + pad, *cb = b.position;
         const f64x4 sv = splat(b.scale);
         for (uint32_t v = 0; v < nv; v += SatData::kLanes) {
             const f64x4 lx = sv * load4(bx + v), ly = sv * load4(by + v), lz = sv * load4(bz + v);
@@ -208,8 +207,8 @@ HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatDa
     if (!b_out) return false;
     const f64x4 zero = splat(0), one = splat(1);
     for (uint32_t p = 0; p < nv; ++p)
-        for (uint32_t e = sb.vertex_edge_start[p]; e < sb.vertex_edge_start[p + 1]; ++e) {
-            const uint32_t q = sb.vertex_edges[e];
+        for (uint32_t e = sb.vertex_edge_start()[p]; e < sb.vertex_edge_start()[p + 1]; ++e) {
+            const uint32_t q = sb.vertex_edges()[e];
             if (q < p) continue;  // (each edge once)
             // (First whether both ends are outside one plane, most edges'
             // case, without the divisions.)
@@ -243,11 +242,11 @@ HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatDa
 // each of its points.) So the solids meet and the surfaces do not.
 HGCD_CK_INLINE bool holds_all(const BodyPose &out, const Rotation &ro, const SatData &so, const BodyPose &in,
                               const Rotation &ri) {
-    const Mesh &m = *in.mesh;
+    const SatData &m = *in.mesh->sat;
     for (uint32_t v = 0; v < m.vertex_count; ++v) {
         double w[3];
         double x[3];
-        vertex_of(*m.sat, v, x);
+        vertex_of(m, v, x);
         transform_point(ri, in.position, in.scale, x, w);
         if (!vertex_inside(out, ro, so, w)) return false;
     }

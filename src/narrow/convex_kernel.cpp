@@ -33,7 +33,7 @@ namespace {
 HGCD_CK_INLINE void range(const SatData &m, double s, const double *d, double &lo, double &hi) {
     const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s);
     if (m.half_padded) {
-        const double *x = m.half_soa.data(), *y = x + m.half_padded, *z = y + m.half_padded;
+        const double *x = m.half_soa(), *y = x + m.half_padded, *z = y + m.half_padded;
         f64x4 mx = splat(0);
         for (uint32_t i = 0; i < m.half_padded; i += SatData::kLanes) {
             const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
@@ -43,7 +43,7 @@ HGCD_CK_INLINE void range(const SatData &m, double s, const double *d, double &l
         lo = -hi;
         return;
     }
-    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
+    const double *x = m.soa(), *y = x + m.padded, *z = y + m.padded;
     f64x4 mx = splat(-INFINITY), mn = splat(INFINITY);
     for (uint32_t i = 0; i < m.padded; i += SatData::kLanes) {
         const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
@@ -60,7 +60,7 @@ HGCD_CK_INLINE void range(const SatData &m, double s, const double *d, double &l
 HGCD_CK_INLINE void range_arg(const SatData &m, double s, const double *d, double &lo, double &hi, uint32_t &arg) {
     const f64x4 dx = splat(d[0]), dy = splat(d[1]), dz = splat(d[2]), sv = splat(s), step = splat(SatData::kLanes);
     if (m.half_padded) {
-        const double *x = m.half_soa.data(), *y = x + m.half_padded, *z = y + m.half_padded;
+        const double *x = m.half_soa(), *y = x + m.half_padded, *z = y + m.half_padded;
         f64x4 mx = splat(-1), at = {0, 1, 2, 3}, best = at, sign = splat(0);
         for (uint32_t i = 0; i < m.half_padded; i += SatData::kLanes, at += step) {
             const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
@@ -75,10 +75,10 @@ HGCD_CK_INLINE void range_arg(const SatData &m, double s, const double *d, doubl
         const int k = mx[0] == hi ? 0 : mx[1] == hi ? 1 : mx[2] == hi ? 2 : 3;
         const double b = k == 0 ? best[0] : k == 1 ? best[1] : k == 2 ? best[2] : best[3];
         const double sg = k == 0 ? sign[0] : k == 1 ? sign[1] : k == 2 ? sign[2] : sign[3];
-        arg = m.half_arg[2 * uint32_t(b) + (sg < 0)];
+        arg = m.half_arg()[2 * uint32_t(b) + (sg < 0)];
         return;
     }
-    const double *x = m.soa.data(), *y = x + m.padded, *z = y + m.padded;
+    const double *x = m.soa(), *y = x + m.padded, *z = y + m.padded;
     f64x4 mx = splat(-INFINITY), mn = splat(INFINITY), at = {0, 1, 2, 3}, best = at;
     for (uint32_t i = 0; i < m.padded; i += SatData::kLanes, at += step) {
         const f64x4 p = ((sv * load4(x + i)) * dx + (sv * load4(y + i)) * dy) + (sv * load4(z + i)) * dz;
@@ -158,12 +158,12 @@ HGCD_CK_INLINE void mul3_t(const double *m, const double *v, double *out) {  // 
 HGCD_CK_INLINE bool face_apart(const PairView &p, int side, uint32_t k, const double *toward) {
     const SatData &own = side ? p.sb : p.sa, &other = side ? p.sa : p.sb;
     const double s_own = side ? p.b.scale : p.a.scale, s_other = side ? p.a.scale : p.b.scale;
-    const double *n = &own.axes[3 * k];
+    const double *n = &own.axes()[3 * k];
     double d[3], olo, ohi;
     if (side) mul3_t(p.c, n, d);
     else mul3(p.c, n, d);
     range(other, s_other, d, olo, ohi);
-    const double alo = s_own * own.face_range[2 * k], ahi = s_own * own.face_range[2 * k + 1];
+    const double alo = s_own * own.face_range()[2 * k], ahi = s_own * own.face_range()[2 * k + 1];
     const double o = (toward[0] * n[0] + toward[1] * n[1]) + toward[2] * n[2];
     const double margin =
         (kFaceMargin * p.scale + 8 * p.dq[side] * (s_own * own.reach)) * norm1(n) + tet::kUnderflowFloor;
@@ -189,7 +189,7 @@ HGCD_CK_INLINE int pick_faces(const SatData &m, const double *d, uint32_t *out) 
     double score[kFaceAxes];
     int count = 0;
     for (uint32_t k = 0; k < n; ++k) {
-        const double *x = &m.axes[3 * k];
+        const double *x = &m.axes()[3 * k];
         const double s = std::fabs((x[0] * d[0] + x[1] * d[1]) + x[2] * d[2]);
         if (count == kFaceAxes && s <= score[count - 1]) continue;
         int at = count < kFaceAxes ? count++ : count - 1;
@@ -225,10 +225,10 @@ HGCD_CK_INLINE bool edge_axes_apart(const PairView &p) {
     const uint64_t pairs = uint64_t(p.sa.edges) * p.sb.edges;
     if (pairs == 0 || pairs > kEdgeAxisPairs) return false;
     double ea[kEdgeAxisPairs][3];
-    for (uint32_t i = 0; i < p.sa.edges; ++i) rotate(p.ra, &p.sa.axes[3 * (p.sa.faces + i)], ea[i]);
+    for (uint32_t i = 0; i < p.sa.edges; ++i) rotate(p.ra, &p.sa.axes()[3 * (p.sa.faces + i)], ea[i]);
     for (uint32_t j = 0; j < p.sb.edges; ++j) {
         double eb[3];
-        rotate(p.rb, &p.sb.axes[3 * (p.sb.faces + j)], eb);
+        rotate(p.rb, &p.sb.axes()[3 * (p.sb.faces + j)], eb);
         for (uint32_t i = 0; i < p.sa.edges; ++i) {
             const double *x = ea[i];
             N[0] = x[1] * eb[2] - x[2] * eb[1];
@@ -250,10 +250,12 @@ HGCD_CK_INLINE bool edge_axes_apart(const PairView &p) {
 constexpr uint32_t kSupportEdges = 8;
 HGCD_CK_INLINE uint32_t support_edges(const BodyPose &body, const Rotation &r, uint32_t v, double (*out)[3]) {
     const SatData &m = *body.mesh->sat;
-    const double *x = &body.mesh->vertices[3 * size_t(v)];
+    double x[3];
+    vertex_of(m, v, x);
     uint32_t n = 0;
-    for (uint32_t e = m.vertex_edge_start[v]; e < m.vertex_edge_start[v + 1] && n < kSupportEdges; ++e, ++n) {
-        const double *y = &body.mesh->vertices[3 * size_t(m.vertex_edges[e])];
+    for (uint32_t e = m.vertex_edge_start()[v]; e < m.vertex_edge_start()[v + 1] && n < kSupportEdges; ++e, ++n) {
+        double y[3];
+        vertex_of(m, m.vertex_edges()[e], y);
         const double d[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
         rotate(r, d, out[n]);
     }

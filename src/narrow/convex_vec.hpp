@@ -63,7 +63,7 @@ HGCD_CK_INLINE void rotate(const Rotation &r, const double *v, double *out) {  /
 // Vertex v of a mesh read from its SatData's runs: Mesh::vertices's values,
 // in memory that copies of one mesh share (World's sat_slot_).
 HGCD_CK_INLINE void vertex_of(const SatData &m, uint32_t v, double *out) {
-    for (int k = 0; k < 3; ++k) out[k] = m.soa[k * size_t(m.padded) + v];
+    for (int k = 0; k < 3; ++k) out[k] = m.soa()[k * size_t(m.padded) + v];
 }
 HGCD_CK_INLINE double norm1(const double *v) { return (std::fabs(v[0]) + std::fabs(v[1])) + std::fabs(v[2]); }
 HGCD_CK_INLINE double norm_inf(const double *v) {

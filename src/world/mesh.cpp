@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <new>
 #include <numeric>
 #include <string>
 
@@ -188,6 +190,69 @@ void set_tetra(Mesh &m) {
     }
 }
 
+// SatData's runs while they are worked out (set_sat), then packed into
+// one block (SatBuilder::pack).
+struct SatParts {
+    std::vector<double> axes, face_range, soa, half_soa, planes;
+    std::vector<uint32_t> half_arg, vertex_edge_start, vertex_edges, vertex_tri_start, vertex_tris;
+    uint32_t faces = 0, edges = 0, padded = 0, half_padded = 0, plane_count = 0, planes_padded = 0;
+    double reach = 0, theta = 0, inner = 0;
+    bool inside_test = false;
+};
+
+}  // namespace
+
+// The parts as one block: the header, then the runs in the order of
+// SatData's accessors (each list aligned for its type).
+struct SatBuilder {
+    static SatRef pack(const Mesh &m, const SatParts &d) {
+        const size_t doubles = d.soa.size() + d.half_soa.size() + d.planes.size() + d.axes.size() + d.face_range.size();
+        const size_t edges_end = 8 * doubles + d.half_arg.size() + 2 * d.vertex_edge_start.size() + d.vertex_edges.size();
+        const size_t tri_at = d.vertex_tri_start.empty() ? 0 : (edges_end + 3) / 4 * 4;
+        const size_t bytes = tri_at ? tri_at + 4 * (d.vertex_tri_start.size() + d.vertex_tris.size()) : edges_end;
+        SatData *h = new (::operator new(sizeof(SatData) + bytes)) SatData;
+        SatRef ref(h);
+        h->reach = d.reach;
+        h->theta = d.theta;
+        h->inner = d.inner;
+        h->vertex_count = uint16_t(m.vertex_count);
+        h->padded = uint16_t(d.padded);
+        h->half_padded = uint16_t(d.half_padded);
+        h->faces = uint16_t(d.faces);
+        h->edges = uint16_t(d.edges);
+        h->plane_count = uint16_t(d.plane_count);
+        h->planes_padded = uint16_t(d.planes_padded);
+        h->inside_test = d.inside_test;
+        h->tri_at = uint32_t(tri_at);
+        h->hot_bytes = uint32_t(sizeof(SatData) + edges_end);
+        char *at = reinterpret_cast<char *>(h + 1);
+        const auto put = [&at](const auto &v) {
+            std::memcpy(at, v.data(), v.size() * sizeof(v[0]));
+            at += v.size() * sizeof(v[0]);
+        };
+        put(d.soa);
+        put(d.half_soa);
+        put(d.planes);
+        put(d.axes);
+        put(d.face_range);
+        for (uint32_t v : d.half_arg) *at++ = char(v);
+        for (uint32_t v : d.vertex_edge_start) {
+            const uint16_t e = uint16_t(v);
+            std::memcpy(at, &e, 2);
+            at += 2;
+        }
+        for (uint32_t v : d.vertex_edges) *at++ = char(v);
+        if (tri_at) {
+            at = reinterpret_cast<char *>(h + 1) + tri_at;
+            put(d.vertex_tri_start);
+            put(d.vertex_tris);
+        }
+        return ref;
+    }
+};
+
+namespace {
+
 // Appends direction d (3 doubles) to axes unless it is zero or parallel to
 // one there; returns whether it was added.
 bool add_axis(std::vector<double> &axes, const double *d) {
@@ -203,8 +268,9 @@ bool add_axis(std::vector<double> &axes, const double *d) {
     return true;
 }
 
-// Per vertex, its neighbours (each edge once per end) and its triangles.
-void set_adjacency(const Mesh &m, SatData &d) {
+// Per vertex, its neighbours (each edge once per end) and, past
+// SatData::kAllTriangles triangles, its triangles.
+void set_adjacency(const Mesh &m, SatParts &d) {
     const uint32_t nv = m.vertex_count;
     std::vector<uint64_t> edges;
     for (uint32_t t = 0; t < m.triangle_count; ++t)
@@ -222,6 +288,7 @@ void set_adjacency(const Mesh &m, SatData &d) {
     for (uint32_t v = 0; v < nv; ++v) d.vertex_edge_start[v + 1] += d.vertex_edge_start[v];
     d.vertex_edges.resize(edges.size());
     for (size_t k = 0; k < edges.size(); ++k) d.vertex_edges[k] = uint32_t(edges[k]);  // (sorted by first end)
+    if (m.triangle_count <= SatData::kAllTriangles) return;
     d.vertex_tri_start.assign(nv + 1, 0);
     for (uint32_t i = 0; i < 3 * m.triangle_count; ++i) ++d.vertex_tri_start[m.triangles[i] + 1];
     for (uint32_t v = 0; v < nv; ++v) d.vertex_tri_start[v + 1] += d.vertex_tri_start[v];
@@ -232,7 +299,7 @@ void set_adjacency(const Mesh &m, SatData &d) {
 
 // The vertices in runs of x, y, z for the batched kernel, padded with
 // copies of vertex 0.
-void set_soa(const Mesh &m, SatData &d) {
+void set_soa(const Mesh &m, SatParts &d) {
     const uint32_t n = m.vertex_count, p = (n + SatData::kLanes - 1) / SatData::kLanes * SatData::kLanes;
     d.padded = p;
     d.soa.resize(3 * size_t(p));
@@ -273,7 +340,7 @@ void set_soa(const Mesh &m, SatData &d) {
 // unit vectors differ by at most twice that over |N|, and fl(N~ / |N~|)
 // adds 4 eps: theta = 16 eps sum perm / |N~| + 8 eps bounds |n - N/|N||_2
 // while 4 eps sum perm <= |N~| / 2, which theta <= 2^-30 ensures.
-void set_planes(const Mesh &m, SatData &d) {
+void set_planes(const Mesh &m, SatParts &d) {
     if (m.component_vertices.size() != 1 || m.degenerate_count || !m.inward_sign) return;
     const double *x = m.vertices.data();
     const double origin[3] = {0, 0, 0};
@@ -365,26 +432,26 @@ void set_sat(Mesh &m, const std::vector<char> &used, const SameSat &same, bool t
         i = j;
     }
     axes.insert(axes.end(), edge_axes.begin(), edge_axes.end());
-    auto d = std::make_shared<SatData>();
-    set_adjacency(m, *d);
-    d->axes = std::move(axes);
-    d->faces = faces;
+    SatParts d;
+    set_adjacency(m, d);
+    d.axes = std::move(axes);
+    d.faces = faces;
     for (uint32_t k = 0; k < faces; ++k) {
-        const double *n = &d->axes[3 * k];
+        const double *n = &d.axes[3 * k];
         double lo = INFINITY, hi = -INFINITY;
         for (uint32_t v = 0; v < m.vertex_count; ++v) {
             const double p = (x[3 * v] * n[0] + x[3 * v + 1] * n[1]) + x[3 * v + 2] * n[2];
             lo = std::min(lo, p);
             hi = std::max(hi, p);
         }
-        d->face_range.insert(d->face_range.end(), {lo, hi});
+        d.face_range.insert(d.face_range.end(), {lo, hi});
     }
-    d->edges = edges;
+    d.edges = edges;
     for (uint32_t v = 0; v < m.vertex_count; ++v)
-        d->reach = std::max(d->reach, std::fabs(x[3 * v]) + std::fabs(x[3 * v + 1]) + std::fabs(x[3 * v + 2]));
-    set_soa(m, *d);
-    set_planes(m, *d);
-    m.sat = std::move(d);
+        d.reach = std::max(d.reach, std::fabs(x[3 * v]) + std::fabs(x[3 * v + 1]) + std::fabs(x[3 * v + 2]));
+    set_soa(m, d);
+    set_planes(m, d);
+    m.sat = SatBuilder::pack(m, d);
 }
 
 }  // namespace
@@ -412,6 +479,13 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
     *out = std::move(m);
     return true;
+}
+
+SatRef::~SatRef() {
+    if (p_ && p_->refs.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+        p_->~SatData();
+        ::operator delete(p_);
+    }
 }
 
 void add_tetra_sat(Mesh &m, const SameSat &same) {

@@ -1,9 +1,10 @@
 // A shared shape: local vertices and triangles, and what hgcd works out about
 // it once at creation (closedness, convexity, components, bounding sphere).
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <functional>
-#include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -14,49 +15,104 @@ namespace hgcd {
 
 // The convex path's data about a small convex mesh (convex, at most
 // Mesh::kSatVertices vertices, every vertex used by a triangle; tetrahedra
-// too: their pairs with other convex meshes take the convex path).
+// too: their pairs with other convex meshes take the convex path). One heap
+// block: this header (a cache line: the counts and scalars every pair
+// reads), then the runs below in the order the kernel reads them (the
+// vertices, the planes, the axes and face ranges, then the integer lists),
+// so that a pair of meshes of their own reads two compact blocks rather
+// than a dozen scattered arrays each. Made by build_mesh, shared by meshes
+// of the same arrays (SatRef counts them).
 struct SatData {
+    static constexpr uint32_t kLanes = 4;
+    // Meshes of more triangles keep the triangles at each vertex
+    // (vertex_tri_start, vertex_tris: convex.cpp tries those alone); smaller
+    // ones have all of theirs tried, and keep none.
+    static constexpr uint32_t kAllTriangles = 16;
+    double reach = 0;  // max over the vertices of |x| + |y| + |z| (mesh frame)
+    double theta = 0;  // bounds |n - N| for the exact unit normal N of each plane
+    double inner = 0;  // the smallest plane offset k: the origin's distance to the nearest plane, within theta
+    // Vertices (at most kSatVertices); the runs of soa() and half_soa()
+    // (multiples of kLanes; half_padded 0: not symmetric).
+    uint16_t vertex_count = 0, padded = 0, half_padded = 0;
+    // Separating axes (axes()): the `faces` face normals, then the `edges`
+    // edge directions.
+    uint16_t faces = 0, edges = 0;
+    // Planes of the deep-inside test, when `inside_test` holds.
+    uint16_t plane_count = 0, planes_padded = 0;
+    bool inside_test = false;
+    uint32_t tri_at = 0;  // byte offset of vertex_tri_start() from runs() (0: none kept)
+    uint32_t hot_bytes = 0;  // this header and the runs up to vertex_edges()'s end: what the kernel reads
+    mutable std::atomic<uint32_t> refs{1};
+
     // Separating axes: unit directions in the mesh frame, 3 doubles each, no
-    // two parallel, the `faces` face normals first, then the `edges` edge
-    // directions. Any direction is a valid axis to try: only speed depends
-    // on these.
-    std::vector<double> axes;
-    uint32_t faces = 0, edges = 0;
+    // two parallel, the face normals first, then the edge directions. Any
+    // direction is a valid axis to try: only speed depends on these.
+    const double *axes() const { return planes() + 4 * size_t(planes_padded); }
     // Per face axis n, the smallest and largest fl(v . n) over the vertices
     // (x y z summed in that order).
-    std::vector<double> face_range;
-    double reach = 0;  // max over the vertices of |x| + |y| + |z| (mesh frame)
+    const double *face_range() const { return axes() + 3 * (size_t(faces) + edges); }
     // The vertices as the batched kernel reads them (narrow/convex_kernel.cpp):
-    // x of every vertex, then y, then z, each run padded to `padded` (a
-    // multiple of kLanes) with copies of vertex 0, which change no support.
-    static constexpr uint32_t kLanes = 4;
-    uint32_t padded = 0;
-    std::vector<double> soa;
+    // x of every vertex, then y, then z, each run padded to `padded` with
+    // copies of vertex 0, which change no support.
+    const double *soa() const { return runs(); }
     // When the vertices are symmetric about the origin (the negation of each
     // is one too, exactly: boxes and icospheres about their centre) and half
     // of them fill fewer runs: one of each pair v, -v as runs like soa's,
-    // `half_padded` long (0: not used), padded with copies of its first, and
-    // the indices of each and of its negation (half_arg[2 i], [2 i + 1]). Rounding commutes with
-    // negation, so fl(s (-v)) = -fl(s v) and the sums of products
-    // fl(l . d) of -v are those of v negated: over every vertex they range
-    // over [-h, h], h their largest magnitude over these.
-    uint32_t half_padded = 0;
-    std::vector<double> half_soa;
-    std::vector<uint32_t> half_arg;
+    // `half_padded` long, padded with copies of its first, and the indices
+    // of each and of its negation (half_arg()[2 i], [2 i + 1]). Rounding
+    // commutes with negation, so fl(s (-v)) = -fl(s v) and the sums of
+    // products fl(l . d) of -v are those of v negated: over every vertex
+    // they range over [-h, h], h their largest magnitude over these.
+    const double *half_soa() const { return runs() + 3 * size_t(padded); }
+    const uint8_t *half_arg() const { return reinterpret_cast<const uint8_t *>(face_range() + 2 * size_t(faces)); }
     // Outward face planes for the test of a point deep inside the solid,
     // when `inside_test` holds (see set_planes in mesh.cpp): unit normal n
     // and offset k = n . (a vertex of the face) per triangle, exact
     // duplicates once, as runs nx, ny, nz, k padded like the vertices (copies
-    // of plane 0). theta bounds |n - N| for the exact unit normal N of each.
-    bool inside_test = false;
-    uint32_t plane_count = 0, planes_padded = 0;
-    std::vector<double> planes;
-    double theta = 0;
-    double inner = 0;  // the smallest plane offset k: the origin's distance to the nearest plane, within theta
+    // of plane 0).
+    const double *planes() const { return half_soa() + 3 * size_t(half_padded); }
     // For the search of an edge that crosses a triangle: the edges (other
-    // end vertices) and the triangles at each vertex, as offsets
-    // (vertex_count + 1) into lists.
-    std::vector<uint32_t> vertex_edge_start, vertex_edges, vertex_tri_start, vertex_tris;
+    // end vertices) and, past kAllTriangles triangles, the triangles at each
+    // vertex, as offsets (vertex_count + 1) into lists.
+    const uint16_t *vertex_edge_start() const {
+        return reinterpret_cast<const uint16_t *>(half_arg() + 2 * size_t(half_padded));
+    }
+    const uint8_t *vertex_edges() const {
+        return reinterpret_cast<const uint8_t *>(vertex_edge_start() + vertex_count + 1);
+    }
+    const uint32_t *vertex_tri_start() const { return reinterpret_cast<const uint32_t *>(bytes() + tri_at); }
+    const uint32_t *vertex_tris() const { return vertex_tri_start() + vertex_count + 1; }
+
+private:
+    friend struct SatBuilder;
+    const char *bytes() const { return reinterpret_cast<const char *>(this + 1); }
+    const double *runs() const { return reinterpret_cast<const double *>(this + 1); }
+};
+static_assert(sizeof(SatData) <= 64, "SatData's header fits a cache line");
+
+// A counted reference to a SatData block (as a shared_ptr, in the block's
+// own header: one allocation a mesh).
+class SatRef {
+public:
+    SatRef() = default;
+    SatRef(const SatRef &o) noexcept : p_(o.p_) {
+        if (p_) p_->refs.fetch_add(1, std::memory_order_relaxed);
+    }
+    SatRef(SatRef &&o) noexcept : p_(o.p_) { o.p_ = nullptr; }
+    SatRef &operator=(SatRef o) noexcept {
+        std::swap(p_, o.p_);
+        return *this;
+    }
+    ~SatRef();
+    const SatData *get() const { return p_; }
+    const SatData &operator*() const { return *p_; }
+    const SatData *operator->() const { return p_; }
+    explicit operator bool() const { return p_ != nullptr; }
+
+private:
+    friend struct SatBuilder;
+    explicit SatRef(SatData *p) : p_(p) {}
+    SatData *p_ = nullptr;
 };
 
 struct Mesh {
@@ -99,7 +155,7 @@ struct Mesh {
     // meshes carry 8 bytes for it; null for them. (Tetrahedron pairs take
     // their own path; a tetrahedron against another convex mesh this one.)
     static constexpr uint32_t kSatVertices = 64;
-    std::shared_ptr<const SatData> sat;
+    SatRef sat;
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;
@@ -113,7 +169,7 @@ struct Mesh {
 // with other small convex meshes read it: a world of tetrahedra alone does
 // not pay its kilobyte a mesh). `threads`: the tree is built on up to that
 // many (build_bvh).
-using SameSat = std::function<std::shared_ptr<const SatData>(const Mesh &)>;
+using SameSat = std::function<SatRef(const Mesh &)>;
 bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *triangles,
                 uint32_t triangle_count, Mesh *out, std::string *error, const SameSat &same = nullptr,
                 bool tetra_sat = true, int threads = 1);

@@ -105,14 +105,14 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     if (!d.triangles) return fail(HGCD_ERROR_NULL_ARGUMENT, "mesh_create: desc.triangles is NULL");
     if (live_meshes_ >= kMaxSlots) return fail(HGCD_ERROR_CAPACITY, "mesh_create: too many meshes");
     // A live mesh of the same arrays lends its SatData (sat_slot_).
-    const auto same = [this](const Mesh &m) -> std::shared_ptr<const SatData> {
+    const auto same = [this](const Mesh &m) -> SatRef {
         const auto found = sat_slot_.find(sat_key(m));
-        if (found == sat_slot_.end()) return nullptr;
+        if (found == sat_slot_.end()) return SatRef();
         const Mesh &o = meshes_[found->second];
         if (o.vertex_count != m.vertex_count || o.triangle_count != m.triangle_count ||
             std::memcmp(o.vertices.data(), m.vertices.data(), m.vertices.size() * sizeof(double)) ||
             std::memcmp(o.triangles.data(), m.triangles.data(), m.triangles.size() * sizeof(uint32_t)))
-            return nullptr;
+            return SatRef();
         return o.sat;
     };
     Mesh m;
@@ -147,7 +147,7 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
     mesh_users_[slot] = 0;
     ++live_meshes_;
     tetra_meshes_ += meshes_[slot].tetra;
-    sat_meshes_ += meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
+    sat_meshes_ += bool(meshes_[slot].sat) && !meshes_[slot].tetra;
     if (meshes_[slot].sat) {
         try {
             sat_slot_.emplace(sat_key(meshes_[slot]), slot);  // (kept for the first: only an economy)
@@ -182,7 +182,7 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
     if (mesh_free_.capacity() == mesh_free_.size()) mesh_free_.reserve(2 * mesh_free_.size() + 8);
     mesh_alive_[slot] = 0;
     tetra_meshes_ -= meshes_[slot].tetra;
-    sat_meshes_ -= meshes_[slot].sat != nullptr && !meshes_[slot].tetra;
+    sat_meshes_ -= bool(meshes_[slot].sat) && !meshes_[slot].tetra;
     if (meshes_[slot].sat) {
         const auto at = sat_slot_.find(sat_key(meshes_[slot]));
         if (at != sat_slot_.end() && at->second == uint32_t(slot)) sat_slot_.erase(at);

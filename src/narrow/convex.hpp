@@ -65,6 +65,7 @@ ConvexVerdict convex_decide(const BodyPose &a, const BodyPose &b);
 // vertex where hi is reached (range_arg's choice among ties), uu = fl(u . u)
 // and the margin of the comparisons on that line.
 struct ConvexCentres {
+    const SatData *sa, *sb;  // the meshes' Mesh::sat
     Rotation ra, rb;
     double u[3], da[3], ub[3], db[3];
     double alo, ahi, blo, bhi, uu, cmargin;

@@ -54,11 +54,10 @@ HGCD_CB_INLINE unsigned mask_of(i64x4 m) {
 // One side (a or b) of four pairs, a pair per lane.
 struct Side {
     const SatData *sat[4];
-    const Mesh *mesh[4];
     f64x4 c[3], m[9], scale, n2;  // n2 = fl(|q|^2), as strictly_inside sums it
 };
 
-HGCD_CB_INLINE void load_side(const Placement *const *p, const Mesh *const *mesh, Side &s) {
+HGCD_CB_INLINE void load_side(const Placement *const *p, const SatData *const *sat, Side &s) {
     f64x4 q[4];
     for (int j = 0; j < 3; ++j) s.c[j] = lanes(p[0]->position[j], p[1]->position[j], p[2]->position[j], p[3]->position[j]);
     for (int j = 0; j < 4; ++j)
@@ -66,10 +65,7 @@ HGCD_CB_INLINE void load_side(const Placement *const *p, const Mesh *const *mesh
     s.scale = lanes(p[0]->scale, p[1]->scale, p[2]->scale, p[3]->scale);
     rotation_entries(q[0], q[1], q[2], q[3], s.m);  // (rotation_of's operations lane by lane)
     s.n2 = ((q[0] * q[0] + q[1] * q[1]) + q[2] * q[2]) + q[3] * q[3];
-    for (int k = 0; k < 4; ++k) {
-        s.sat[k] = mesh[k]->sat.get();
-        s.mesh[k] = mesh[k];
-    }
+    for (int k = 0; k < 4; ++k) s.sat[k] = sat[k];
 }
 
 HGCD_CB_INLINE f64x4 vmin4(f64x4 a, f64x4 b) { return a < b ? a : b; }
@@ -295,6 +291,8 @@ HGCD_CB_INLINE unsigned faces4(const Side &A, const Side &B, const Centres4 &c, 
 
 // Lane k of the four pairs' values, as the one-pair kernel's.
 HGCD_CB_INLINE void lane_of(const Side &A, const Side &B, const Centres4 &c, int k, ConvexCentres &out) {
+    out.sa = A.sat[k];
+    out.sb = B.sat[k];
     for (int j = 0; j < 9; ++j) {
         out.ra.m[j] = A.m[j][k];
         out.rb.m[j] = B.m[j][k];
@@ -379,7 +377,7 @@ constexpr int kQueues = 4;
 
 HGCD_CB_INLINE void run_queue(const ConvexPair *pairs, Queue &q, Contact *out, NarrowScratch &scratch) {
     const Placement *pa[4], *pb[4];
-    const Mesh *ma[4], *mb[4];
+    const SatData *ma[4], *mb[4];
     double v[4][4];
     int64_t t[2][4];
     for (uint32_t l = 0; l < 4; ++l) {
@@ -387,8 +385,8 @@ HGCD_CB_INLINE void run_queue(const ConvexPair *pairs, Queue &q, Contact *out, N
         const ConvexPair &p = pairs[q.index[k]];
         pa[l] = p.a;
         pb[l] = p.b;
-        ma[l] = p.mesh_a;
-        mb[l] = p.mesh_b;
+        ma[l] = p.sat_a;
+        mb[l] = p.sat_b;
         v[0][l] = q.alo[k];
         v[1][l] = q.ahi[k];
         v[2][l] = q.blo[k];
@@ -438,27 +436,21 @@ HGCD_CB_INLINE bool enqueue(const ConvexPair *pairs, Queue *queues, const Side &
     return false;
 }
 
-// Bodies with meshes of their own (a mesh or a shape per body): the mesh
-// records and their convex data lie anywhere in memory, each read through
-// the one before. So they are asked for in stages ahead of the group at k,
-// each stage reading what the one before asked for: the records eight
-// groups ahead, the convex data's header four groups ahead, the rest of the
-// block the kernel reads (SatData::hot_bytes) two groups ahead.
+// Bodies with meshes of their own (a mesh or a shape per body): their
+// convex data lie anywhere in memory. So they are asked for in two stages
+// ahead of the group at k: the headers eight groups ahead, the rest of the
+// block the kernel reads (SatData::hot_bytes, read from the header) four
+// groups ahead.
 HGCD_CB_INLINE void prefetch_meshes(const ConvexPair *pairs, size_t n, size_t k) {
     if (k + 36 <= n)
         for (size_t l = 32; l < 36; ++l) {
-            __builtin_prefetch(&pairs[k + l].mesh_a->sat);
-            __builtin_prefetch(&pairs[k + l].mesh_b->sat);
+            __builtin_prefetch(pairs[k + l].sat_a);
+            __builtin_prefetch(pairs[k + l].sat_b);
         }
     if (k + 20 <= n)
-        for (size_t l = 16; l < 20; ++l) {
-            __builtin_prefetch(pairs[k + l].mesh_a->sat.get());
-            __builtin_prefetch(pairs[k + l].mesh_b->sat.get());
-        }
-    if (k + 12 <= n)
-        for (size_t l = 8; l < 12; ++l)
+        for (size_t l = 16; l < 20; ++l)
             for (int side = 0; side < 2; ++side) {
-                const SatData *d = (side ? pairs[k + l].mesh_b : pairs[k + l].mesh_a)->sat.get();
+                const SatData *d = side ? pairs[k + l].sat_b : pairs[k + l].sat_a;
                 const char *at = reinterpret_cast<const char *>(d);
                 for (size_t b = 64; b < d->hot_bytes; b += 64) __builtin_prefetch(at + b);
             }
@@ -468,8 +460,8 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
     Queue queues[kQueues];
     // (Meshes of their own: their pairs' meshes differ. Only speed depends
     // on this guess.)
-    const bool spread = n > 1 && (pairs[0].mesh_a != pairs[n - 1].mesh_a || pairs[0].mesh_b != pairs[n - 1].mesh_b ||
-                                  pairs[0].mesh_a != pairs[n / 2].mesh_b);
+    const bool spread = n > 1 && (pairs[0].sat_a != pairs[n - 1].sat_a || pairs[0].sat_b != pairs[n - 1].sat_b ||
+                                  pairs[0].sat_a != pairs[n / 2].sat_b);
     for (size_t k = 0; k < n; k += 4) {
         if (k + 20 <= n)  // (the placements four groups ahead, as the tetra batch)
             for (size_t l = 0; l < 4; ++l) {
@@ -478,13 +470,13 @@ HGCD_CB_INLINE void batch(const ConvexPair *pairs, size_t n, Contact *out, Narro
             }
         if (spread) prefetch_meshes(pairs, n, k);
         const Placement *pa[4], *pb[4];
-        const Mesh *ma[4], *mb[4];
+        const SatData *ma[4], *mb[4];
         for (size_t l = 0; l < 4; ++l) {
             const ConvexPair &p = pairs[k + l < n ? k + l : k];
             pa[l] = p.a;
             pb[l] = p.b;
-            ma[l] = p.mesh_a;
-            mb[l] = p.mesh_b;
+            ma[l] = p.sat_a;
+            mb[l] = p.sat_b;
         }
         Side A, B;
         load_side(pa, ma, A);

@@ -87,10 +87,10 @@ HGCD_CK_INLINE bool vertex_inside(const BodyPose &in, const Rotation &r, const S
 // inside a's solid to one outside, which crosses a's surface: the surfaces
 // meet.
 HGCD_CK_INLINE bool vertex_poke(const BodyPose &a, const Rotation &ra, const SatData &sa, const BodyPose &b,
-                                const Rotation &rb, uint32_t v) {
+                                const Rotation &rb, const SatData &sb, uint32_t v) {
     double w[3];
     double x[3];
-    vertex_of(*b.mesh->sat, v, x);
+    vertex_of(sb, v, x);
     transform_point(rb, b.position, b.scale, x, w);
     return vertex_inside(a, ra, sa, w);
 }
@@ -241,8 +241,7 @@ HGCD_CK_INLINE bool edge_poke(const BodyPose &a, const Rotation &ra, const SatDa
 // is too, plane by plane; the argument of strictly_inside then holds for
 // each of its points.) So the solids meet and the surfaces do not.
 HGCD_CK_INLINE bool holds_all(const BodyPose &out, const Rotation &ro, const SatData &so, const BodyPose &in,
-                              const Rotation &ri) {
-    const SatData &m = *in.mesh->sat;
+                              const Rotation &ri, const SatData &m) {
     for (uint32_t v = 0; v < m.vertex_count; ++v) {
         double w[3];
         double x[3];

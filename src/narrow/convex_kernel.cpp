@@ -123,8 +123,8 @@ struct PairView {
     double dq[2];   // |1 - fl(|q|^2)| + 2^-50 of a and b
     // (The rest is filled in by decide before use: zeroing it first cost a
     // `rep stos` per pair.)
-    PairView(const BodyPose &pa, const BodyPose &pb, const Rotation &r_a, const Rotation &r_b)
-        : a(pa), b(pb), sa(*pa.mesh->sat), sb(*pb.mesh->sat), ra(r_a), rb(r_b) {}
+    PairView(const BodyPose &pa, const BodyPose &pb, const ConvexCentres &c)
+        : a(pa), b(pb), sa(*c.sa), sb(*c.sb), ra(c.ra), rb(c.rb) {}
 };
 
 // A face axis n of mesh a (frame a), for the real world axis N = R_a n
@@ -248,8 +248,7 @@ HGCD_CK_INLINE bool edge_axes_apart(const PairView &p) {
 // into the world frame is as good an axis as any: apart_on's margin covers
 // any vector.)
 constexpr uint32_t kSupportEdges = 8;
-HGCD_CK_INLINE uint32_t support_edges(const BodyPose &body, const Rotation &r, uint32_t v, double (*out)[3]) {
-    const SatData &m = *body.mesh->sat;
+HGCD_CK_INLINE uint32_t support_edges(const SatData &m, const Rotation &r, uint32_t v, double (*out)[3]) {
     double x[3];
     vertex_of(m, v, x);
     uint32_t n = 0;
@@ -264,7 +263,7 @@ HGCD_CK_INLINE uint32_t support_edges(const BodyPose &body, const Rotation &r, u
 HGCD_CK_INLINE bool support_edges_apart(const PairView &p, uint32_t va, uint32_t vb) {
     if (uint64_t(p.sa.edges) * p.sb.edges <= kEdgeAxisPairs) return false;  // (all tried already)
     double ea[kSupportEdges][3], eb[kSupportEdges][3];
-    const uint32_t na = support_edges(p.a, p.ra, va, ea), nb = support_edges(p.b, p.rb, vb, eb);
+    const uint32_t na = support_edges(p.sa, p.ra, va, ea), nb = support_edges(p.sb, p.rb, vb, eb);
     for (uint32_t i = 0; i < na; ++i)
         for (uint32_t j = 0; j < nb; ++j) {
             const double *x = ea[i], *y = eb[j];
@@ -280,7 +279,9 @@ HGCD_CK_INLINE bool support_edges_apart(const PairView &p, uint32_t va, uint32_t
 // vertex), with the projections' other ends for the poke tests of rest().
 // True when it separates.
 HGCD_CK_INLINE bool centres(const BodyPose &a, const BodyPose &b, ConvexCentres &c) {
-    const SatData &sa = *a.mesh->sat, &sb = *b.mesh->sat;
+    c.sa = a.mesh->sat.get();
+    c.sb = b.mesh->sat.get();
+    const SatData &sa = *c.sa, &sb = *c.sb;
     c.ra = rotation_of(a.orientation);
     c.rb = rotation_of(b.orientation);
     const double *ca = a.position, *cb = b.position;
@@ -308,7 +309,7 @@ HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const Co
     // strictly inside a body, or a gap), so the exact steps take the pair
     // at once (collide_convex_after, flat.cpp).
     if (grazing(c.uu, c.ahi, c.bhi, c.cmargin)) return ConvexVerdict::Open;
-    PairView p(a, b, c.ra, c.rb);
+    PairView p(a, b, c);
     const SatData &sa = p.sa, &sb = p.sb;
     const double *ca = a.position, *cb = b.position;
     for (int k = 0; k < 3; ++k) p.u[k] = c.u[k];
@@ -328,7 +329,8 @@ HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const Co
     // inside both first only for deep pairs.
     const bool inside = sa.inside_test && sb.inside_test;
     if (inside && !c.pokes_tried &&
-        ((b_out && vertex_poke(a, p.ra, sa, b, p.rb, b_toward)) || (a_out && vertex_poke(b, p.rb, sb, a, p.ra, a_toward))))
+        ((b_out && vertex_poke(a, p.ra, sa, b, p.rb, sb, b_toward)) ||
+         (a_out && vertex_poke(b, p.rb, sb, a, p.ra, sa, a_toward))))
         return ConvexVerdict::Surface;
     const bool both_out = inside && a_out && b_out;
     if (deep && both_out && point_inside_both(a, sa, b, sb, p.u, da, db)) return ConvexVerdict::Surface;
@@ -343,8 +345,8 @@ HGCD_CK_INLINE ConvexVerdict rest(const BodyPose &a, const BodyPose &b, const Co
     // whether it holds the whole body (before the axes, which cannot
     // separate such a pair).
     if (inside) {
-        if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb)) return ConvexVerdict::AHoldsB;
-        if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra)) return ConvexVerdict::BHoldsA;
+        if (uu - bhi > alo && uu - blo < ahi && holds_all(a, p.ra, sa, b, p.rb, sb)) return ConvexVerdict::AHoldsB;
+        if (uu - bhi < alo && uu - blo > ahi && holds_all(b, p.rb, sb, a, p.ra, sa)) return ConvexVerdict::BHoldsA;
     }
     // The edge crossing test (step cross_at): before the axes for deep pairs,
     // between the face and the edge axes for middling ones, last for the

@@ -44,10 +44,13 @@ struct TetraPair {
     const double *shape_a, *shape_b;
 };
 
-// A pair of bodies whose meshes both have Mesh::sat (small convex meshes).
+// A pair of bodies whose meshes both have Mesh::sat (small convex meshes),
+// with those (read by the world from its dense array of them, not through
+// the mesh records: with a mesh per body, each record is a cache miss).
 struct ConvexPair {
     const Mesh *mesh_a, *mesh_b;
     const Placement *a, *b;
+    const SatData *sat_a, *sat_b;
 };
 
 // What collide() found, for callers that ask (the contacts of hgcd.h). A path

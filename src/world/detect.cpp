@@ -476,9 +476,11 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
         const Placement *place = place_.data();
         const uint32_t *body_mesh = body_mesh_.data();
         const uint32_t *slot_of = slot_of_.data();
+        const SatData *const *sat = mesh_sat_.data();
         for (size_t k = chunk.begin; k < chunk.end; ++k) {
-            // (as above: the slots for the hits below; the batch asks for
-            // the placements itself)
+            // (as above: the slots for the hits below, and the meshes'
+            // convex data pointers, through their slots asked for first;
+            // the batch asks for the placements itself)
             if (k + 16 < chunk.end) {
                 const uint32_t a2 = uint32_t(list[k + 16] >> 32), b2 = uint32_t(list[k + 16]);
                 __builtin_prefetch(&body_mesh[a2]);
@@ -486,8 +488,13 @@ void World::narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, Narro
                 __builtin_prefetch(&slot_of[a2]);
                 __builtin_prefetch(&slot_of[b2]);
             }
+            if (k + 8 < chunk.end) {
+                __builtin_prefetch(&sat[body_mesh[uint32_t(list[k + 8] >> 32)]]);
+                __builtin_prefetch(&sat[body_mesh[uint32_t(list[k + 8])]]);
+            }
             const uint32_t a = uint32_t(list[k] >> 32), b = uint32_t(list[k]);
-            t.convex[t.convex_count++] = ConvexPair{meshes + body_mesh[a], meshes + body_mesh[b], place + a, place + b};
+            const uint32_t ma = body_mesh[a], mb = body_mesh[b];
+            t.convex[t.convex_count++] = ConvexPair{meshes + ma, meshes + mb, place + a, place + b, sat[ma], sat[mb]};
         }
     } else {
         tetras = narrow_pairs(plan, list, chunk, t);
@@ -554,7 +561,7 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
             continue;
         }
         if (plan.convex_batch && mesh_a->sat && mesh_b->sat) {
-            t.convex[t.convex_count++] = ConvexPair{mesh_a, mesh_b, &la, &lb};
+            t.convex[t.convex_count++] = ConvexPair{mesh_a, mesh_b, &la, &lb, mesh_a->sat.get(), mesh_b->sat.get()};
             continue;
         }
         const BodyPose pa = pose_of(mesh_a, la), pb = pose_of(mesh_b, lb);

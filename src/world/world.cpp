@@ -132,6 +132,7 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
             mesh_alive_.reserve(cap);
             mesh_users_.reserve(cap);
             mesh_narrow_.reserve(cap);
+            mesh_sat_.reserve(cap);
             meshes_.reserve(cap);
         }
         meshes_.push_back(std::move(m));
@@ -139,8 +140,10 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
         mesh_alive_.push_back(0);
         mesh_users_.push_back(0);
         mesh_narrow_.push_back(HGCD_NARROW_WORLD);
+        mesh_sat_.push_back(nullptr);
     }
     mesh_narrow_[slot] = HGCD_NARROW_WORLD;
+    mesh_sat_[slot] = meshes_[slot].sat.get();
     pool_.add(slot, meshes_[slot]);
     mesh_gen_[slot] = (tag_ << kCounterBits) | ((mesh_gen_[slot] + 1) & kCounterMask);
     mesh_alive_[slot] = 1;
@@ -164,6 +167,7 @@ hgcd_status World::create_mesh(const hgcd_mesh_desc &d, hgcd_mesh *out) {
             for (size_t k = 0; k < meshes_.size(); ++k)
                 if (mesh_alive_[k] && meshes_[k].tetra && !meshes_[k].sat) {
                     add_tetra_sat(meshes_[k], same);
+                    mesh_sat_[k] = meshes_[k].sat.get();
                     if (meshes_[k].sat) sat_slot_.emplace(sat_key(meshes_[k]), uint32_t(k));
                 }
         } catch (const std::bad_alloc &) {
@@ -188,6 +192,7 @@ hgcd_status World::destroy_mesh(hgcd_mesh id) {
         if (at != sat_slot_.end() && at->second == uint32_t(slot)) sat_slot_.erase(at);
     }
     meshes_[slot] = Mesh();
+    mesh_sat_[slot] = nullptr;
     if (pool_.remove(uint32_t(slot))) refresh_records();  // (the pool closed its holes)
     --live_meshes_;
     // A slot whose generation counter would wrap is retired, so no id is reused.

@@ -326,7 +326,10 @@ class World {
     std::vector<uint8_t> mesh_alive_;
     std::vector<uint32_t> mesh_users_;
     std::vector<uint32_t> mesh_free_;
-    std::vector<int8_t> mesh_narrow_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
+    std::vector<int8_t> mesh_narrow_;
+    // Per mesh slot its Mesh::sat (null: none, or no live mesh), where the
+    // convex batch's pairs read it (ConvexPair): 8 bytes a mesh, dense.
+    std::vector<const SatData *> mesh_sat_;  // hgcd_mesh_set_narrow_phase, or HGCD_NARROW_WORLD
     MeshPool pool_;  // the records of small meshes, by slot (mesh_pool.hpp)
     uint32_t live_meshes_ = 0;
     // Live meshes that are tetrahedra (Mesh::tetra), and the others that have

@@ -163,7 +163,9 @@ void set_convexity(Mesh &m, const std::vector<char> &used) {
         const uint32_t *f = &m.triangles[3 * t];
         const double *a = &vertices[3 * f[0]], *b = &vertices[3 * f[1]], *c = &vertices[3 * f[2]];
         for (uint32_t v = 0; v < m.vertex_count && convex; ++v) {
-            if (!used[v]) continue;
+            // (The triangle's own corners are on its plane: orient3d's exact
+            // 0, which its filter cannot tell quickly.)
+            if (!used[v] || v == f[0] || v == f[1] || v == f[2]) continue;
             const int s = orient3d(a, b, c, &vertices[3 * v]);
             if (s == 0) continue;
             if (sign == 0) sign = s;

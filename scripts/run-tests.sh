@@ -36,9 +36,11 @@ meson test -C build --print-errorlogs --num-processes "$jobs"
 step "the library built with CXXFLAGS=-Ofast reports the same pairs; sources compiled otherwise refuse -ffast-math and -Ofast (src/common/ieee.hpp)"
 bash scripts/check-ieee.sh
 
-step "the broad phase, tetrahedron-pair, convex, thread and incremental tests again without AVX2 (AVX2 machines pick 8-box sweeps and queries, the four-body census and gather and the batched narrow kernels)"
+step "the broad phase, tetrahedron-pair, convex, tree-path, thread and incremental tests again without AVX2 (AVX2 machines pick 8-box sweeps and queries, the four-body census and gather, the batched narrow kernels and the tree traversal's four-lane node tests)"
 HGCD_NO_AVX2=1 build/tests/test_grid
 HGCD_NO_AVX2=1 build/tests/test_convex
+HGCD_NO_AVX2=1 build/tests/test_large
+HGCD_NO_AVX2=1 build/tests/test_bvh
 HGCD_NO_AVX2=1 HGCD_TEST_FILTER='test_tetra*' build/tests/test_world
 HGCD_NO_AVX2=1 build/tests/test_threads
 HGCD_NO_AVX2=1 build/tests/test_incremental

@@ -307,14 +307,14 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
         const double *ba = block_a(i), *mb = img.block(lane_block(j));
         const int li = lane_of(i), lj = lane_of(j);
         const bool la = na[i].count != 0, lb = nb[j].count != 0;
-        // The plane test where it pays: a leaf at least as large as the
-        // other node (sizes in a's frame), as a body deep inside a much
-        // larger mesh meets that mesh's leaves (between meshes of like
-        // sizes it cut 105 of 1.2M node pairs on `scanned`).
+        // The plane test where it pays: a leaf at least twice the other
+        // node's size (in a's frame), as a body deep inside a much larger
+        // mesh meets that mesh's leaves (between meshes of like sizes it
+        // cut 105 of 1.2M node pairs on `scanned`, for 1.5% of the time).
         const double size_a = (ba[6 + li] + ba[8 + li]) + ba[10 + li];
         const double size_b = (mb[30 + lj] + mb[32 + lj]) + mb[34 + lj];
-        if (la != lb && (la ? size_a >= size_b && plane_cut(a, i, b.box(j))
-                            : size_b >= size_a && plane_cut(b, j, a.box(i))))
+        if (la != lb && (la ? size_a >= 2 * size_b && plane_cut(a, i, b.box(j))
+                            : size_b >= 2 * size_a && plane_cut(b, j, a.box(i))))
             continue;
         if (la && lb) {
             if (leaves_meet<false>(a, i, a.box(i), b, j, b.box(j), s, meet, 0)) {

@@ -287,6 +287,9 @@ inline double lane_dist2(const double *x, int k, int l, const double *y, int j, 
 // pair is tested before it is pushed, the two children of a descent at once
 // (a's two siblings against b's node, or a's node against b's two), so the
 // stack holds only pairs that passed.
+// kWide: the four child pairs in one four-lane test (AVX2), else in two
+// two-lane ones (the same bits).
+template <bool kWide>
 HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
                              uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
     const BvhNode *na = a.nodes, *nb = b.nodes;
@@ -330,7 +333,9 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
         if (!la && !lb && size_a <= 2 * size_b && size_b <= 2 * size_a) {
             const uint32_t c = na[i].first, e = nb[j].first;
             const double *x = block_a(c), *y = img.block(lane_block(e));
-            const unsigned apart = rel_apart4(f, x, y);
+            const unsigned apart = kWide ? rel_apart4(f, x, y)
+                                         : rel_apart2<true, false>(f, x, 0, y, 0) |
+                                               rel_apart2<true, false>(f, x, 0, y, 1) << 2;
             uint64_t item[4];
             double far[4];
             int n = 0;
@@ -377,13 +382,13 @@ __attribute__((target("avx2"), noinline)) bool surfaces_meet_rel_avx2(BodyView &
                                                                      NarrowScratch &s, uint32_t start_a,
                                                                      uint32_t start_b, uint32_t *meet,
                                                                      uint32_t *leaves, bool start_tested) {
-    return meet_rel(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+    return meet_rel<true>(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
 }
 #endif
 __attribute__((noinline)) bool surfaces_meet_rel_base(BodyView &a, BodyView &b, Images &img, NarrowScratch &s,
                                                       uint32_t start_a, uint32_t start_b, uint32_t *meet,
                                                       uint32_t *leaves, bool start_tested) {
-    return meet_rel(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+    return meet_rel<false>(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
 }
 bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
                        uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {

@@ -533,8 +533,10 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
                    : surfaces_meet<kMargin>(va, vb, s, na, nb, meet, leaves, d);
     };
     if (hint) hint->found = false;
-    // Conservative prefilter: the solids lie inside the root boxes.
-    if (kMargin ? boxes_apart(va.box(0), vb.box(0), d) : boxes_disjoint(va.box(0), vb.box(0)))
+    // Conservative prefilter: the solids lie inside the root boxes. (Not
+    // on the frame path, whose roots' test below is tighter: the world boxes
+    // hold the broad phase's, so they meet for every candidate pair.)
+    if (!rel && (kMargin ? boxes_apart(va.box(0), vb.box(0), d) : boxes_disjoint(va.box(0), vb.box(0))))
         return Contact::None;
     s.exact_tests += counted;
     // The root pair apart in a's frame: so are the solids (each lies in the

@@ -229,6 +229,7 @@ struct SatBuilder {
         h->hot_bytes = uint32_t(sizeof(SatData) + edges_end);
         char *at = reinterpret_cast<char *>(h + 1);
         const auto put = [&at](const auto &v) {
+            if (v.empty()) return;  // (data() may be null: not for memcpy)
             std::memcpy(at, v.data(), v.size() * sizeof(v[0]));
             at += v.size() * sizeof(v[0]);
         };

@@ -439,7 +439,9 @@ bool vertex_outside(const RelFrame &f, const BodyView &outer, const double *v) {
 // made when first asked for: null when there is none (a side without a
 // tree, or the frame's range refused).
 struct LazyFrame {
-    const BodyView *outer = nullptr, *inner = nullptr;  // null: none
+    explicit LazyFrame(const RelFrame *given) : made(given) {}  // already made (or none)
+    LazyFrame(const BodyView &o, const BodyView &i) : outer(&o), inner(&i) {}
+    const BodyView *outer = nullptr, *inner = nullptr;  // null: decided
     const RelFrame *made = nullptr;
     RelFrame frame;
     const RelFrame *get() {
@@ -566,14 +568,12 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         return kMargin ? Contact::Near : Contact::Surface;
     }
     if (kMargin) return Contact::None;  // (collide_within asked about containment first)
-    LazyFrame frame_b;  // (b's frame, for b holding a: vertex_outside)
-    if (rel) frame_b = LazyFrame{&vb, &va, nullptr, {}};
+    LazyFrame frame_b = rel ? LazyFrame(vb, va) : LazyFrame(nullptr);  // (b holding a: vertex_outside)
     if (b.mesh->closed && view_holds_component(vb, va, s, frame_b)) {
         if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, false, true};
         return Contact::Containment;
     }
-    LazyFrame frame_a;
-    frame_a.made = rel ? &frame : nullptr;
+    LazyFrame frame_a(rel ? &frame : nullptr);
     if (a.mesh->closed && view_holds_component(va, vb, s, frame_a)) {
         if (witness) *witness = Witness{UINT32_MAX, UINT32_MAX, true, true};
         return Contact::Containment;

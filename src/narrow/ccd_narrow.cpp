@@ -45,14 +45,14 @@ namespace {
 
 // A convex hull as libccd sees it: n points (3 ccd_real_t each) and a point
 // inside (their mean).
-struct Hull {
+struct PointHull {
     const ccd_real_t *v;
     uint32_t n;
     ccd_vec3_t center;
 };
 
 void hull_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out) {
-    const Hull &h = *static_cast<const Hull *>(obj);
+    const PointHull &h = *static_cast<const PointHull *>(obj);
     const ccd_real_t dx = dir->v[0], dy = dir->v[1], dz = dir->v[2];
     const ccd_real_t *p = h.v;
     uint32_t best = 0;
@@ -71,12 +71,12 @@ void hull_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out) {
     out->v[2] = q[2];
 }
 
-void hull_center(const void *obj, ccd_vec3_t *out) { *out = static_cast<const Hull *>(obj)->center; }
+void hull_center(const void *obj, ccd_vec3_t *out) { *out = static_cast<const PointHull *>(obj)->center; }
 
 // First search direction of GJK: from a's centre towards b's, i.e. towards
 // the origin from the centre of the Minkowski difference a - b.
 void first_dir(const void *o1, const void *o2, ccd_vec3_t *dir) {
-    const Hull &a = *static_cast<const Hull *>(o1), &b = *static_cast<const Hull *>(o2);
+    const PointHull &a = *static_cast<const PointHull *>(o1), &b = *static_cast<const PointHull *>(o2);
     for (int k = 0; k < 3; ++k) dir->v[k] = b.center.v[k] - a.center.v[k];
     if (dir->v[0] == 0 && dir->v[1] == 0 && dir->v[2] == 0) dir->v[0] = 1;
 }
@@ -100,7 +100,7 @@ template <>
 }
 
 void make_hull(const std::vector<double> &w, uint32_t n, const double *origin, std::vector<float> &buf,
-               Hull &h) {
+               PointHull &h) {
     double sum[3] = {0, 0, 0};
     for (uint32_t i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) sum[k] += w[3 * size_t(i) + k];
@@ -125,7 +125,7 @@ bool ccd_collide(const BodyPose &a, const BodyPose &b, CcdMethod method, CcdScra
     double origin[3] = {0, 0, 0};
     if (kPrecision == 1)
         for (int k = 0; k < 3; ++k) origin[k] = 0.5 * (box_a[k] + box_a[3 + k]);
-    Hull ha, hb;
+    PointHull ha, hb;
     make_hull(s.world_a, a.mesh->vertex_count, origin, s.single_a, ha);
     make_hull(s.world_b, b.mesh->vertex_count, origin, s.single_b, hb);
 

@@ -477,8 +477,10 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     set_convexity(m, used);
     set_tetra(m);
     set_sat(m, used, same, tetra_sat);
-    if (triangle_count > kBvhMinTriangles)
+    if (triangle_count > kBvhMinTriangles) {
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh, threads);
+        m.hull = build_hull(m.vertices.data(), used, Mesh::kHullVertices);
+    }
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
     *out = std::move(m);
     return true;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "narrow/bvh.hpp"
+#include "narrow/hull.hpp"
 #include "world/limits.hpp"
 
 namespace hgcd {
@@ -159,6 +160,13 @@ struct Mesh {
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;
+    // For meshes with a tree: the vertices of the convex hull of the used
+    // vertices (xyz each, mesh frame), if it has at most kHullVertices (else
+    // empty, as for a flat mesh). Two bodies' hulls apart decide their pair
+    // before the trees (tree_path.cpp): a few support queries where the
+    // descent would reach small nodes to prove it.
+    static constexpr uint32_t kHullVertices = 256;
+    Hull hull;
 };
 
 // Checks and analyses the arrays, filling *out. Returns false with a message

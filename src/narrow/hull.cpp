@@ -1,0 +1,206 @@
+// The convex hull of a point set, incrementally (beneath-beyond): each point
+// strictly beyond the plane of some face of the hull so far replaces the
+// faces it sees by a cone from their horizon to itself; a point that sees no
+// face lies in the hull (or on its boundary) and is left out.
+//
+// Exactness. "Sees" is orient3d < 0 on a face wound counter-clockwise from
+// outside, exact. The faces seen from a point strictly outside a convex
+// polytope form a disk (coplanar faces are seen together), so the cone over
+// its horizon bounds the hull of the polytope and the point, and a point on
+// the boundary but outside every face (beyond a face's edge, in its plane)
+// still sees the face across that edge. So every point is in the hull of the
+// vertices of the final faces, whatever the degeneracies (coplanar or
+// repeated points). Only the order of insertion and the first tetrahedron
+// use floating point, and neither can change what is inside.
+#include "narrow/hull.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "common/cpu.hpp"
+#include "common/simd.hpp"
+#include "exact/geometry.hpp"
+
+namespace hgcd {
+
+namespace {
+
+struct Builder {
+    const double *x;
+    std::vector<uint32_t> face;      // 3 vertex indices a face, counter-clockwise from outside
+    std::vector<uint32_t> degree;    // faces at each vertex
+    uint32_t vertices = 0;           // with degree > 0
+    std::vector<uint32_t> seen;      // scratch: faces seen from the point being added
+    std::vector<uint64_t> edges;     // scratch: their directed edges, u << 32 | v
+
+    const double *p(uint32_t i) const { return x + 3 * size_t(i); }
+
+    void add_face(uint32_t a, uint32_t b, uint32_t c) {
+        for (uint32_t v : {a, b, c})
+            if (degree[v]++ == 0) ++vertices;
+        face.insert(face.end(), {a, b, c});
+    }
+    void drop_face(size_t f) {  // the last face takes its place
+        for (int k = 0; k < 3; ++k)
+            if (--degree[face[3 * f + k]] == 0) --vertices;
+        std::copy(face.end() - 3, face.end(), face.begin() + 3 * f);
+        face.resize(face.size() - 3);
+    }
+
+    // Adds point i: true unless it lies in the hull so far.
+    bool add(uint32_t i) {
+        seen.clear();
+        for (size_t f = 0; f < face.size() / 3; ++f)
+            if (orient3d(p(face[3 * f]), p(face[3 * f + 1]), p(face[3 * f + 2]), p(i)) < 0) seen.push_back(uint32_t(f));
+        if (seen.empty()) return false;
+        edges.clear();
+        for (uint32_t f : seen)
+            for (int k = 0; k < 3; ++k)
+                edges.push_back(uint64_t(face[3 * f + k]) << 32 | face[3 * f + (k + 1) % 3]);
+        std::sort(edges.begin(), edges.end());
+        for (auto f = seen.rbegin(); f != seen.rend(); ++f) drop_face(*f);  // highest first: swaps keep the rest
+        // The horizon: edges of seen faces whose twin is on a face not seen.
+        for (uint64_t e : edges) {
+            const uint32_t u = uint32_t(e >> 32), v = uint32_t(e);
+            if (!std::binary_search(edges.begin(), edges.end(), uint64_t(v) << 32 | u)) add_face(u, v, i);
+        }
+        return true;
+    }
+};
+
+inline double dist2(const double *a, const double *b) {
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+}
+
+// Four points not in one plane, the first three spread out (float), or false.
+bool first_tetrahedron(const Builder &h, const std::vector<uint32_t> &pts, uint32_t *t) {
+    auto farthest = [&](auto &&measure) {
+        uint32_t best = pts[0];
+        double far = -1;
+        for (uint32_t i : pts)
+            if (const double m = measure(h.p(i)); m > far) far = m, best = i;
+        return best;
+    };
+    t[0] = farthest([](const double *q) { return -q[0]; });
+    t[1] = farthest([&](const double *q) { return dist2(q, h.p(t[0])); });
+    const double *a = h.p(t[0]), *b = h.p(t[1]);
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double n[3];
+    t[2] = farthest([&](const double *q) {
+        const double w[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
+        const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        return c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    });
+    const double *c = h.p(t[2]);
+    const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    n[0] = u[1] * w[2] - u[2] * w[1], n[1] = u[2] * w[0] - u[0] * w[2], n[2] = u[0] * w[1] - u[1] * w[0];
+    t[3] = farthest([&](const double *q) {
+        return std::fabs(n[0] * (q[0] - a[0]) + n[1] * (q[1] - a[1]) + n[2] * (q[2] - a[2]));
+    });
+    if (orient3d(a, b, c, h.p(t[3])) != 0) return true;
+    for (uint32_t i : pts)  // the float pick was too close to call: any point off the plane
+        if (orient3d(a, b, c, h.p(i)) != 0) {
+            t[3] = i;
+            return true;
+        }
+    return false;  // coplanar (or the first three collinear: no hull then, which is safe)
+}
+
+}  // namespace
+
+Hull build_hull(const double *x, const std::vector<char> &used, uint32_t max_vertices, std::vector<uint32_t> *faces) {
+    Builder h{x, {}, std::vector<uint32_t>(used.size(), 0), 0, {}, {}};
+    std::vector<uint32_t> pts;
+    for (uint32_t i = 0; i < used.size(); ++i)
+        if (used[i]) pts.push_back(i);
+    uint32_t t[4];
+    if (pts.size() < 4 || !first_tetrahedron(h, pts, t)) return Hull();
+    for (int k = 0; k < 4; ++k) {  // each face wound so that the fourth point is inside
+        uint32_t f[3] = {t[k], t[(k + 1) % 4], t[(k + 2) % 4]};
+        if (orient3d(h.p(f[0]), h.p(f[1]), h.p(f[2]), h.p(t[(k + 3) % 4])) < 0) std::swap(f[1], f[2]);
+        h.add_face(f[0], f[1], f[2]);
+    }
+    // The points extreme along 26 directions first: the hull is then near
+    // its final shape, and the polytope they span (`core`) holds most points:
+    // a point that sees none of its faces is in the hull, tested on those few
+    // faces only.
+    for (int d = 0; d < 27; ++d) {
+        const int s[3] = {d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1};
+        if (!s[0] && !s[1] && !s[2]) continue;
+        uint32_t best = pts[0];
+        double far = -INFINITY;
+        for (uint32_t i : pts)
+            if (const double m = s[0] * h.p(i)[0] + s[1] * h.p(i)[1] + s[2] * h.p(i)[2]; m > far) far = m, best = i;
+        h.add(best);
+    }
+    const std::vector<uint32_t> core = h.face;
+    for (uint32_t i : pts) {
+        bool outside = false;
+        for (size_t f = 0; f < core.size() / 3 && !outside; ++f)
+            outside = orient3d(h.p(core[3 * f]), h.p(core[3 * f + 1]), h.p(core[3 * f + 2]), h.p(i)) < 0;
+        if (outside && h.add(i) && h.vertices > max_vertices) return Hull();
+    }
+    if (faces) *faces = h.face;
+    // The hull's vertices in order of index.
+    Hull out;
+    for (uint32_t v = 0; v < h.degree.size(); ++v)
+        if (h.degree[v]) {
+            ++out.size;
+            out.xyz.insert(out.xyz.end(), h.p(v), h.p(v) + 3);
+        }
+    const size_t padded = (out.size + 3) / 4 * 4;
+    out.rows.resize(3 * padded);
+    for (size_t i = 0; i < padded; ++i)
+        for (int k = 0; k < 3; ++k) out.rows[k * padded + i] = out.xyz[3 * (i < out.size ? i : 0) + k];
+    return out;
+}
+
+namespace {
+
+// hull_support over lanes of V (f64x2 or f64x4): the same products and
+// comparisons in every lane, so the same answer whatever the width (ties
+// go to the lowest index, as the rows are scanned in order).
+template <class V>
+__attribute__((always_inline)) inline uint32_t support_lanes(const Hull &h, const double *dir, double *best) {
+    constexpr int L = sizeof(V) / sizeof(double);
+    const size_t n = h.padded();
+    const double *x = h.rows.data(), *y = x + n, *z = y + n;
+    V d0, d1, d2, m, at, i, step;
+    for (int l = 0; l < L; ++l) {
+        d0[l] = dir[0], d1[l] = dir[1], d2[l] = dir[2];
+        m[l] = -INFINITY, at[l] = 0, i[l] = l, step[l] = L;
+    }
+    for (size_t k = 0; k < n; k += L, i += step) {
+        V px, py, pz;
+        std::memcpy(&px, x + k, sizeof px);
+        std::memcpy(&py, y + k, sizeof py);
+        std::memcpy(&pz, z + k, sizeof pz);
+        const V p = (d0 * px + d1 * py) + d2 * pz;
+        const auto up = p > m;
+        m = up ? p : m;
+        at = up ? i : at;  // indices as doubles: exact below 2^53, and no 64-bit integer compare in SSE2
+    }
+    int b = 0;
+    for (int l = 1; l < L; ++l)
+        if (m[l] > m[b] || (m[l] == m[b] && at[l] < at[b])) b = l;
+    *best = m[b];
+    return uint32_t(at[b]);
+}
+
+#if HGCD_AVX2
+__attribute__((target("avx2"), noinline)) uint32_t support_avx2(const Hull &h, const double *dir, double *best) {
+    return support_lanes<f64x4>(h, dir, best);
+}
+#endif
+
+}  // namespace
+
+uint32_t hull_support(const Hull &h, const double *dir, double *best) {
+#if HGCD_AVX2
+    if (use_avx2()) return support_avx2(h, dir, best);
+#endif
+    return support_lanes<f64x2>(h, dir, best);
+}
+
+}  // namespace hgcd

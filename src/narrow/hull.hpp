@@ -1,0 +1,43 @@
+// The convex hull of a mesh's vertices (hull.cpp), for the tree path's
+// first test of a pair (tree_path.cpp): two hulls apart prove the solids
+// apart at the cost of a few support queries over the hull vertices, where
+// the trees would be descended to their small nodes to prove it.
+// Internal to src/narrow and src/world.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace hgcd {
+
+// The convex hull of a mesh's used vertices (Mesh::hull): its vertices, by
+// which any support query over the mesh is answered.
+struct Hull {
+    uint32_t size = 0;            // vertices; 0: no hull
+    std::vector<double> xyz;      // 3 doubles a vertex
+    std::vector<double> rows;     // x, then y, then z of every vertex, each row padded to a multiple of 4
+    size_t padded() const { return rows.size() / 3; }
+};
+
+// The hull of the points of `vertices` (xyz each) whose flag in `used` is
+// set: every such point lies in the hull of its vertices (exact:
+// orientation predicates, see hull.cpp). No hull (size 0) when the points
+// are coplanar, or when it has more than max_vertices vertices (stopped
+// early). faces, when given, receives the hull's triangles (3 indices into
+// `vertices` each, counter-clockwise seen from outside), for tests.
+Hull build_hull(const double *vertices, const std::vector<char> &used, uint32_t max_vertices,
+                std::vector<uint32_t> *faces = nullptr);
+
+// A vertex of h at which fl((d0 x + d1 y) + d2 z) is largest, that value
+// into *best: each vertex's within g_3 (|d0 x| + |d1 y| + |d2 z|) of exact.
+uint32_t hull_support(const Hull &h, const double *dir, double *best);
+
+struct RelFrame;
+struct BvhNode;
+
+// Are the hulls of two bodies' rounded world vertices apart (certain)? f:
+// a's frame with b as its other side (prepare_frame); root_a, root_b: the
+// roots of their trees (hull_apart.cpp).
+bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b);
+
+}  // namespace hgcd

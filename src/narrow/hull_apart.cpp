@@ -1,0 +1,93 @@
+// Two bodies' hulls apart, in a's mesh frame (rel_frame.hpp): GJK proposes
+// an axis (the supports over the hull vertices, b's in b's own frame, only
+// the support point mapped to a's), and the axis is then certified.
+//
+// The certificate. Let z be the axis, L_a, L_b the roots' reaches (every mesh point within them, max
+// norm), tmax = |t~|, qmax = max |Q~_ij|. a's rounded world vertices map
+// under Phi within mu_a of their mesh points p (max norm), so each projects
+// on z above z . p - |z|_1 mu_a, and the computed fl(z . p) is within g_3
+// |z|_1 L_a of z . p (g_3 < 4e-16). b's map within mu_b of F(q) = t~ + Q~ q,
+// and z . F(q) = z . t~ + w . q exactly, w = Q~^T z; the computed w~ is
+// within g_3 qmax |z|_1 of w in each component (so (w - w~) . q within that
+// times |q|_1 <= 3 L_b), fl(w~ . q) within g_3 |w~|_1 L_b of w~ . q, fl(z .
+// t~) within g_3 |z|_1 tmax of z . t~. The gap (lo_a - zt) - hb, two
+// roundings, is within 4e-16 (|lo_a| + |zt| + |hb|) of its value. Products
+// that underflow lose 2^-1074 each, below the 1e-300. When the gap exceeds
+// the sum of these (times 1 + 1e-12 for the rounding of the sum), every
+// rounded vertex of a lies strictly beyond every one of b on z: their hulls,
+// which hold the solids, are apart.
+#include <algorithm>
+#include <cmath>
+
+#include "narrow/gjk.hpp"
+#include "narrow/hull.hpp"
+#include "narrow/rel_frame.hpp"
+
+namespace hgcd {
+
+namespace {
+
+inline double reach(const BvhNode &r) {
+    return std::max(std::max(std::fabs(r.center[0]) + r.half[0], std::fabs(r.center[1]) + r.half[1]),
+                    std::fabs(r.center[2]) + r.half[2]);
+}
+
+// w = Q~^T z: a direction of a's frame in b's.
+inline void to_b(const double *q, const double *z, double *w) {
+    for (int j = 0; j < 3; ++j) w[j] = (q[j] * z[0] + q[3 + j] * z[1]) + q[6 + j] * z[2];
+}
+
+// Is every vertex of a certainly beyond every vertex of b along v? lo_a:
+// the least fl(v . p) over a's hull, hb: the largest fl(w~ . q) over b's,
+// w~ = fl(Q~^T v).
+bool certify(const RelFrame &f, const BvhNode &root_a, const BvhNode &root_b, const double *v, double lo_a,
+             double hb) {
+    double w[3];
+    to_b(f.q, v, w);
+    const double zt = (v[0] * f.t[0] + v[1] * f.t[1]) + v[2] * f.t[2];
+    const double tmax = std::max(std::max(std::fabs(f.t[0]), std::fabs(f.t[1])), std::fabs(f.t[2]));
+    double qmax = 0;
+    for (double x : f.q) qmax = std::max(qmax, std::fabs(x));
+    const double la = reach(root_a), lb = reach(root_b);
+    const double z1 = (std::fabs(v[0]) + std::fabs(v[1])) + std::fabs(v[2]);
+    const double w1 = (std::fabs(w[0]) + std::fabs(w[1])) + std::fabs(w[2]);
+    const double need = (z1 * ((f.mu_a + f.mu_b) + 4e-16 * ((la + tmax) + 3 * qmax * lb)) + 4e-16 * w1 * lb +
+                         4e-16 * ((std::fabs(lo_a) + std::fabs(zt)) + std::fabs(hb))) *
+                            (1 + 1e-12) +
+                        1e-300;
+    return (lo_a - zt) - hb > need;
+}
+
+}  // namespace
+
+bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b) {
+    double point_b[3], lo_a = 0, hb = 0;
+    auto lowest_a = [&](const double *dir, const double **point) {
+        const double down[3] = {-dir[0], -dir[1], -dir[2]};
+        const uint32_t at = hull_support(a, down, &lo_a);
+        lo_a = -lo_a;
+        *point = &a.xyz[3 * size_t(at)];
+        return at;
+    };
+    auto highest_b = [&](const double *dir, const double **point) {
+        double w[3];
+        to_b(f.q, dir, w);
+        const uint32_t at = hull_support(b, w, &hb);
+        const double *q = &b.xyz[3 * size_t(at)];
+        for (int i = 0; i < 3; ++i)
+            point_b[i] = f.t[i] + ((f.q[3 * i] * q[0] + f.q[3 * i + 1] * q[1]) + f.q[3 * i + 2] * q[2]);
+        *point = point_b;
+        return at;
+    };
+    // From b's root box centre towards a's. On Apart, v is the direction of
+    // the last supports, whose values the certificate takes.
+    Simplex s;
+    s.n = 0;
+    double v[3];
+    const double *ca = root_a.center, *cb = root_b.center;
+    for (int i = 0; i < 3; ++i)
+        v[i] = ca[i] - (f.t[i] + ((f.q[3 * i] * cb[0] + f.q[3 * i + 1] * cb[1]) + f.q[3 * i + 2] * cb[2]));
+    return gjk_run(lowest_a, highest_b, 0, s, v) == Gjk::Apart && certify(f, root_a, root_b, v, lo_a, hb);
+}
+
+}  // namespace hgcd

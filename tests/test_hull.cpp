@@ -1,0 +1,169 @@
+// White-box tests of the mesh hull (hgcd::build_hull, src/narrow/hull.cpp),
+// through the internal headers (static library), against the GMP oracle's
+// orient3d: on random points, the non-convex blob, points on a cube's faces
+// and edges (coplanar and collinear by the hundred), repeated points, points
+// a few ulps off a face, and flat sets. For each: the faces close up (every
+// directed edge has its twin), every point is inside or on every face's
+// plane (exact), the hull's vertices are input points, and the support
+// queries (hull_support) agree with a scan of all points.
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+extern "C" {  // this cmocka.h has no C++ guard
+#include <cmocka.h>
+}
+
+#include "../scene/scene_meshes.h"
+#include "narrow/hull.hpp"
+#include "oracle.h"
+#include "test_rng.h"
+
+namespace {
+
+// Checks the hull of pts (all used) exactly; returns its vertex count.
+uint32_t check_hull(const std::vector<double> &pts) {
+    const std::vector<char> used(pts.size() / 3, 1);
+    std::vector<uint32_t> faces;
+    const hgcd::Hull h = hgcd::build_hull(pts.data(), used, 1u << 20, &faces);
+    assert_true(h.size >= 4);
+    // Closed: each directed edge once, with its twin.
+    std::set<std::pair<uint32_t, uint32_t>> edges;
+    for (size_t f = 0; f < faces.size(); f += 3)
+        for (int k = 0; k < 3; ++k) assert_true(edges.insert({faces[f + k], faces[f + (k + 1) % 3]}).second);
+    for (const auto &e : edges) assert_true(edges.count({e.second, e.first}) == 1);
+    // Every point inside or on every face (orient3d >= 0: below the plane).
+    for (size_t f = 0; f < faces.size(); f += 3)
+        for (size_t i = 0; i < pts.size() / 3; ++i)
+            assert_true(oracle_orient3d(&pts[3 * faces[f]], &pts[3 * faces[f + 1]], &pts[3 * faces[f + 2]],
+                                        &pts[3 * i]) >= 0);
+    // The vertices are the faces' corners, in index order.
+    std::set<uint32_t> corners(faces.begin(), faces.end());
+    assert_int_equal(corners.size(), h.size);
+    size_t k = 0;
+    for (uint32_t v : corners) {
+        for (int c = 0; c < 3; ++c) assert_true(h.xyz[3 * k + c] == pts[3 * v + c]);
+        ++k;
+    }
+    // Supports: the largest projection over all points is reached at a
+    // hull vertex (up to the rounding of the projections).
+    rng r;
+    r.s = 99;
+    double scale = 0;
+    for (double x : pts) scale = std::fmax(scale, std::fabs(x));
+    for (int t = 0; t < 200; ++t) {
+        const double d[3] = {unif(&r) - 0.5, unif(&r) - 0.5, unif(&r) - 0.5};
+        double best, all = -INFINITY;
+        const uint32_t at = hgcd::hull_support(h, d, &best);
+        assert_true(at < h.size);
+        const double *p = &h.xyz[3 * size_t(at)];
+        assert_true(best == (d[0] * p[0] + d[1] * p[1]) + d[2] * p[2]);
+        for (size_t i = 0; i < pts.size() / 3; ++i)
+            all = std::fmax(all, (d[0] * pts[3 * i] + d[1] * pts[3 * i + 1]) + d[2] * pts[3 * i + 2]);
+        assert_true(all <= best + 1e-14 * scale);
+    }
+    return h.size;
+}
+
+void test_random_points(void **) {
+    rng r;
+    r.s = 1;
+    for (int round = 0; round < 20; ++round) {
+        std::vector<double> pts;
+        const int n = 4 + round * 37;
+        for (int i = 0; i < 3 * n; ++i) pts.push_back((unif(&r) - 0.5) * std::ldexp(1.0, round - 10));
+        check_hull(pts);
+    }
+}
+
+void test_blob(void **) {
+    const uint32_t nu = 92, nv = 28;
+    std::vector<double> v(3 * hgcd_blob_vertex_count(nu, nv));
+    std::vector<uint32_t> t(3 * hgcd_blob_triangle_count(nu, nv));
+    hgcd_blob_mesh(nu, nv, v.data(), t.data());
+    for (size_t i = 0; i < v.size(); i += 3) v[i] *= 2.5;
+    const uint32_t n = check_hull(v);
+    assert_true(n < v.size() / 3 / 4);  // far fewer than the points: a dented shape
+}
+
+// Points of an n x n x n integer grid on the cube's surface, in an order
+// that puts face and edge points before corners.
+void test_cube_surface(void **) {
+    const int n = 9;
+    std::vector<double> pts;
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y)
+            for (int z = 0; z < n; ++z)
+                if (x == 0 || y == 0 || z == 0 || x == n - 1 || y == n - 1 || z == n - 1) {
+                    const bool corner = (x % (n - 1) == 0) + (y % (n - 1) == 0) + (z % (n - 1) == 0) == 3;
+                    if (!corner) pts.insert(pts.end(), {double(x), double(y), double(z)});
+                }
+    for (int c = 0; c < 8; ++c) pts.insert(pts.end(), {double((c & 1) * (n - 1)), double((c >> 1 & 1) * (n - 1)), double((c >> 2) * (n - 1))});
+    check_hull(pts);
+    // Each point twice.
+    std::vector<double> twice = pts;
+    twice.insert(twice.end(), pts.begin(), pts.end());
+    check_hull(twice);
+}
+
+// A tetrahedron with points a few ulps inside, on and outside its faces.
+void test_near_faces(void **) {
+    std::vector<double> pts = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    rng r;
+    r.s = 7;
+    for (int i = 0; i < 400; ++i) {
+        const double a = unif(&r), b = unif(&r) * (1 - a);
+        double p[3] = {a, b, 1 - a - b};  // on the slanted face (rounded)
+        const int ulps = int(unif(&r) * 5) - 2;
+        for (double &x : p)
+            for (int k = 0; k < std::abs(ulps); ++k) x = std::nextafter(x, ulps > 0 ? 2.0 : -1.0);
+        if (i % 3 == 0) p[i % 2] = 0;  // on a coordinate face too
+        pts.insert(pts.end(), p, p + 3);
+    }
+    check_hull(pts);
+}
+
+void test_flat_sets(void **) {
+    std::vector<double> plane, line;
+    for (int i = 0; i < 50; ++i) {
+        plane.insert(plane.end(), {double(i % 7), double(i / 7), 3.0});
+        line.insert(line.end(), {double(i), 2.0 * i, -1.0 * i});
+    }
+    for (const auto *pts : {&plane, &line}) {
+        const std::vector<char> used(pts->size() / 3, 1);
+        assert_int_equal(hgcd::build_hull(pts->data(), used, 1u << 20).size, 0);
+    }
+    // Too many vertices: none.
+    std::vector<double> ball;
+    rng r;
+    r.s = 3;
+    while (ball.size() < 3 * 2000) {
+        const double p[3] = {unif(&r) - 0.5, unif(&r) - 0.5, unif(&r) - 0.5};
+        const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        if (len > 0.1) ball.insert(ball.end(), {p[0] / len, p[1] / len, p[2] / len});
+    }
+    const std::vector<char> used(ball.size() / 3, 1);
+    assert_int_equal(hgcd::build_hull(ball.data(), used, 256).size, 0);
+    // Unused points are left out.
+    std::vector<char> some(used);
+    some[0] = 0;
+    const hgcd::Hull h = hgcd::build_hull(ball.data(), some, 1u << 20);
+    assert_int_equal(h.size, 1999);
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_random_points), cmocka_unit_test(test_blob), cmocka_unit_test(test_cube_surface),
+        cmocka_unit_test(test_near_faces), cmocka_unit_test(test_flat_sets),
+    };
+    return cmocka_run_group_tests(tests, nullptr, nullptr);
+}

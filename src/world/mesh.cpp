@@ -479,7 +479,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     set_sat(m, used, same, tetra_sat);
     if (triangle_count > kBvhMinTriangles) {
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh, threads);
-        m.hull = build_hull(m.vertices.data(), used, Mesh::kHullVertices);
+        if (vertex_count <= Mesh::kHullPoints) m.hull = build_hull(m.vertices.data(), used, Mesh::kHullVertices);
     }
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
     *out = std::move(m);

@@ -149,7 +149,7 @@ Hull build_hull(const double *x, const std::vector<char> &used, uint32_t max_ver
             ++out.size;
             out.xyz.insert(out.xyz.end(), h.p(v), h.p(v) + 3);
         }
-    const size_t padded = (out.size + 3) / 4 * 4;
+    const size_t padded = (out.size + 7) / 8 * 8;
     out.rows.resize(3 * padded);
     for (size_t i = 0; i < padded; ++i)
         for (int k = 0; k < 3; ++k) out.rows[k * padded + i] = out.xyz[3 * (i < out.size ? i : 0) + k];
@@ -158,34 +158,37 @@ Hull build_hull(const double *x, const std::vector<char> &used, uint32_t max_ver
 
 namespace {
 
-// hull_support over lanes of V (f64x2 or f64x4): the same products and
-// comparisons in every lane, so the same answer whatever the width (ties
-// go to the lowest index, as the rows are scanned in order).
+// hull_support over lanes of V (f64x2 or f64x4), two blocks of lanes a
+// step (two independent maxima): the same products and comparisons in every
+// lane, and ties to the lowest index, so the same answer whatever the width.
 template <class V>
 __attribute__((always_inline)) inline uint32_t support_lanes(const Hull &h, const double *dir, double *best) {
     constexpr int L = sizeof(V) / sizeof(double);
     const size_t n = h.padded();
     const double *x = h.rows.data(), *y = x + n, *z = y + n;
-    V d0, d1, d2, m, at, i, step;
+    V d0, d1, d2, m[2], at[2], i, step;
     for (int l = 0; l < L; ++l) {
         d0[l] = dir[0], d1[l] = dir[1], d2[l] = dir[2];
-        m[l] = -INFINITY, at[l] = 0, i[l] = l, step[l] = L;
+        m[0][l] = m[1][l] = -INFINITY, at[0][l] = at[1][l] = 0, i[l] = l, step[l] = L;
     }
-    for (size_t k = 0; k < n; k += L, i += step) {
-        V px, py, pz;
-        std::memcpy(&px, x + k, sizeof px);
-        std::memcpy(&py, y + k, sizeof py);
-        std::memcpy(&pz, z + k, sizeof pz);
-        const V p = (d0 * px + d1 * py) + d2 * pz;
-        const auto up = p > m;
-        m = up ? p : m;
-        at = up ? i : at;  // indices as doubles: exact below 2^53, and no 64-bit integer compare in SSE2
+    for (size_t k = 0; k < n; k += 2 * L) {
+        for (int u = 0; u < 2; ++u, i += step) {
+            V px, py, pz;
+            std::memcpy(&px, x + k + u * L, sizeof px);
+            std::memcpy(&py, y + k + u * L, sizeof py);
+            std::memcpy(&pz, z + k + u * L, sizeof pz);
+            const V p = (d0 * px + d1 * py) + d2 * pz;
+            const auto up = p > m[u];
+            m[u] = up ? p : m[u];
+            at[u] = up ? i : at[u];  // indices as doubles: exact, and no 64-bit integer compare in SSE2
+        }
     }
-    int b = 0;
-    for (int l = 1; l < L; ++l)
-        if (m[l] > m[b] || (m[l] == m[b] && at[l] < at[b])) b = l;
-    *best = m[b];
-    return uint32_t(at[b]);
+    double bm = -INFINITY, ba = 0;
+    for (int u = 0; u < 2; ++u)
+        for (int l = 0; l < L; ++l)
+            if (m[u][l] > bm || (m[u][l] == bm && at[u][l] < ba)) bm = m[u][l], ba = at[u][l];
+    *best = bm;
+    return uint32_t(ba);
 }
 
 #if HGCD_AVX2

@@ -15,7 +15,9 @@ namespace hgcd {
 struct Hull {
     uint32_t size = 0;            // vertices; 0: no hull
     std::vector<double> xyz;      // 3 doubles a vertex
-    std::vector<double> rows;     // x, then y, then z of every vertex, each row padded to a multiple of 4
+    // x, then y, then z of every vertex, each row padded to a multiple of 8
+    // (with vertex 0 again)
+    std::vector<double> rows;
     size_t padded() const { return rows.size() / 3; }
 };
 

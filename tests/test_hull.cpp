@@ -105,7 +105,8 @@ void test_cube_surface(void **) {
                     const bool corner = (x % (n - 1) == 0) + (y % (n - 1) == 0) + (z % (n - 1) == 0) == 3;
                     if (!corner) pts.insert(pts.end(), {double(x), double(y), double(z)});
                 }
-    for (int c = 0; c < 8; ++c) pts.insert(pts.end(), {double((c & 1) * (n - 1)), double((c >> 1 & 1) * (n - 1)), double((c >> 2) * (n - 1))});
+    const double e = n - 1;
+    for (int c = 0; c < 8; ++c) pts.insert(pts.end(), {(c & 1) * e, (c >> 1 & 1) * e, (c >> 2) * e});
     check_hull(pts);
     // Each point twice.
     std::vector<double> twice = pts;

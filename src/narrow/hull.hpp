@@ -36,10 +36,20 @@ uint32_t hull_support(const Hull &h, const double *dir, double *best);
 
 struct RelFrame;
 struct BvhNode;
+struct BodyView;
+struct NodeHint;
 
 // Are the hulls of two bodies' rounded world vertices apart (certain)? f:
 // a's frame with b as its other side (prepare_frame); root_a, root_b: the
-// roots of their trees (hull_apart.cpp).
-bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b);
+// roots of their trees; v: GJK's first direction in a's frame (null: from
+// b's root centre to a's); axis: when apart, the certified axis (a beyond b
+// along it, a's frame) (hull_apart.cpp).
+bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b,
+                 const double *v, double *axis);
+
+// hulls_apart for two bodies (views with trees, meshes with hulls), from
+// the hint's axis when it has one (a world direction: R_a^T takes it to a's
+// frame), the certified axis into it (axis_found) when apart.
+bool bodies_hulls_apart(const RelFrame &f, const BodyView &a, const BodyView &b, NodeHint *hint);
 
 }  // namespace hgcd

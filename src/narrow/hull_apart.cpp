@@ -21,6 +21,7 @@
 
 #include "narrow/gjk.hpp"
 #include "narrow/hull.hpp"
+#include "narrow/narrow.hpp"
 #include "narrow/rel_frame.hpp"
 
 namespace hgcd {
@@ -60,7 +61,8 @@ bool certify(const RelFrame &f, const BvhNode &root_a, const BvhNode &root_b, co
 
 }  // namespace
 
-bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b) {
+bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b,
+                 const double *first, double *axis) {
     double point_b[3], lo_a = 0, hb = 0;
     auto lowest_a = [&](const double *dir, const double **point) {
         const double down[3] = {-dir[0], -dir[1], -dir[2]};
@@ -79,15 +81,32 @@ bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const 
         *point = point_b;
         return at;
     };
-    // From b's root box centre towards a's. On Apart, v is the direction of
-    // the last supports, whose values the certificate takes.
+    // On Apart, v is the direction of the last supports, whose values the
+    // certificate takes.
     Simplex s;
     s.n = 0;
-    double v[3];
+    double *v = axis;
     const double *ca = root_a.center, *cb = root_b.center;
     for (int i = 0; i < 3; ++i)
-        v[i] = ca[i] - (f.t[i] + ((f.q[3 * i] * cb[0] + f.q[3 * i + 1] * cb[1]) + f.q[3 * i + 2] * cb[2]));
+        v[i] = first ? first[i]
+                     : ca[i] - (f.t[i] + ((f.q[3 * i] * cb[0] + f.q[3 * i + 1] * cb[1]) + f.q[3 * i + 2] * cb[2]));
     return gjk_run(lowest_a, highest_b, 0, s, v) == Gjk::Apart && certify(f, root_a, root_b, v, lo_a, hb);
+}
+
+bool bodies_hulls_apart(const RelFrame &f, const BodyView &a, const BodyView &b, NodeHint *hint) {
+    double first[3], axis[3];
+    const double *r = a.r.m;
+    const bool given = hint && hint->axis_given;
+    if (given)
+        for (int i = 0; i < 3; ++i)
+            first[i] = (r[i] * hint->axis[0] + r[3 + i] * hint->axis[1]) + r[6 + i] * hint->axis[2];
+    if (!hulls_apart(f, a.mesh->hull, a.nodes[0], b.mesh->hull, b.nodes[0], given ? first : nullptr, axis))
+        return false;
+    if (hint) {
+        for (int k = 0; k < 3; ++k) hint->axis[k] = (r[3 * k] * axis[0] + r[3 * k + 1] * axis[1]) + r[3 * k + 2] * axis[2];
+        hint->axis_found = true;
+    }
+    return true;
 }
 
 }  // namespace hgcd

@@ -68,9 +68,14 @@ struct Witness {
 // none); out, found tells whether the surfaces met, then node_a, node_b are
 // the ancestors kHintLevels above the meeting leaves. Only a hint: any value
 // leaves the verdict exact (the same exact triangle tests decide).
+// A pair found apart by its hulls (tree_path.cpp) has an axis instead: in,
+// when axis_given, a world direction along which a lay beyond b at the last
+// detect, GJK's first; out, when axis_found, the certified one.
 struct NodeHint {
     uint32_t node_a = UINT32_MAX, node_b = UINT32_MAX;
     bool found = false;
+    bool axis_given = false, axis_found = false;
+    double axis[3] = {0, 0, 0};
 };
 
 // Triangles of one body that reach the other's box, with their exact boxes

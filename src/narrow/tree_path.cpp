@@ -546,12 +546,12 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     // convex hull of its surface, inside its root's certified boxes), and
     // containment need not be asked.
     if (rel && roots_apart(frame, a.mesh->bvh.lanes.data(), img)) return Contact::None;
-    const bool hinted = hint && hint->node_a != UINT32_MAX;
     // A pair that met at the last detect mostly meets again: its hint is
     // tried first. Others (new pairs, or apart at the last detect) try the
-    // hulls first.
-    if (rel && !hinted && a.mesh->hull.size && b.mesh->hull.size &&
-        hulls_apart(frame, a.mesh->hull, va.nodes[0], b.mesh->hull, vb.nodes[0]))
+    // hulls first, from the last detect's axis when they have one (a world
+    // direction, taken to a's frame by R_a^T).
+    if (rel && !(hint && hint->node_a != UINT32_MAX) && a.mesh->hull.size && b.mesh->hull.size &&
+        bodies_hulls_apart(frame, va, vb, hint))
         return Contact::None;
     // A side without a tree is one leaf of all its triangles: only those whose
     // exact boxes reach the other's root box can meet it, and the box of

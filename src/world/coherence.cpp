@@ -3,6 +3,7 @@
 // tested again. A resting pile then costs little more than its broad phase,
 // and a world where nothing moved costs a pass over its bodies and pairs.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <new>
 
@@ -145,27 +146,48 @@ const World::NodeWitness *World::find_witness(uint64_t key) const {
     return it != e && it->key == key ? it : nullptr;
 }
 
-// A merge of three sorted lists: the new witnesses, the last ones (for pairs
-// kept untested: a new one replaces its pair's), and pairs_, whose pairs
-// alone keep theirs. Without memory for it the witnesses are dropped: they
-// only save time.
+uint32_t World::pack_axis(const double *v, double sign) {
+    const double l1 = (std::fabs(v[0]) + std::fabs(v[1])) + std::fabs(v[2]);
+    if (!(l1 > 0) || !std::isfinite(l1)) return 0;
+    double x = sign * v[0] / l1, y = sign * v[1] / l1;
+    if (sign * v[2] < 0) {  // the lower half folded over the diagonals
+        const double fx = std::copysign(1 - std::fabs(y), x), fy = std::copysign(1 - std::fabs(x), y);
+        x = fx, y = fy;
+    }
+    auto word = [](double c) { return uint32_t(std::lround((std::clamp(c, -1.0, 1.0) + 1) * 32767.5)); };
+    return word(x) << 16 | word(y);
+}
+
+void World::unpack_axis(uint32_t w, double *v, double sign) {
+    double x = double(w >> 16) / 32767.5 - 1, y = double(w & 0xffff) / 32767.5 - 1;
+    const double z = 1 - std::fabs(x) - std::fabs(y);
+    if (z < 0) {
+        const double fx = std::copysign(1 - std::fabs(y), x), fy = std::copysign(1 - std::fabs(x), y);
+        x = fx, y = fy;
+    }
+    v[0] = sign * x, v[1] = sign * y, v[2] = sign * z;
+}
+
+// A merge of three sorted lists: the new witnesses (all kept), the last
+// ones (for pairs kept untested: a new one replaces its pair's), and pairs_,
+// whose pairs alone keep their last ones. Without memory for it the
+// witnesses are dropped: they only save time.
 void World::keep_witnesses(std::vector<NodeWitness> &fresh) {
     if (fresh.empty() && witness_.empty()) return;
     try {
         const auto by_key = [](const NodeWitness &x, const NodeWitness &y) { return x.key < y.key; };
         std::sort(fresh.begin(), fresh.end(), by_key);
-        std::vector<NodeWitness> out;
-        out.reserve(fresh.size() + std::min(witness_.size(), pairs_.size()));
+        std::vector<NodeWitness> last;
         size_t f = 0, o = 0;
         for (const hgcd_pair &p : pairs_) {
             const uint64_t key = (uint64_t(p.a.index) << 32) | p.b.index;
             while (f < fresh.size() && fresh[f].key < key) ++f;
             while (o < witness_.size() && witness_[o].key < key) ++o;
-            if (f < fresh.size() && fresh[f].key == key)
-                out.push_back(fresh[f]);
-            else if (o < witness_.size() && witness_[o].key == key)
-                out.push_back(witness_[o]);
+            if (!(f < fresh.size() && fresh[f].key == key) && o < witness_.size() && witness_[o].key == key)
+                last.push_back(witness_[o]);
         }
+        std::vector<NodeWitness> out(fresh.size() + last.size());
+        std::merge(fresh.begin(), fresh.end(), last.begin(), last.end(), out.begin(), by_key);
         // Where each lower slot's run starts, when there are enough
         // witnesses that one lookup's binary search costs more than its
         // share of this pass (a lookup then reads one slot's run).

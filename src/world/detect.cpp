@@ -576,13 +576,20 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
             const uint64_t key = pair_key(sa, sb);
             NodeHint hint;
             if (const NodeWitness *w = find_witness(key)) {
-                hint.node_a = w->node[sa > sb];
-                hint.node_b = w->node[sa < sb];
+                if (w->node[0] == kAxisWitness) {  // the axis is kept pointing from the higher slot's body
+                    unpack_axis(w->node[1], hint.axis, sa < sb ? 1 : -1);
+                    hint.axis_given = true;
+                } else {
+                    hint.node_a = w->node[sa > sb];
+                    hint.node_b = w->node[sa < sb];
+                }
             }
             if (ma & mb & kCcdAsked) ++t.ccd_fallback;
             hit = collide(pa, pb, t.scratch, nullptr, &hint);
             if (hint.found)
                 t.witnesses.push_back(NodeWitness{key, {sa < sb ? hint.node_a : hint.node_b, sa < sb ? hint.node_b : hint.node_a}});
+            else if (hint.axis_found)
+                t.witnesses.push_back(NodeWitness{key, {kAxisWitness, pack_axis(hint.axis, sa < sb ? 1 : -1)}});
         } else {
             hit = collide_pair(pa, pb, ma, mb, d, want_contacts, t, &contact);
         }

@@ -261,15 +261,21 @@ class World {
     void drop_movers() noexcept;
     void plan_narrow(int threads, NarrowPlan &plan) const;
     // Each thread's colliding pairs, sorted, into hits_ (and hit_contacts).
-    // The first-tried witnesses (coherence.cpp): for each colliding pair of
-    // the last detect with a mesh that has a tree, the meeting triangles it
-    // found (mesh indices, the lower slot's first), sorted by pair_key; a
-    // hint that the next detect tests first (any entry leaves verdicts
-    // exact: a stale one costs one triangle test).
+    // The first-tried witnesses (coherence.cpp), sorted by pair_key: for
+    // each colliding pair of the last detect with a mesh that has a tree,
+    // the tree nodes near where its surfaces met (NodeHint; the lower slot's
+    // first), and for each pair its hulls proved apart at the last detect,
+    // the axis (kAxisWitness, then pack_axis's word). Hints that the next
+    // detect tries first: any entry leaves verdicts exact.
     struct NodeWitness {
         uint64_t key;
         uint32_t node[2];
     };
+    static constexpr uint32_t kAxisWitness = UINT32_MAX;  // (no tree has so many nodes)
+    // A direction (times sign) in 32 bits, octahedral (16 bits a
+    // coordinate, about 1e-4 radians), and back.
+    static uint32_t pack_axis(const double *v, double sign);
+    static void unpack_axis(uint32_t w, double *v, double sign);
     std::vector<NodeWitness> witness_;
     // Where each slot's witnesses (as the pair's lower slot) start in
     // witness_, while there are more than slots / 8 of them (else empty:
@@ -277,7 +283,7 @@ class World {
     std::vector<uint32_t> witness_start_;
     const NodeWitness *find_witness(uint64_t key) const;
     // witness_ from this detect's new witnesses (any order) and the last
-    // ones of the pairs kept untested, for the pairs in pairs_.
+    // ones of the pairs kept untested that are in pairs_.
     void keep_witnesses(std::vector<NodeWitness> &fresh);
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts,
                       std::vector<NodeWitness> &fresh);

@@ -5,7 +5,8 @@
 // a few ulps off a face, and flat sets. For each: the faces close up (every
 // directed edge has its twin), every point is inside or on every face's
 // plane (exact), the hull's vertices are input points, and the support
-// queries (hull_support) agree with a scan of all points.
+// queries (hull_support's scan, hull_climb's climbs) agree with a scan of
+// all points.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -68,6 +69,13 @@ uint32_t check_hull(const std::vector<double> &pts) {
         for (size_t i = 0; i < pts.size() / 3; ++i)
             all = std::fmax(all, (d[0] * pts[3 * i] + d[1] * pts[3 * i + 1]) + d[2] * pts[3 * i + 2]);
         assert_true(all <= best + 1e-14 * scale);
+        // A climb, from the seeds or from any vertex, reaches the top.
+        for (uint32_t start : {UINT32_MAX, uint32_t(t) % h.size}) {
+            const uint32_t c = hgcd::hull_climb(h, d, start);
+            assert_true(c < h.size);
+            const double *q = &h.xyz[3 * size_t(c)];
+            assert_true((d[0] * q[0] + d[1] * q[1]) + d[2] * q[2] >= best - 1e-14 * scale);
+        }
     }
     return h.size;
 }

@@ -702,7 +702,7 @@ HGCD_API hgcd_mesh_desc hgcd_mesh_desc_default(void);
  *  the same tree on any count: about 5 ms for 5120 triangles on 2 threads,
  *  8.6 on 1. Such a mesh of at most 65,536 vertices also gets its convex
  *  hull (one thread, exact: about 2 ms for 2486 vertices, at most about a
- *  microsecond a vertex), kept when it has at most 256 vertices. */
+ *  microsecond a vertex), kept when it has at most 1024 vertices. */
 HGCD_API hgcd_status hgcd_mesh_create(hgcd_world *world,
                                       const hgcd_mesh_desc *desc,
                                       hgcd_mesh *out_mesh);

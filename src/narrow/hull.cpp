@@ -142,18 +142,55 @@ Hull build_hull(const double *x, const std::vector<char> &used, uint32_t max_ver
         if (outside && h.add(i) && h.vertices > max_vertices) return Hull();
     }
     if (faces) *faces = h.face;
-    // The hull's vertices in order of index.
+    // The hull's vertices in order of index, and its edges: each directed
+    // edge (u, v) of a face names v as a neighbour of u (its twin, on the
+    // face across, names u as v's).
     Hull out;
+    std::vector<uint32_t> id(used.size(), UINT32_MAX);
     for (uint32_t v = 0; v < h.degree.size(); ++v)
         if (h.degree[v]) {
-            ++out.size;
+            id[v] = out.size++;
             out.xyz.insert(out.xyz.end(), h.p(v), h.p(v) + 3);
         }
     const size_t padded = (out.size + 7) / 8 * 8;
     out.rows.resize(3 * padded);
     for (size_t i = 0; i < padded; ++i)
         for (int k = 0; k < 3; ++k) out.rows[k * padded + i] = out.xyz[3 * (i < out.size ? i : 0) + k];
+    out.first.assign(out.size + 1, 0);
+    for (uint32_t v : h.face) ++out.first[id[v] + 1];
+    for (uint32_t i = 0; i < out.size; ++i) out.first[i + 1] += out.first[i];
+    out.adj.resize(h.face.size());
+    std::vector<uint32_t> at(out.first.begin(), out.first.end() - 1);
+    for (size_t f = 0; f < h.face.size(); f += 3)
+        for (int k = 0; k < 3; ++k) out.adj[at[id[h.face[f + k]]]++] = id[h.face[f + (k + 1) % 3]];
+    static const double kSeedDirections[14][3] = {{1, 0, 0},  {-1, 0, 0},  {0, 1, 0},   {0, -1, 0},  {0, 0, 1},
+                                                   {0, 0, -1}, {1, 1, 1},   {1, 1, -1},  {1, -1, 1},  {1, -1, -1},
+                                                   {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+    for (int d = 0; d < 14; ++d) {
+        double best;
+        out.seed[d] = hull_support(out, kSeedDirections[d], &best);
+    }
     return out;
+}
+
+uint32_t hull_climb(const Hull &h, const double *dir, uint32_t start) {
+    auto dot = [&](uint32_t i) {
+        const double *p = &h.xyz[3 * size_t(i)];
+        return (dir[0] * p[0] + dir[1] * p[1]) + dir[2] * p[2];
+    };
+    uint32_t at = start;
+    if (at == UINT32_MAX) {
+        at = h.seed[0];
+        for (uint32_t s : h.seed)
+            if (dot(s) > dot(at)) at = s;
+    }
+    double best = dot(at);
+    for (uint32_t from = UINT32_MAX; from != at;) {  // to the best neighbour, while one is higher
+        from = at;
+        for (uint32_t k = h.first[from]; k < h.first[from + 1]; ++k)
+            if (const double d = dot(h.adj[k]); d > best) best = d, at = h.adj[k];
+    }
+    return at;
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // Two bodies' hulls apart, in a's mesh frame (rel_frame.hpp): GJK proposes
 // an axis (the supports over the hull vertices, b's in b's own frame, only
-// the support point mapped to a's), and the axis is then certified.
+// the support point mapped to a's), and the axis is then certified over
+// every hull vertex.
 //
 // The certificate. Let z be the axis, L_a, L_b the roots' reaches (every mesh point within them, max
 // norm), tmax = |t~|, qmax = max |Q~_ij|. a's rounded world vertices map
@@ -63,26 +64,32 @@ bool certify(const RelFrame &f, const BvhNode &root_a, const BvhNode &root_b, co
 
 bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b,
                  const double *first, double *axis) {
+    // GJK's supports: a scan of a small hull (whose value the certificate
+    // then takes), a climb on a large one (from its last support).
+    uint32_t at_a = UINT32_MAX, at_b = UINT32_MAX;
     double point_b[3], lo_a = 0, hb = 0;
     auto lowest_a = [&](const double *dir, const double **point) {
         const double down[3] = {-dir[0], -dir[1], -dir[2]};
-        const uint32_t at = hull_support(a, down, &lo_a);
-        lo_a = -lo_a;
-        *point = &a.xyz[3 * size_t(at)];
-        return at;
+        if (a.size <= kScanHull) {
+            at_a = hull_support(a, down, &lo_a);
+            lo_a = -lo_a;
+        } else {
+            at_a = hull_climb(a, down, at_a);
+        }
+        *point = &a.xyz[3 * size_t(at_a)];
+        return at_a;
     };
     auto highest_b = [&](const double *dir, const double **point) {
         double w[3];
         to_b(f.q, dir, w);
-        const uint32_t at = hull_support(b, w, &hb);
-        const double *q = &b.xyz[3 * size_t(at)];
+        at_b = b.size <= kScanHull ? hull_support(b, w, &hb) : hull_climb(b, w, at_b);
+        const double *q = &b.xyz[3 * size_t(at_b)];
         for (int i = 0; i < 3; ++i)
             point_b[i] = f.t[i] + ((f.q[3 * i] * q[0] + f.q[3 * i + 1] * q[1]) + f.q[3 * i + 2] * q[2]);
         *point = point_b;
-        return at;
+        return at_b;
     };
-    // On Apart, v is the direction of the last supports, whose values the
-    // certificate takes.
+    // On Apart, v is the direction of the last supports.
     Simplex s;
     s.n = 0;
     double *v = axis;
@@ -90,7 +97,18 @@ bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const 
     for (int i = 0; i < 3; ++i)
         v[i] = first ? first[i]
                      : ca[i] - (f.t[i] + ((f.q[3 * i] * cb[0] + f.q[3 * i + 1] * cb[1]) + f.q[3 * i + 2] * cb[2]));
-    return gjk_run(lowest_a, highest_b, 0, s, v) == Gjk::Apart && certify(f, root_a, root_b, v, lo_a, hb);
+    if (gjk_run(lowest_a, highest_b, 0, s, v) != Gjk::Apart) return false;
+    if (a.size > kScanHull) {
+        const double down[3] = {-v[0], -v[1], -v[2]};
+        hull_support(a, down, &lo_a);
+        lo_a = -lo_a;
+    }
+    if (b.size > kScanHull) {
+        double w[3];
+        to_b(f.q, v, w);
+        hull_support(b, w, &hb);
+    }
+    return certify(f, root_a, root_b, v, lo_a, hb);
 }
 
 bool bodies_hulls_apart(const RelFrame &f, const BodyView &a, const BodyView &b, NodeHint *hint) {

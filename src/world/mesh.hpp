@@ -166,7 +166,7 @@ struct Mesh {
     // the trees (tree_path.cpp): a few support queries where the descent
     // would reach small nodes to prove it. (The hull costs up to about a
     // microsecond a vertex to build: 0.8 s for a million on a cube's faces.)
-    static constexpr uint32_t kHullVertices = 256;
+    static constexpr uint32_t kHullVertices = 1024;
     static constexpr uint32_t kHullPoints = 1u << 16;
     Hull hull;
 };

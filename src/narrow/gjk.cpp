@@ -1,4 +1,5 @@
 // GJK's distance subalgorithm and loop (gjk.hpp).
+#include "common/ieee.hpp"
 #include "narrow/gjk.hpp"
 
 #include <cmath>

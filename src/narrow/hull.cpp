@@ -12,6 +12,7 @@
 // vertices of the final faces, whatever the degeneracies (coplanar or
 // repeated points). Only the order of insertion and the first tetrahedron
 // use floating point, and neither can change what is inside.
+#include "common/ieee.hpp"
 #include "narrow/hull.hpp"
 
 #include <algorithm>

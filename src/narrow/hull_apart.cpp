@@ -17,6 +17,7 @@
 // the sum of these (times 1 + 1e-12 for the rounding of the sum), every
 // rounded vertex of a lies strictly beyond every one of b on z: their hulls,
 // which hold the solids, are apart.
+#include "common/ieee.hpp"
 #include <algorithm>
 #include <cmath>
 

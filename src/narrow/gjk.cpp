@@ -134,22 +134,17 @@ Gjk gjk(const double *wa, uint32_t na, const double *wb, uint32_t nb, double d, 
         sub3(wa, wb, s.w[0]);
         for (int k = 0; k < 3; ++k) v[k] = s.w[0][k];
     }
-    auto lowest_a = [&](const double *dir, const double **point) {
+    // The point of w (n points) farthest along sign * dir.
+    auto extreme = [](const double *w, uint32_t n, double sign, const double *dir, const double **point) {
         uint32_t best = 0;
-        double low = dot3(dir, wa);
-        for (uint32_t i = 1; i < na; ++i)
-            if (const double p = dot3(dir, &wa[3 * size_t(i)]); p < low) low = p, best = i;
-        *point = &wa[3 * size_t(best)];
+        double far = sign * dot3(dir, w);
+        for (uint32_t i = 1; i < n; ++i)
+            if (const double p = sign * dot3(dir, &w[3 * size_t(i)]); p > far) far = p, best = i;
+        *point = &w[3 * size_t(best)];
         return best;
     };
-    auto highest_b = [&](const double *dir, const double **point) {
-        uint32_t best = 0;
-        double high = dot3(dir, wb);
-        for (uint32_t j = 1; j < nb; ++j)
-            if (const double p = dot3(dir, &wb[3 * size_t(j)]); p > high) high = p, best = j;
-        *point = &wb[3 * size_t(best)];
-        return best;
-    };
+    auto lowest_a = [&](const double *dir, const double **point) { return extreme(wa, na, -1, dir, point); };
+    auto highest_b = [&](const double *dir, const double **point) { return extreme(wb, nb, 1, dir, point); };
     return gjk_run(lowest_a, highest_b, d, s, v);
 }
 

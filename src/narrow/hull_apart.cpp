@@ -30,11 +30,6 @@ namespace hgcd {
 
 namespace {
 
-inline double reach(const BvhNode &r) {
-    return std::max(std::max(std::fabs(r.center[0]) + r.half[0], std::fabs(r.center[1]) + r.half[1]),
-                    std::fabs(r.center[2]) + r.half[2]);
-}
-
 // w = Q~^T z: a direction of a's frame in b's.
 inline void to_b(const double *q, const double *z, double *w) {
     for (int j = 0; j < 3; ++j) w[j] = (q[j] * z[0] + q[3 + j] * z[1]) + q[6 + j] * z[2];
@@ -43,15 +38,11 @@ inline void to_b(const double *q, const double *z, double *w) {
 // Is every vertex of a certainly beyond every vertex of b along v? lo_a:
 // the least fl(v . p) over a's hull, hb: the largest fl(w~ . q) over b's,
 // w~ = fl(Q~^T v).
-bool certify(const RelFrame &f, const BvhNode &root_a, const BvhNode &root_b, const double *v, double lo_a,
-             double hb) {
+bool certify(const RelFrame &f, const double *v, double lo_a, double hb) {
     double w[3];
     to_b(f.q, v, w);
     const double zt = (v[0] * f.t[0] + v[1] * f.t[1]) + v[2] * f.t[2];
-    const double tmax = std::max(std::max(std::fabs(f.t[0]), std::fabs(f.t[1])), std::fabs(f.t[2]));
-    double qmax = 0;
-    for (double x : f.q) qmax = std::max(qmax, std::fabs(x));
-    const double la = reach(root_a), lb = reach(root_b);
+    const double tmax = f.tmax, qmax = f.qmax, la = f.la, lb = f.lb;
     const double z1 = (std::fabs(v[0]) + std::fabs(v[1])) + std::fabs(v[2]);
     const double w1 = (std::fabs(w[0]) + std::fabs(w[1])) + std::fabs(w[2]);
     const double need = (z1 * ((f.mu_a + f.mu_b) + 4e-16 * ((la + tmax) + 3 * qmax * lb)) + 4e-16 * w1 * lb +
@@ -109,7 +100,7 @@ bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const 
         to_b(f.q, v, w);
         hull_support(b, w, &hb);
     }
-    return certify(f, root_a, root_b, v, lo_a, hb);
+    return certify(f, v, lo_a, hb);
 }
 
 bool bodies_hulls_apart(const RelFrame &f, const BodyView &a, const BodyView &b, NodeHint *hint) {

@@ -81,6 +81,8 @@ struct RelFrame {
     double mu_b;      // the pair's part of each node image's eps
     double node_eps;  // times (|c|_1 + sum half): the node's part (2e-15 qmax)
     double qn;        // >= |V_j|_2 of every image axis
+    double tmax, qmax;  // |t~| and max |Q~_ij|
+    double la, lb;      // the roots' reaches L_a, L_b
 };
 
 // Node images come in blocks of two siblings, as Bvh::lanes (lane l of
@@ -150,6 +152,7 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
     f.mu_b = (6e-15 * pab + 1e-14 * sigma * lb + 2e-15 * tmax) * (1 + 1e-10) + 1e-300 + under;
     f.node_eps = 2e-15 * qmax;
     f.qn = 1.001 * sigma;
+    f.tmax = tmax, f.qmax = qmax, f.la = la, f.lb = lb;
     return true;
 }
 

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "common/transform.hpp"
@@ -54,10 +55,19 @@ struct NodeObb {
 // and 2p (children are allocated in pairs after the root); block 0 holds the
 // root in both lanes. Fields: the mesh-frame box's centre (0..2) and half
 // (3..5), the fitted box's centre (6..8), axes (u_i at 9 + 3i) and halves
-// (18..20).
-constexpr size_t kLaneBlock = 42;
+// (18..20), and the node's link (21: BvhNode's first | count << 32, the bits
+// of the double), so that a traversal reads no BvhNode.
+constexpr size_t kLaneBlock = 44;
+constexpr int kLinkField = 21;
 inline size_t lane_block(uint32_t n) { return (size_t(n) + 1) >> 1; }
 inline int lane_of(uint32_t n) { return int((n + 1) & 1); }
+inline uint64_t node_link(const BvhNode &n) { return uint64_t(n.first) | uint64_t(n.count) << 32; }
+// The link at field k, lane l of a block.
+inline uint64_t lane_link(const double *block, int k, int l) {
+    uint64_t w;
+    std::memcpy(&w, block + 2 * k + l, sizeof w);
+    return w;
+}
 
 struct Bvh {
     std::vector<BvhNode> nodes;     // nodes[0] is the root; empty: no tree

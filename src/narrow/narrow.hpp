@@ -102,9 +102,12 @@ struct NarrowScratch {
         std::unique_ptr<double[]> world, boxes;
         std::vector<uint32_t> vertex_stamp, box_stamp;
         // Images of the nodes in the other side's mesh frame (rel_frame.hpp),
-        // kImageBlock doubles per block of two siblings (side 1 only).
+        // kImageBlock doubles per block of two siblings (side 1 only), stored
+        // in the order a pair first asks for them (a pair's few dozen blocks
+        // stay in cache from pair to pair, where indexing by block spread
+        // them over the whole array); image_slot: the epoch << 32 | the slot.
         std::unique_ptr<double[]> images;
-        std::vector<uint32_t> image_stamp;
+        std::vector<uint64_t> image_slot;
     } side[2];
     uint32_t epoch = 0;
     std::vector<uint64_t> pair_stack;   // (node of a) << 32 | node of b

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "common/parallel.hpp"
 #include "narrow/bvh.hpp"
@@ -149,7 +150,9 @@ void fit_node_obbs(const double *vertices, Bvh &bvh, int threads) {
     for (size_t k = 0; k < nn; ++k) {
         const BvhNode &n = bvh.nodes[k];
         const NodeObb &o = obb[k];
-        double field[21];
+        double field[22];
+        const uint64_t link = node_link(n);
+        std::memcpy(&field[kLinkField], &link, sizeof link);
         for (int i = 0; i < 3; ++i) {
             field[i] = n.center[i];
             field[3 + i] = n.half[i];
@@ -158,7 +161,7 @@ void fit_node_obbs(const double *vertices, Bvh &bvh, int threads) {
         }
         for (int i = 0; i < 9; ++i) field[9 + i] = o.axis[i];
         double *block = &bvh.lanes[kLaneBlock * lane_block(uint32_t(k))];
-        for (int f = 0; f < 21; ++f) {
+        for (int f = 0; f < 22; ++f) {
             if (k == 0) block[2 * f] = field[f];
             block[2 * f + lane_of(uint32_t(k))] = field[f];
         }

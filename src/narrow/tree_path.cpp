@@ -34,7 +34,7 @@ void next_epoch(NarrowScratch &s) {
         for (auto &c : s.side) {
             std::fill(c.vertex_stamp.begin(), c.vertex_stamp.end(), 0u);
             std::fill(c.box_stamp.begin(), c.box_stamp.end(), 0u);
-            std::fill(c.image_stamp.begin(), c.image_stamp.end(), 0u);
+            std::fill(c.image_slot.begin(), c.image_slot.end(), uint64_t(0));
         }
         s.epoch = 1;
     }
@@ -257,20 +257,22 @@ bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t start_a,
 }
 
 // b's node images in a's frame (rel_frame.hpp), a block of two siblings at
-// a time, computed on first use in the pair.
+// a time, computed on first use in the pair and stored at the next free slot.
 struct Images {
     const RelFrame *f;
     const double *lanes;  // b's Bvh::lanes
     double *data;
-    uint32_t *stamp;
+    uint64_t *slot;  // NarrowScratch::Side::image_slot
     uint32_t epoch;
+    uint32_t used;
     HGCD_RF_INLINE const double *block(size_t p) {
-        double *m = data + kImageBlock * p;
-        if (stamp[p] != epoch) {
-            node_images(*f, lanes + kLaneBlock * p, m);
-            stamp[p] = epoch;
+        uint64_t at = slot[p];
+        if (at >> 32 != epoch) {
+            at = uint64_t(epoch) << 32 | used++;
+            slot[p] = at;
+            node_images(*f, lanes + kLaneBlock * p, data + kImageBlock * uint32_t(at));
         }
-        return m;
+        return data + kImageBlock * uint32_t(at);
     }
 };
 
@@ -293,7 +295,6 @@ inline double lane_dist2(const double *x, int k, int l, const double *y, int j, 
 template <bool kWide>
 HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
                              uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
-    const BvhNode *na = a.nodes, *nb = b.nodes;
     const double *lanes_a = a.mesh->bvh.lanes.data();
     const RelFrame &f = *img.f;
     auto block_a = [&](uint32_t n) __attribute__((always_inline)) { return lanes_a + kLaneBlock * lane_block(n); };
@@ -310,7 +311,8 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
         const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
         const double *ba = block_a(i), *mb = img.block(lane_block(j));
         const int li = lane_of(i), lj = lane_of(j);
-        const bool la = na[i].count != 0, lb = nb[j].count != 0;
+        const uint64_t link_a = lane_link(ba, kLinkField, li), link_b = lane_link(mb, kImageLink, lj);
+        const bool la = link_a >> 32 != 0, lb = link_b >> 32 != 0;
         // The plane test where it pays: a leaf at least twice the other
         // node's size (in a's frame), as a body deep inside a much larger
         // mesh meets that mesh's leaves (between meshes of like sizes it
@@ -332,7 +334,7 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
         // pairs tested in one go, the nearest pair (centres in a's frame)
         // searched first.
         if (!la && !lb && size_a <= 2 * size_b && size_b <= 2 * size_a) {
-            const uint32_t c = na[i].first, e = nb[j].first;
+            const uint32_t c = uint32_t(link_a), e = uint32_t(link_b);
             const double *x = block_a(c), *y = img.block(lane_block(e));
             const unsigned apart = kWide ? rel_apart4(f, x, y)
                                          : rel_apart2<true, false>(f, x, 0, y, 0) |
@@ -357,7 +359,7 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
         // Else as surfaces_meet: the larger node descended, the child farther from
         // the other node first (sizes and centres in a's frame).
         if (lb || (!la && size_a >= size_b)) {
-            const uint32_t c = na[i].first;
+            const uint32_t c = uint32_t(link_a);
             const double *x = block_a(c);
             const bool swap = lane_dist2(x, 0, 0, mb, 0, lj) > lane_dist2(x, 0, 1, mb, 0, lj);
             const unsigned apart = rel_apart2<true, false>(f, x, 0, mb, lj);
@@ -365,7 +367,7 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
             if (!(apart >> (first - c) & 1)) stack.push_back((uint64_t(first) << 32) | j);
             if (!(apart >> (second - c) & 1)) stack.push_back((uint64_t(second) << 32) | j);
         } else {
-            const uint32_t c = nb[j].first;
+            const uint32_t c = uint32_t(link_b);
             const double *y = img.block(lane_block(c));
             const bool swap = lane_dist2(y, 0, 0, ba, 0, li) > lane_dist2(y, 0, 1, ba, 0, li);
             const unsigned apart = rel_apart2<false, true>(f, ba, li, y, 0);
@@ -518,18 +520,18 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     prepare_side(b, s.side[1], s.epoch, vb);
     // Both with trees: the node tests in a's mesh frame.
     RelFrame frame;
-    Images img{&frame, nullptr, nullptr, nullptr, s.epoch};
+    Images img{&frame, nullptr, nullptr, nullptr, s.epoch, 0};
     const bool rel = !kMargin && va.nodes && vb.nodes && prepare_frame(va, vb, frame);
     if (rel) {
         NarrowScratch::Side &c = s.side[1];
         const size_t nn = b.mesh->bvh.lanes.size() / kLaneBlock;
-        if (c.image_stamp.size() < nn) {
-            c.image_stamp.resize(nn, 0);
+        if (c.image_slot.size() < nn) {
+            c.image_slot.resize(nn, 0);
             c.images.reset(new double[kImageBlock * nn]);
         }
         img.lanes = b.mesh->bvh.lanes.data();
         img.data = c.images.get();
-        img.stamp = c.image_stamp.data();
+        img.slot = c.image_slot.data();
     }
     auto search = [&](uint32_t na, uint32_t nb, uint32_t *meet, uint32_t *leaves, bool tested = false) {
         return rel ? surfaces_meet_rel(va, vb, img, s, na, nb, meet, leaves, tested)

@@ -7,6 +7,7 @@
 
 #include "broad/float_box.hpp"
 #include "common/ieee.hpp"
+#include "common/simd.hpp"
 #include "common/transform.hpp"
 #include "world/pose_box.hpp"
 #include "world/world.hpp"
@@ -335,24 +336,47 @@ void World::set_box_offsets_general(size_t s) {
         // relatively, the final add/subtract within u (|o_a| + E_a + margin)
         // <= 3u far: all under 2e-15 far, far below the margin 1e-14 far
         // (+ 1e-300 for underflow).
-        double cut_lo[3] = {INFINITY, INFINITY, INFINITY}, cut_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        double abs_r[9];
-        for (int k = 0; k < 9; ++k) abs_r[k] = std::fabs(r.m[k]);
-        for (size_t n = 0; n < m.box_cut.size(); n += 6) {
-            const double *nc = &m.box_cut[n], *nh = &m.box_cut[n + 3];
-            double o[3];
-            transform_point(r, zero, pl.scale, nc, o);
-            const double sh[3] = {pl.scale * nh[0], pl.scale * nh[1], pl.scale * nh[2]};
-            const double sm[3] = {pl.scale * (std::fabs(nc[0]) + nh[0]), pl.scale * (std::fabs(nc[1]) + nh[1]),
-                                  pl.scale * (std::fabs(nc[2]) + nh[2])};
-            for (int a = 0; a < 3; ++a) {
-                const double *ra = abs_r + 3 * a;
-                const double extent = (ra[0] * sh[0] + ra[1] * sh[1]) + ra[2] * sh[2];
-                const double far = (ra[0] * sm[0] + ra[1] * sm[1]) + ra[2] * sm[2];
-                const double d = extent + (1e-14 * far + 1e-300);
-                cut_lo[a] = std::min(cut_lo[a], o[a] - d);
-                cut_hi[a] = std::max(cut_hi[a], o[a] + d);
+        // (Two nodes a step, each lane the scalar formula.)
+        const size_t count = m.box_cut_nodes;
+        const double *cut = m.box_cut.data();
+        auto row = [&](size_t k, size_t n) {
+            f64x2 v;
+            std::memcpy(&v, cut + k * count + n, sizeof v);
+            return v;
+        };
+        const f64x2 sv = {pl.scale, pl.scale};
+        f64x2 rm[9], ra[9];
+        for (int k = 0; k < 9; ++k) {
+            rm[k] = f64x2{r.m[k], r.m[k]};
+            ra[k] = f64x2{std::fabs(r.m[k]), std::fabs(r.m[k])};
+        }
+        f64x2 vlo[3], vhi[3];
+        for (int a = 0; a < 3; ++a) {
+            vlo[a] = f64x2{INFINITY, INFINITY};
+            vhi[a] = f64x2{-INFINITY, -INFINITY};
+        }
+        for (size_t n = 0; n < count; n += 2) {
+            f64x2 l[3], sh[3], sm[3];
+            for (int k = 0; k < 3; ++k) {
+                l[k] = sv * row(k, n);
+                sh[k] = sv * row(3 + k, n);
+                sm[k] = sv * row(6 + k, n);
             }
+            for (int a = 0; a < 3; ++a) {
+                const f64x2 *x = rm + 3 * a, *y = ra + 3 * a;
+                const f64x2 o = (x[0] * l[0] + x[1] * l[1]) + x[2] * l[2];
+                const f64x2 extent = (y[0] * sh[0] + y[1] * sh[1]) + y[2] * sh[2];
+                const f64x2 far = (y[0] * sm[0] + y[1] * sm[1]) + y[2] * sm[2];
+                const f64x2 d = extent + (1e-14 * far + 1e-300);
+                const f64x2 low = o - d, high = o + d;
+                vlo[a] = low < vlo[a] ? low : vlo[a];
+                vhi[a] = high > vhi[a] ? high : vhi[a];
+            }
+        }
+        double cut_lo[3], cut_hi[3];
+        for (int a = 0; a < 3; ++a) {
+            cut_lo[a] = std::min(vlo[a][0], vlo[a][1]);
+            cut_hi[a] = std::max(vhi[a][0], vhi[a][1]);
         }
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::max(lo[k], cut_lo[k]);

@@ -94,6 +94,7 @@ void set_bounding_sphere(Mesh &m, const std::vector<char> &used) {
 // above that (every triangle lies under exactly one of them).
 void set_box_cut(Mesh &m) {
     const std::vector<BvhNode> &nodes = m.bvh.nodes;
+    std::vector<const BvhNode *> cut;
     std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};  // (node, depth)
     while (!stack.empty()) {
         const auto top = stack.back();
@@ -104,9 +105,18 @@ void set_box_cut(Mesh &m) {
             stack.push_back({n.first, top.second + 1});
             continue;
         }
-        m.box_cut.insert(m.box_cut.end(), n.center, n.center + 3);
-        m.box_cut.insert(m.box_cut.end(), n.half, n.half + 3);
+        cut.push_back(&n);
     }
+    if (cut.size() & 1) cut.push_back(cut.back());
+    const size_t count = cut.size();
+    m.box_cut_nodes = count;
+    m.box_cut.assign(Mesh::kBoxCutFields * count, 0.0);
+    for (size_t i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            m.box_cut[k * count + i] = cut[i]->center[k];
+            m.box_cut[(3 + k) * count + i] = cut[i]->half[k];
+            m.box_cut[(6 + k) * count + i] = std::fabs(cut[i]->center[k]) + cut[i]->half[k];
+        }
 }
 
 // Degenerate triangles and connected components (union-find on vertices).

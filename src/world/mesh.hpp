@@ -149,8 +149,13 @@ struct Mesh {
     // leaves), which hold every triangle: a body's box is the union of their
     // rotated boxes where tighter than the bounding sphere's (an elongated
     // mesh's by far), at ~2^kBoxCutDepth small transforms per new orientation.
+    // Stored field by field (kBoxCutFields rows of box_cut_nodes: centres
+    // x y z, half widths x y z, |centre| + half x y z), the node count even
+    // (the last node repeated), for a set_pose two nodes at a time.
     static constexpr uint32_t kBoxCutDepth = 3;
+    static constexpr size_t kBoxCutFields = 9;
     std::vector<double> box_cut;
+    size_t box_cut_nodes = 0;
     // What the convex path of the narrow phase (narrow/convex.cpp) needs
     // about a small convex mesh (SatData), behind one pointer so that other
     // meshes carry 8 bytes for it; null for them. (Tetrahedron pairs take

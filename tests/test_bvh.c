@@ -167,7 +167,7 @@ static void grid_cube(mesh_t *m, uint32_t n) {
 
 
 /* Fixture: the meshes every test uses. */
-enum { M_BLOB, M_KNOT, M_SMALL_BLOB, M_SHELL, M_GRID_CUBE, M_TETRA, M_COUNT };
+enum { M_BLOB, M_KNOT, M_SMALL_BLOB, M_SHELL, M_GRID_CUBE, M_TETRA, M_BOX, M_COUNT };
 static mesh_t meshes[M_COUNT];
 static oracle_mesh omesh[M_COUNT];
 
@@ -181,6 +181,7 @@ static int setup(void **state) {
     mesh_alloc(&meshes[M_TETRA], 4, 4);                        /* no tree */
     memcpy(meshes[M_TETRA].v, tetra_v, sizeof tetra_v);
     memcpy(meshes[M_TETRA].t, tetra_t, sizeof tetra_t);
+    grid_cube(&meshes[M_BOX], 2);                              /* 48: the largest without a tree */
     for (int k = 0; k < M_COUNT; ++k) {
         omesh[k].verts = meshes[k].v;
         omesh[k].tris = meshes[k].t;
@@ -200,6 +201,13 @@ static int teardown(void **state) {
 /* -------------------------------------------------------------- scene -- */
 
 #include "test_rng.h"
+
+static void random_direction(rng *r, double *u) {
+    const double z = 2 * unif(r) - 1, phi = 6.283185307179586 * unif(r);
+    u[0] = sqrt(1 - z * z) * cos(phi);
+    u[1] = sqrt(1 - z * z) * sin(phi);
+    u[2] = z;
+}
 
 static void random_quat(rng *r, double *q) {
     const double u1 = unif(r), u2 = unif(r), u3 = unif(r);
@@ -373,7 +381,7 @@ static void test_mesh_info(void **state) {
         assert_int_equal(info.triangle_count, meshes[k].nt);
         assert_int_equal(info.closed, 1);
         assert_int_equal(info.component_count, k == M_SHELL ? 2 : 1);
-        if (k == M_GRID_CUBE || k == M_TETRA) assert_int_equal(info.convex, 1);
+        if (k == M_GRID_CUBE || k == M_TETRA || k == M_BOX) assert_int_equal(info.convex, 1);
         else assert_int_equal(info.convex, 0);
     }
     hgcd_world_destroy(sc.w);
@@ -429,8 +437,9 @@ static void test_random_pairs(void **state) {
  * the other surface. */
 static void test_shallow_contact(void **state) {
     (void)state;
-    const int pairs[][2] = {{M_BLOB, M_BLOB}, {M_KNOT, M_BLOB}, {M_KNOT, M_KNOT},
-                            {M_GRID_CUBE, M_SMALL_BLOB}, {M_TETRA, M_KNOT}, {M_SHELL, M_KNOT}};
+    const int pairs[][2] = {{M_BLOB, M_BLOB},      {M_KNOT, M_BLOB}, {M_KNOT, M_KNOT},
+                            {M_GRID_CUBE, M_SMALL_BLOB}, {M_TETRA, M_KNOT}, {M_SHELL, M_KNOT},
+                            {M_BOX, M_BLOB},       {M_SHELL, M_BOX}};
     rng r = {42};
     for (size_t p = 0; p < sizeof pairs / sizeof pairs[0]; ++p) {
         for (int rep = 0; rep < 2; ++rep) {
@@ -503,6 +512,62 @@ static void test_containment(void **state) {
     assert_int_equal(ct[2].kind, HGCD_CONTACT_B_CONTAINS_A); /* (4, 5): 5 holds the tetra */
     assert_int_equal(ct[3].kind, HGCD_CONTACT_B_CONTAINS_A); /* (6, 7): the cube holds 6 */
     hgcd_world_destroy(sc.w);
+}
+
+/* Meshes without a tree (a 48-triangle cube, a tetrahedron) against meshes
+ * with one, either body first: the pair is traversed in the tree's frame
+ * with the other's box as one node. Containment both ways (the tree-less
+ * cube holding a tree mesh, a tree mesh holding it), near misses and
+ * crossings at random turns, each checked against the oracle. */
+static void test_tree_against_point_node(void **state) {
+    (void)state;
+    rng r = {101};
+    size_t total = 0, total_containment = 0;
+    for (int order = 0; order < 2; ++order) {
+        scene sc;
+        scene_init(&sc, 1 + (uint32_t)order);
+        for (int p = 0; p < 24; ++p) {
+            static const int trees[] = {M_BLOB, M_KNOT, M_SHELL, M_GRID_CUBE};
+            const int kt = trees[p % 4], kp = p % 3 ? M_BOX : M_TETRA;
+            double qt[4], qp[4], u[3], pt[3], pp[3];
+            random_quat(&r, qt);
+            random_quat(&r, qp);
+            random_direction(&r, u);
+            /* Scales: the tree-less body large enough to hold the tree mesh
+             * (p % 6 == 1), small enough to sit inside it (p % 6 == 2), or
+             * alike; distance from 0 to past touching. */
+            const double st = 1.0, sp = p % 6 == 1 ? 4.0 : p % 6 == 2 ? 0.1 : 0.3 + unif(&r);
+            const double d = p % 6 == 1 || p % 6 == 2 ? 0.0 : 1.1 * unif(&r) * (mesh_radius(kt) + sp * mesh_radius(kp));
+            for (int k = 0; k < 3; ++k) {
+                pt[k] = 20.0 * p;
+                pp[k] = pt[k] + d * u[k];
+            }
+            if (order == 0) {
+                add(&sc, kp, pp, qp, sp);
+                add(&sc, kt, pt, qt, st);
+            } else {
+                add(&sc, kt, pt, qt, st);
+                add(&sc, kp, pp, qp, sp);
+            }
+        }
+        size_t c;
+        total += check(&sc, &c);
+        total_containment += c;
+        /* The holder is the larger body (scales 4 against 1, 1 against 0.1). */
+        const hgcd_contact *ct;
+        size_t nc;
+        assert_int_equal(hgcd_world_contacts(sc.w, &ct, &nc), HGCD_OK);
+        for (size_t k = 0; k < nc; ++k) {
+            if (ct[k].kind == HGCD_CONTACT_SURFACE) continue;
+            const uint32_t a = ct[k].pair.a.index, b = ct[k].pair.b.index;
+            const uint32_t holder = ct[k].kind == HGCD_CONTACT_A_CONTAINS_B ? a : b, held = holder == a ? b : a;
+            assert_true(sc.scale[holder] * mesh_radius(sc.kind[holder]) > sc.scale[held] * mesh_radius(sc.kind[held]));
+        }
+        hgcd_world_destroy(sc.w);
+    }
+    assert_true(total >= 8 && total_containment >= 4 && total + 8 <= 48);
+    fprintf(stderr, "tree against point node: 48 pairs, %zu colliding, %zu by containment\n", total,
+            total_containment);
 }
 
 /* A small cube inside a large one (both with trees, turned alike), its face
@@ -643,6 +708,7 @@ int main(void) {
         cmocka_unit_test(test_shallow_contact),
         cmocka_unit_test(test_containment),
         cmocka_unit_test(test_containment_at_face),
+        cmocka_unit_test(test_tree_against_point_node),
         cmocka_unit_test(test_nested_shells),
         cmocka_unit_test(test_exact_grid_contacts),
         cmocka_unit_test(test_meshes_scene_small),

@@ -105,6 +105,10 @@ inline double orthonormal_defect(const double *u) {
     return std::isfinite(worst) ? worst * (1 + 1e-12) : INFINITY;
 }
 
+// Writes node k's fields (n and its fitted box o) into its lane of `block`
+// (both lanes for the root, k = 0).
+void node_lanes(const BvhNode &n, const NodeObb &o, uint32_t k, double *block);
+
 // Fits an oriented box to each of the tree's nodes (principal axes of their
 // vertices) and fills bvh.lanes, on up to `threads` threads.
 void fit_node_obbs(const double *vertices, Bvh &bvh, int threads = 1);
@@ -122,6 +126,10 @@ struct BodyView {
     const BvhNode *nodes = nullptr;  // null: treated as one leaf of every triangle
     const uint32_t *tris = nullptr;  // leaf-order triangles (mesh order without a tree)
     const uint32_t *tri_ids = nullptr;  // mesh index of leaf-order triangle (null: identity)
+    // The tree's root, or without a tree the mesh's point node (Mesh), and
+    // the matching lanes (Bvh::lanes or Mesh::point_lanes).
+    const BvhNode *root = nullptr;
+    const double *lanes = nullptr;
     Rotation r;
     const double *position = nullptr;
     double scale = 1;

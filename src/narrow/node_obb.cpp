@@ -123,6 +123,23 @@ void fit_node(const double *vertices, const uint32_t *corners, size_t corner_cou
 
 }  // namespace
 
+void node_lanes(const BvhNode &n, const NodeObb &o, uint32_t k, double *block) {
+    double field[22];
+    const uint64_t link = node_link(n);
+    std::memcpy(&field[kLinkField], &link, sizeof link);
+    for (int i = 0; i < 3; ++i) {
+        field[i] = n.center[i];
+        field[3 + i] = n.half[i];
+        field[6 + i] = o.center[i];
+        field[18 + i] = o.half[i];
+    }
+    for (int i = 0; i < 9; ++i) field[9 + i] = o.axis[i];
+    for (int f = 0; f < 22; ++f) {
+        if (k == 0) block[2 * f] = field[f];
+        block[2 * f + lane_of(k)] = field[f];
+    }
+}
+
 void fit_node_obbs(const double *vertices, Bvh &bvh, int threads) {
     const size_t nn = bvh.nodes.size();
     std::vector<NodeObb> obb(nn);
@@ -149,22 +166,7 @@ void fit_node_obbs(const double *vertices, Bvh &bvh, int threads) {
     bvh.lanes.assign(kLaneBlock * (nn / 2 + 1), 0.0);
     for (size_t k = 0; k < nn; ++k) {
         const BvhNode &n = bvh.nodes[k];
-        const NodeObb &o = obb[k];
-        double field[22];
-        const uint64_t link = node_link(n);
-        std::memcpy(&field[kLinkField], &link, sizeof link);
-        for (int i = 0; i < 3; ++i) {
-            field[i] = n.center[i];
-            field[3 + i] = n.half[i];
-            field[6 + i] = o.center[i];
-            field[18 + i] = o.half[i];
-        }
-        for (int i = 0; i < 9; ++i) field[9 + i] = o.axis[i];
-        double *block = &bvh.lanes[kLaneBlock * lane_block(uint32_t(k))];
-        for (int f = 0; f < 22; ++f) {
-            if (k == 0) block[2 * f] = field[f];
-            block[2 * f + lane_of(uint32_t(k))] = field[f];
-        }
+        node_lanes(n, obb[k], uint32_t(k), &bvh.lanes[kLaneBlock * lane_block(uint32_t(k))]);
     }
 }
 

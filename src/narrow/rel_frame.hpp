@@ -20,7 +20,8 @@
 // 1e-6) is n R_u + (1 - n) I, R_u a rotation (rotation_entries), so with
 // the entries' roundings ||R||_2 <= 1 + 2.1e-6: rows and columns have 2-norm
 // below that and 1-norm <= 1.74; L_a = max_k (|c_k| + h_k) of a's root box bounds |p|
-// for every vertex p of a (the root's mesh-frame box holds them all), P_a =
+// for every vertex p of a (the root's mesh-frame box holds them all; a
+// mesh without a tree: its point node, Mesh::point_node), P_a =
 // |pos_a|; likewise for b; sigma = s_b / s_a.
 //
 // a's vertices. w~ = T_a(p) + e, |e| <= g_5 (P_a + 1.74 s_a L_a) (the five
@@ -136,7 +137,7 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
                         std::fabs(root.center[2]) + root.half[2]);
     };
     auto pmax = [](const double *p) { return std::max(std::max(std::fabs(p[0]), std::fabs(p[1])), std::fabs(p[2])); };
-    const double la = reach(a.nodes[0]), lb = reach(b.nodes[0]);
+    const double la = reach(*a.root), lb = reach(*b.root);
     const double pa = pmax(a.position) / a.scale, pab = (pmax(a.position) + pmax(b.position)) / a.scale;
     const double columns[9] = {ra[0], ra[3], ra[6], ra[1], ra[4], ra[7], ra[2], ra[5], ra[8]};
     const double rho = orthonormal_defect(columns);

@@ -53,6 +53,8 @@ void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, 
     }
     v.world = c.world.get();
     v.vertex_stamp = c.vertex_stamp.data();
+    v.root = m.bvh.empty() ? &m.point_node : &m.bvh.nodes[0];
+    v.lanes = m.bvh.empty() ? m.point_lanes.data() : m.bvh.lanes.data();
     if (m.bvh.empty()) {
         // A small mesh: one leaf with every triangle, its exact box.
         v.nodes = nullptr;
@@ -435,7 +437,7 @@ bool vertex_outside(const RelFrame &f, const BodyView &outer, const double *v) {
     }
     double image[kImageBlock];
     node_images(f, in, image);
-    return rel_apart2<false, false>(f, outer.mesh->bvh.lanes.data(), lane_of(0), image, 0) & 1;
+    return rel_apart2<false, false>(f, outer.lanes, lane_of(0), image, 0) & 1;
 }
 
 // Outer's frame with inner as its other side (prepare_frame(outer, inner)),
@@ -514,22 +516,42 @@ uint32_t ancestor(const Bvh &t, uint32_t n) {
 template <bool kMargin>
 Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Witness *witness, bool counted,
                      double d, NodeHint *hint) {
+    // A mesh without a tree against one with: the pair is traversed in the
+    // tree's frame, so the tree's side goes first (and the answers are
+    // turned back).
+    if (!kMargin && a.mesh->bvh.empty() && !b.mesh->bvh.empty()) {
+        NodeHint turned;
+        if (hint) {
+            turned = *hint;
+            std::swap(turned.node_a, turned.node_b);
+        }
+        Witness w;
+        const Contact c = collide_tree<kMargin>(b, a, s, &w, counted, d, hint ? &turned : nullptr);
+        if (hint) {
+            *hint = turned;
+            std::swap(hint->node_a, hint->node_b);
+        }
+        if (witness && c != Contact::None)
+            *witness = Witness{w.tri_b, w.tri_a, c == Contact::Containment ? !w.a_holds_b : w.a_holds_b, true};
+        return c;
+    }
     next_epoch(s);
     BodyView va, vb;
     prepare_side(a, s.side[0], s.epoch, va);
     prepare_side(b, s.side[1], s.epoch, vb);
-    // Both with trees: the node tests in a's mesh frame.
+    // a with a tree: the node tests in a's mesh frame, b's nodes (or its
+    // point node, Mesh::point_node) mapped there.
     RelFrame frame;
     Images img{&frame, nullptr, nullptr, nullptr, s.epoch, 0};
-    const bool rel = !kMargin && va.nodes && vb.nodes && prepare_frame(va, vb, frame);
+    const bool rel = !kMargin && va.nodes && prepare_frame(va, vb, frame);
     if (rel) {
         NarrowScratch::Side &c = s.side[1];
-        const size_t nn = b.mesh->bvh.lanes.size() / kLaneBlock;
+        const size_t nn = vb.nodes ? b.mesh->bvh.lanes.size() / kLaneBlock : 1;
         if (c.image_slot.size() < nn) {
             c.image_slot.resize(nn, 0);
             c.images.reset(new double[kImageBlock * nn]);
         }
-        img.lanes = b.mesh->bvh.lanes.data();
+        img.lanes = vb.lanes;
         img.data = c.images.get();
         img.slot = c.image_slot.data();
     }
@@ -547,7 +569,7 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     // The root pair apart in a's frame: so are the solids (each lies in the
     // convex hull of its surface, inside its root's certified boxes), and
     // containment need not be asked.
-    if (rel && roots_apart(frame, a.mesh->bvh.lanes.data(), img)) return Contact::None;
+    if (rel && roots_apart(frame, va.lanes, img)) return Contact::None;
     // A pair that met at the last detect mostly meets again: its hint is
     // tried first. Others (new pairs, or apart at the last detect) try the
     // hulls first, from the last detect's axis when they have one (a world
@@ -561,9 +583,12 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     // then costs no traversal at all).
     if (!kMargin && !va.nodes) narrow_to_near(va, vb.box(0));
     if (!kMargin && !vb.nodes) narrow_to_near(vb, va.box(0));
+    // (None of them: the surfaces do not meet.)
+    const bool none_near = !kMargin && ((!va.nodes && !(va.near_box[0] <= va.near_box[3])) ||
+                                        (!vb.nodes && !(vb.near_box[0] <= vb.near_box[3])));
     uint32_t meet[2], leaves[2];
     bool met = false;
-    if (hint) {
+    if (hint && !none_near) {
         // The subtrees near where the surfaces met at the last detect,
         // searched first: after a tick of motion they mostly still meet there.
         const uint32_t na = va.nodes ? uint32_t(a.mesh->bvh.nodes.size()) : 1;
@@ -571,7 +596,7 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         if (hint->node_a < na && hint->node_b < nb)
             met = search(hint->node_a, hint->node_b, meet, leaves);
     }
-    if (met || search(0, 0, meet, leaves, rel)) {
+    if (!none_near && (met || search(0, 0, meet, leaves, rel))) {
         if (witness)
             *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
         if (hint) *hint = NodeHint{ancestor(a.mesh->bvh, leaves[0]), ancestor(b.mesh->bvh, leaves[1]), true};

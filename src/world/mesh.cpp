@@ -119,6 +119,30 @@ void set_box_cut(Mesh &m) {
         }
 }
 
+// Mesh::point_node and point_lanes: [c - half, c + half] holds every vertex
+// exactly (the half widths rounded up, as a tree node's).
+void set_point_node(Mesh &m) {
+    double l[3] = {INFINITY, INFINITY, INFINITY}, h[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < m.vertex_count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            l[k] = std::min(l[k], m.vertices[3 * size_t(i) + k]);
+            h[k] = std::max(h[k], m.vertices[3 * size_t(i) + k]);
+        }
+    BvhNode &n = m.point_node;
+    NodeObb o;
+    for (int k = 0; k < 3; ++k) {
+        if (!(l[k] <= h[k])) l[k] = h[k] = 0;  // (no vertex)
+        const double c = 0.5 * l[k] + 0.5 * h[k];
+        n.center[k] = o.center[k] = c;
+        n.half[k] = o.half[k] = std::nextafter(std::max(h[k] - c, c - l[k]), INFINITY);
+    }
+    for (int k = 0; k < 9; ++k) o.axis[k] = k % 4 == 0;
+    n.first = 0;
+    n.count = m.triangle_count;
+    m.point_lanes.assign(kLaneBlock, 0.0);
+    node_lanes(n, o, 0, m.point_lanes.data());
+}
+
 // Degenerate triangles and connected components (union-find on vertices).
 void set_components(Mesh &m, const std::vector<char> &used) {
     const double *vertices = m.vertices.data();
@@ -487,6 +511,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     set_convexity(m, used);
     set_tetra(m);
     set_sat(m, used, same, tetra_sat);
+    if (triangle_count <= kBvhMinTriangles) set_point_node(m);
     if (triangle_count > kBvhMinTriangles) {
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh, threads);
         if (vertex_count <= Mesh::kHullPoints) m.hull = build_hull(m.vertices.data(), used, Mesh::kHullVertices);

@@ -165,6 +165,13 @@ struct Mesh {
     // Triangle tree in the mesh frame; empty for meshes of at most
     // kBvhMinTriangles triangles (the narrow phase tests those directly).
     Bvh bvh;
+    // For meshes without a tree: the box of all vertices (rounded outward,
+    // as a tree node's) as one node, first 0 and count triangle_count, and
+    // its lanes block (Bvh::lanes, identity axes): against a mesh with a
+    // tree, the pair is traversed in that mesh's frame with this node as
+    // the other side (narrow/tree_path.cpp).
+    BvhNode point_node{};
+    std::vector<double> point_lanes;
     // For meshes with a tree and at most kHullPoints vertices: the convex
     // hull of the used vertices, if it has at most kHullVertices (else none,
     // as for a flat mesh). Two bodies' hulls apart decide their pair before

@@ -42,14 +42,7 @@ struct Builder {
                 h[k] = std::max(h[k], hi[3 * size_t(tr) + k]);
             }
         }
-        for (int k = 0; k < 3; ++k) {
-            // Round the half width up, so [c - half, c + half] holds [l, h]
-            // exactly: fl(x) >= x - ulp/2, and the next double up is above x.
-            const double c = 0.5 * l[k] + 0.5 * h[k];
-            const double half = std::max(h[k] - c, c - l[k]);
-            n.center[k] = c;
-            n.half[k] = std::nextafter(half, INFINITY);
-        }
+        set_node_box(n, l, h);
     }
 
     // The bin of triangle tr's centroid on `axis`: scale = kBins (1 - 1e-9)

@@ -69,6 +69,17 @@ inline uint64_t lane_link(const double *block, int k, int l) {
     return w;
 }
 
+// Sets n's centre and half widths from the box [l, h] of its points so
+// that [c - half, c + half] holds [l, h] exactly: fl(x) >= x - ulp/2, and
+// the next double up from the rounded half width is above the exact one.
+inline void set_node_box(BvhNode &n, const double *l, const double *h) {
+    for (int k = 0; k < 3; ++k) {
+        const double c = 0.5 * l[k] + 0.5 * h[k];
+        n.center[k] = c;
+        n.half[k] = std::nextafter(std::max(h[k] - c, c - l[k]), INFINITY);
+    }
+}
+
 struct Bvh {
     std::vector<BvhNode> nodes;     // nodes[0] is the root; empty: no tree
     std::vector<double> lanes;      // kLaneBlock per block of two siblings

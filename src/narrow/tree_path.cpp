@@ -297,7 +297,7 @@ inline double lane_dist2(const double *x, int k, int l, const double *y, int j, 
 template <bool kWide>
 HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
                              uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
-    const double *lanes_a = a.mesh->bvh.lanes.data();
+    const double *lanes_a = a.lanes;
     const RelFrame &f = *img.f;
     auto block_a = [&](uint32_t n) __attribute__((always_inline)) { return lanes_a + kLaneBlock * lane_block(n); };
     std::vector<uint64_t> &stack = s.pair_stack;

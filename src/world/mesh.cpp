@@ -128,13 +128,14 @@ void set_point_node(Mesh &m) {
             l[k] = std::min(l[k], m.vertices[3 * size_t(i) + k]);
             h[k] = std::max(h[k], m.vertices[3 * size_t(i) + k]);
         }
+    for (int k = 0; k < 3; ++k)
+        if (!(l[k] <= h[k])) l[k] = h[k] = 0;  // (no vertex)
     BvhNode &n = m.point_node;
+    set_node_box(n, l, h);
     NodeObb o;
     for (int k = 0; k < 3; ++k) {
-        if (!(l[k] <= h[k])) l[k] = h[k] = 0;  // (no vertex)
-        const double c = 0.5 * l[k] + 0.5 * h[k];
-        n.center[k] = o.center[k] = c;
-        n.half[k] = o.half[k] = std::nextafter(std::max(h[k] - c, c - l[k]), INFINITY);
+        o.center[k] = n.center[k];
+        o.half[k] = n.half[k];
     }
     for (int k = 0; k < 9; ++k) o.axis[k] = k % 4 == 0;
     n.first = 0;
@@ -511,10 +512,11 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
     set_convexity(m, used);
     set_tetra(m);
     set_sat(m, used, same, tetra_sat);
-    if (triangle_count <= kBvhMinTriangles) set_point_node(m);
     if (triangle_count > kBvhMinTriangles) {
         build_bvh(m.vertices.data(), m.triangles.data(), triangle_count, &m.bvh, threads);
         if (vertex_count <= Mesh::kHullPoints) m.hull = build_hull(m.vertices.data(), used, Mesh::kHullVertices);
+    } else {
+        set_point_node(m);
     }
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
     *out = std::move(m);

@@ -327,57 +327,9 @@ void World::set_box_offsets_general(size_t s) {
             hi[k] = c[k] + reach * (1 + 1e-12);
         }
         // Where tighter, the union of the rotated boxes of the tree's node
-        // cut (Mesh::box_cut). For a node [c - h, c + h] and any vertex v under
-        // it, the computed offset d_v (transform_point, zero position) is
-        // within g_5 M_a of the exact R (s v), M_a = sum_j |R_aj| s |v_j| <=
-        // sum_j |R_aj| s (|c_j| + h_j) = `far`, and R (s v) within E_a =
-        // sum_j |R_aj| s h_j of R (s c); the computed centre offset o is
-        // within g_5 M_a of R (s c), the computed E_a and far within g_5
-        // relatively, the final add/subtract within u (|o_a| + E_a + margin)
-        // <= 3u far: all under 2e-15 far, far below the margin 1e-14 far
-        // (+ 1e-300 for underflow).
-        // (Two nodes a step, each lane the scalar formula.)
-        const size_t count = m.box_cut_nodes;
-        const double *cut = m.box_cut.data();
-        auto row = [&](size_t k, size_t n) {
-            f64x2 v;
-            std::memcpy(&v, cut + k * count + n, sizeof v);
-            return v;
-        };
-        const f64x2 sv = {pl.scale, pl.scale};
-        f64x2 rm[9], ra[9];
-        for (int k = 0; k < 9; ++k) {
-            rm[k] = f64x2{r.m[k], r.m[k]};
-            ra[k] = f64x2{std::fabs(r.m[k]), std::fabs(r.m[k])};
-        }
-        f64x2 vlo[3], vhi[3];
-        for (int a = 0; a < 3; ++a) {
-            vlo[a] = f64x2{INFINITY, INFINITY};
-            vhi[a] = f64x2{-INFINITY, -INFINITY};
-        }
-        for (size_t n = 0; n < count; n += 2) {
-            f64x2 l[3], sh[3], sm[3];
-            for (int k = 0; k < 3; ++k) {
-                l[k] = sv * row(k, n);
-                sh[k] = sv * row(3 + k, n);
-                sm[k] = sv * row(6 + k, n);
-            }
-            for (int a = 0; a < 3; ++a) {
-                const f64x2 *x = rm + 3 * a, *y = ra + 3 * a;
-                const f64x2 o = (x[0] * l[0] + x[1] * l[1]) + x[2] * l[2];
-                const f64x2 extent = (y[0] * sh[0] + y[1] * sh[1]) + y[2] * sh[2];
-                const f64x2 far = (y[0] * sm[0] + y[1] * sm[1]) + y[2] * sm[2];
-                const f64x2 d = extent + (1e-14 * far + 1e-300);
-                const f64x2 low = o - d, high = o + d;
-                vlo[a] = low < vlo[a] ? low : vlo[a];
-                vhi[a] = high > vhi[a] ? high : vhi[a];
-            }
-        }
+        // cut (Mesh::box_cut, pose_box.hpp).
         double cut_lo[3], cut_hi[3];
-        for (int a = 0; a < 3; ++a) {
-            cut_lo[a] = std::min(vlo[a][0], vlo[a][1]);
-            cut_hi[a] = std::max(vhi[a][0], vhi[a][1]);
-        }
+        cut_box(r, pl.scale, m.box_cut.data(), m.box_cut_nodes, m.box_cut_reach, cut_lo, cut_hi);
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::max(lo[k], cut_lo[k]);
             hi[k] = std::min(hi[k], cut_hi[k]);

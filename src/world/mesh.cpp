@@ -107,7 +107,7 @@ void set_box_cut(Mesh &m) {
         }
         cut.push_back(&n);
     }
-    if (cut.size() & 1) cut.push_back(cut.back());
+    while (cut.size() % 4) cut.push_back(cut.back());
     const size_t count = cut.size();
     m.box_cut_nodes = count;
     m.box_cut.assign(Mesh::kBoxCutFields * count, 0.0);
@@ -115,7 +115,7 @@ void set_box_cut(Mesh &m) {
         for (int k = 0; k < 3; ++k) {
             m.box_cut[k * count + i] = cut[i]->center[k];
             m.box_cut[(3 + k) * count + i] = cut[i]->half[k];
-            m.box_cut[(6 + k) * count + i] = std::fabs(cut[i]->center[k]) + cut[i]->half[k];
+            m.box_cut_reach[k] = std::max(m.box_cut_reach[k], std::fabs(cut[i]->center[k]) + cut[i]->half[k]);
         }
 }
 

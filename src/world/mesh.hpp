@@ -150,12 +150,14 @@ struct Mesh {
     // rotated boxes where tighter than the bounding sphere's (an elongated
     // mesh's by far), at ~2^kBoxCutDepth small transforms per new orientation.
     // Stored field by field (kBoxCutFields rows of box_cut_nodes: centres
-    // x y z, half widths x y z, |centre| + half x y z), the node count even
-    // (the last node repeated), for a set_pose two nodes at a time.
+    // x y z, half widths x y z), the node count a multiple of 4 (the last
+    // node repeated), for a set_pose four nodes at a time; box_cut_reach[k]:
+    // the largest |centre_k| + half_k.
     static constexpr uint32_t kBoxCutDepth = 3;
-    static constexpr size_t kBoxCutFields = 9;
+    static constexpr size_t kBoxCutFields = 6;
     std::vector<double> box_cut;
     size_t box_cut_nodes = 0;
+    double box_cut_reach[3] = {0, 0, 0};
     // What the convex path of the narrow phase (narrow/convex.cpp) needs
     // about a small convex mesh (SatData), behind one pointer so that other
     // meshes carry 8 bytes for it; null for them. (Tetrahedron pairs take

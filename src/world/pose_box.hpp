@@ -2,6 +2,7 @@
 // new orientation costs a body of a small mesh (hgcd_body_set_pose,
 // hgcd_world_set_poses, creation).
 #pragma once
+#include <cstddef>
 #include <cstdint>
 
 #include "common/transform.hpp"
@@ -18,6 +19,14 @@ void record_box(const Rotation &r, double s, const double *record, uint32_t grou
 // The same box rounded outward to float (broad::round_outward's bits):
 // off[0..2] the low corner, off[3..5] the high one.
 void record_float_box(const Rotation &r, double s, const double *record, uint32_t groups, float *off);
+
+// The box [lo, hi] holding the offsets 0 + R (s v) that transform_point
+// computes for every vertex v under a mesh's box cut (Mesh::box_cut: rows
+// of `count` nodes, count a multiple of 4, centres x y z then half widths
+// x y z; reach[k] >= |centre_k| + half_k of every node): the union of the
+// nodes' rotated boxes, widened past the roundings (pose_box.cpp).
+void cut_box(const Rotation &r, double s, const double *cut, size_t count, const double *reach, double *lo,
+             double *hi);
 
 // One body's part in record_float_boxes4: its orientation (x y z w) and
 // scale, its mesh's record of `groups` groups (at least 1), and where its

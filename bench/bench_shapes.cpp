@@ -41,7 +41,10 @@
 //
 // One JSON line: hgcd's set_pose and detect medians, narrow_ms, candidates,
 // colliding pairs, detect cost per candidate (ns); FCL's tick median, its
-// candidates and pairs; the ratio fcl_ms / hgcd_detect_ms; and the pair sets
+// candidates and pairs; the ratio fcl_ms / hgcd_detect_ms, and
+// fcl_over_hgcd_tick_cpu, the median over ticks of FCL's tick over hgcd's
+// set_pose + detect in the same tick (process CPU: a host whose speed
+// shifts between runs moves both sides of a tick's ratio alike); and the pair sets
 // compared on the last tick: fcl_only, hgcd_only (beyond hgcd's containment
 // pairs, which FCL's surface test of meshes misses) — FCL rounds its own
 // way, so touching pairs may differ. pairs_fnv hashes hgcd's pairs of every
@@ -421,25 +424,26 @@ int main(int argc, char **argv) {
 #ifdef HGCD_BENCH_FCL
     std::unique_ptr<Fcl> f;
     if (fcl) f.reset(new Fcl(s));
-    std::vector<double> fcl_ms, fcl_cpu_ms;
+    std::vector<double> fcl_ms, fcl_cpu_ms, tick_ratio;  // tick_ratio: FCL's tick / hgcd's (set_pose + detect), CPU
     FclPairs fd;
 #else
     (void)fcl;
 #endif
-    std::vector<double> pose_ms, detect_ms, narrow_ms, detect_cpu_ms;
+    std::vector<double> pose_ms, detect_ms, narrow_ms, detect_cpu_ms, tick_cpu_ms;
     hgcd_stats st;
     uint64_t fnv = 14695981039346656037ull;
     std::vector<uint64_t> mine;
     for (int k = 0; k < ticks; ++k) {
         hgcd_scene_tetra_move(n, s.side, s.centers.data(), s.velocities.data());
         if (turn > 0) turn_bodies(s);
-        const double t0 = now();
+        const double t0 = now(), c0 = cpu_now();
         for (uint64_t i = 0; i < n; ++i)
             check(hgcd_body_set_pose(w, bodies[i], &s.centers[3 * i], &s.quats[4 * i]), w, "set_pose");
         const double t1 = now(), c1 = cpu_now();
         check(hgcd_world_detect(w), w, "world_detect");
         const double t2 = now(), c2 = cpu_now();
         detect_cpu_ms.push_back(1e3 * (c2 - c1));
+        tick_cpu_ms.push_back(1e3 * (c2 - c0));
         pose_ms.push_back(1e3 * (t1 - t0));
         detect_ms.push_back(1e3 * (t2 - t1));
         std::memset(&st, 0, sizeof st);
@@ -453,6 +457,7 @@ int main(int argc, char **argv) {
             fd = f->tick(s);
             fcl_ms.push_back(1e3 * (now() - t3));
             fcl_cpu_ms.push_back(1e3 * (cpu_now() - c3));
+            tick_ratio.push_back(fcl_cpu_ms.back() / tick_cpu_ms.back());
         }
 #endif
     }
@@ -472,10 +477,10 @@ int main(int argc, char **argv) {
         const double fm = median(fcl_ms), fc = median(fcl_cpu_ms);
         std::printf(",\"fcl_ms\":%.3f,\"fcl_cpu_ms\":%.3f,\"fcl_candidates\":%llu,\"fcl_pairs\":%llu,"
                     "\"fcl_ns_per_candidate\":%.1f,\"fcl_only\":%llu,\"hgcd_only\":%llu,\"fcl_over_hgcd_detect\":%.2f,"
-                    "\"fcl_over_hgcd_detect_cpu\":%.2f",
+                    "\"fcl_over_hgcd_detect_cpu\":%.2f,\"fcl_over_hgcd_tick_cpu\":%.2f",
                     fm, fc, (unsigned long long)fd.candidates, (unsigned long long)fd.pairs.size(),
                     fd.candidates ? 1e6 * fc / double(fd.candidates) : 0.0, (unsigned long long)fcl_only.size(),
-                    (unsigned long long)hgcd_only.size(), fm / detect, fc / detect_cpu);
+                    (unsigned long long)hgcd_only.size(), fm / detect, fc / detect_cpu, median(tick_ratio));
     }
 #endif
     std::printf("}\n");

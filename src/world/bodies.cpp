@@ -351,6 +351,7 @@ void World::set_box_offsets_general(size_t s) {
 // rounding of the sum), so boxes of a pair within d overlap once each is
 // grown by its g. 0 when both margins are 0 (the boxes of today).
 double World::box_growth(size_t s) const {
+    if (world_margin_ == 0 && margin_bodies_ == 0) return 0;  // (no read of margin_: a cache miss a pose)
     const double m = margin_[s];
     if (world_margin_ == 0 && m == 0) return 0;
     const double g = (world_margin_ * 0.5 + m) * (1 + 0x1p-48);

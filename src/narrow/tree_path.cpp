@@ -24,6 +24,7 @@
 #include "narrow/hull.hpp"
 #include "narrow/narrow.hpp"
 #include "narrow/rel_frame.hpp"
+#include "narrow/tree_leaves.hpp"
 
 namespace hgcd {
 
@@ -85,70 +86,6 @@ void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, 
     v.box_stamp = c.box_stamp.data();
 }
 
-inline void leaf_range(const BodyView &v, uint32_t n, uint32_t &first, uint32_t &count) {
-    if (v.nodes) {
-        first = v.nodes[n].first;
-        count = v.nodes[n].count;
-    } else {
-        first = 0;
-        count = v.mesh->triangle_count;
-    }
-}
-
-inline void view_triangle_box(BodyView &v, uint32_t t, const double *(&p)[3], double *box) {
-    const uint32_t *f = &v.tris[3 * size_t(t)];
-    p[0] = v.vertex(f[0]);
-    p[1] = v.vertex(f[1]);
-    p[2] = v.vertex(f[2]);
-    for (int k = 0; k < 3; ++k) {
-        box[k] = std::min(std::min(p[0][k], p[1][k]), p[2][k]);
-        box[3 + k] = std::max(std::max(p[0][k], p[1][k]), p[2][k]);
-    }
-}
-
-// Exact test of the triangles of leaf i of a against those of leaf j of b.
-// On a meeting pair, sets meet[0], meet[1] to their leaf-order indices.
-// With kMargin: a triangle pair within d (boxes grown by d).
-template <bool kMargin>
-bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uint32_t j,
-                 const double *node_b, NarrowScratch &s, uint32_t *meet, double d) {
-    uint32_t fa, na, fb, nb;
-    leaf_range(a, i, fa, na);
-    leaf_range(b, j, fb, nb);
-    // Triangles of b that reach a's node box, with their exact boxes.
-    s.near_b.tri.clear();
-    s.near_b.box.clear();
-    for (uint32_t t = fb; t < fb + nb; ++t) {
-        const double *q[3];
-        double tb[6];
-        view_triangle_box(b, t, q, tb);
-        if (kMargin ? boxes_apart(tb, node_a, d) : boxes_disjoint(tb, node_a)) continue;
-        s.near_b.tri.push_back(t);
-        s.near_b.box.insert(s.near_b.box.end(), tb, tb + 6);
-    }
-    if (s.near_b.tri.empty()) return false;
-    for (uint32_t t = fa; t < fa + na; ++t) {
-        const double *p[3];
-        double ta[6];
-        view_triangle_box(a, t, p, ta);
-        if (kMargin ? boxes_apart(ta, node_b, d) : boxes_disjoint(ta, node_b)) continue;
-        for (size_t k = 0; k < s.near_b.tri.size(); ++k) {
-            if (kMargin ? boxes_apart(ta, &s.near_b.box[6 * k], d) : boxes_disjoint(ta, &s.near_b.box[6 * k]))
-                continue;
-            const uint32_t *f = &b.tris[3 * size_t(s.near_b.tri[k])];
-            ++s.triangle_tests;
-            const double *q0 = b.vertex(f[0]), *q1 = b.vertex(f[1]), *q2 = b.vertex(f[2]);
-            if (kMargin ? tri_tri_within(p[0], p[1], p[2], q0, q1, q2, d)
-                        : tri_tri_intersect(p[0], p[1], p[2], q0, q1, q2)) {
-                meet[0] = t;
-                meet[1] = s.near_b.tri[k];
-                return true;
-            }
-        }
-    }
-    return false;
-}
-
 // Squared distance of box centres, times 4.
 inline double dist2(const double *x, const double *y) {
     const double dx = (x[0] + x[3]) - (y[0] + y[3]), dy = (x[1] + x[4]) - (y[1] + y[4]),
@@ -157,58 +94,6 @@ inline double dist2(const double *x, const double *y) {
 }
 
 inline double box_size(const double *b) { return (b[3] - b[0]) + (b[4] - b[1]) + (b[5] - b[2]); }
-
-// Is the box `other` (which holds every rounded world vertex under a node of
-// the other body) strictly on one side of the plane of each triangle of leaf
-// n of v? Then no triangle under that node meets the leaf. The axis is the
-// computed normal (any vector is a valid axis); a triangle projects within
-// its vertices' projections, each computed within g_3 sum_k |n_k v_k| of
-// exact, the box within its corners' extremes sum_k max(n_k lo_k, n_k hi_k)
-// (and min), computed within g_4 sum_k |n_k| max(|lo_k|, |hi_k|): margins of
-// 2e-15 times those sums (+ 1e-300 for underflow) cover them and the
-// rounding of the margins and comparisons. A zero normal proves nothing.
-bool leaf_planes_apart(BodyView &v, uint32_t n, const double *other) {
-    uint32_t first, count;
-    leaf_range(v, n, first, count);
-    for (uint32_t t = first; t < first + count; ++t) {
-        const uint32_t *f = &v.tris[3 * size_t(t)];
-        const double *p0 = v.vertex(f[0]), *p1 = v.vertex(f[1]), *p2 = v.vertex(f[2]);
-        const double u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-        const double w[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-        const double nx = u[1] * w[2] - u[2] * w[1], ny = u[2] * w[0] - u[0] * w[2], nz = u[0] * w[1] - u[1] * w[0];
-        const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
-        double tmin = INFINITY, tmax = -INFINITY, tmag = 0;
-        for (const double *p : {p0, p1, p2}) {
-            const double d = (nx * p[0] + ny * p[1]) + nz * p[2];
-            tmin = std::min(tmin, d);
-            tmax = std::max(tmax, d);
-            tmag = std::max(tmag, (ax * std::fabs(p[0]) + ay * std::fabs(p[1])) + az * std::fabs(p[2]));
-        }
-        const double bmax = (std::max(nx * other[0], nx * other[3]) + std::max(ny * other[1], ny * other[4])) +
-                            std::max(nz * other[2], nz * other[5]);
-        const double bmin = (std::min(nx * other[0], nx * other[3]) + std::min(ny * other[1], ny * other[4])) +
-                            std::min(nz * other[2], nz * other[5]);
-        const double bmag = (ax * std::max(std::fabs(other[0]), std::fabs(other[3])) +
-                             ay * std::max(std::fabs(other[1]), std::fabs(other[4]))) +
-                            az * std::max(std::fabs(other[2]), std::fabs(other[5]));
-        const double slack = 2e-15 * (tmag + bmag) + 1e-300;
-        if (!(bmin - slack > tmax || bmax + slack < tmin)) return false;
-    }
-    return true;
-}
-
-// A leaf of at most this many triangles is tried against the planes of its
-// triangles (leaf_planes_apart) before the other node is descended: a body
-// deep inside a large mesh, or near its flat faces, stops there.
-constexpr uint32_t kPlaneLeaf = 16;
-
-// The leaf of a node pair one of whose nodes is a leaf: is the other node
-// (world box `other`) strictly off the planes of the leaf's triangles?
-inline bool plane_cut(BodyView &lv, uint32_t ln, const double *other) {
-    uint32_t first, count;
-    leaf_range(lv, ln, first, count);
-    return count <= kPlaneLeaf && leaf_planes_apart(lv, ln, other);
-}
 
 // Do the surfaces meet under the node pair (start_a, start_b)? meet: the
 // meeting triangles (leaf order), leaves: their leaves. Node tests on world

@@ -7,7 +7,6 @@
 
 #include "broad/float_box.hpp"
 #include "common/ieee.hpp"
-#include "common/simd.hpp"
 #include "common/transform.hpp"
 #include "world/pose_box.hpp"
 #include "world/world.hpp"

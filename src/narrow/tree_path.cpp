@@ -424,6 +424,10 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
     BodyView va, vb;
     prepare_side(a, s.side[0], s.epoch, va);
     prepare_side(b, s.side[1], s.epoch, vb);
+    if (!kMargin && va.nodes && (root_ball_apart(va, vb) || root_ball_apart(vb, va))) {
+        s.exact_tests += counted;  // (as the roots' test below would have)
+        return Contact::None;
+    }
     // a with a tree: the node tests in a's mesh frame, b's nodes (or its
     // point node, Mesh::point_node) mapped there.
     RelFrame frame;

@@ -119,6 +119,15 @@ void set_box_cut(Mesh &m) {
         }
 }
 
+// Mesh::root_ball and root_reach (the factor 1 + 1e-12 covers the roundings
+// of the sum and the square root).
+void set_root_ball(Mesh &m) {
+    const BvhNode &n = m.bvh.empty() ? m.point_node : m.bvh.nodes[0];
+    const double *h = n.half;
+    m.root_ball = std::sqrt((h[0] * h[0] + h[1] * h[1]) + h[2] * h[2]) * ((1 + 4.3e-6) * (1 + 1e-12));
+    for (int k = 0; k < 3; ++k) m.root_reach = std::max(m.root_reach, std::fabs(n.center[k]) + h[k]);
+}
+
 // Mesh::point_node and point_lanes: [c - half, c + half] holds every vertex
 // exactly (the half widths rounded up, as a tree node's).
 void set_point_node(Mesh &m) {
@@ -519,6 +528,7 @@ bool build_mesh(const double *vertices, uint32_t vertex_count, const uint32_t *t
         set_point_node(m);
     }
     if (triangle_count > Mesh::kExactBoxTriangles) set_box_cut(m);
+    set_root_ball(m);
     *out = std::move(m);
     return true;
 }

@@ -174,6 +174,10 @@ struct Mesh {
     // the other side (narrow/tree_path.cpp).
     BvhNode point_node{};
     std::vector<double> point_lanes;
+    // The root node's (the tree's, or point_node): (1 + 4.3e-6) |half|_2
+    // rounded up, and its reach max_k |centre_k| + half_k, for the balls'
+    // test (narrow/rel_frame.hpp, root_ball_apart).
+    double root_ball = 0, root_reach = 0;
     // For meshes with a tree and at most kHullPoints vertices: the convex
     // hull of the used vertices, if it has at most kHullVertices (else none,
     // as for a flat mesh). Two bodies' hulls apart decide their pair before

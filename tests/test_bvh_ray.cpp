@@ -61,7 +61,7 @@ struct Posed {
         view.nodes = mesh.bvh.nodes.data();
         view.tris = mesh.bvh.tris.data();
         view.tri_ids = mesh.bvh.tri_ids.data();
-        view.set_pose(pos, quat, scale);
+        view.set_pose(pos, hgcd::rotation_of(quat), scale);
         view.world = world.data();
         view.vertex_stamp = vstamp.data();
         view.boxes = boxes.get();

@@ -181,10 +181,10 @@ struct BodyView {
     uint32_t mesh_triangle(uint32_t t) const { return tri_ids ? tri_ids[t] : t; }
 
     // Sets r, abs_r, abs_position from the pose.
-    void set_pose(const double *pos, const double *orientation, double s) {
+    void set_pose(const double *pos, const Rotation &rotation, double s) {
         position = pos;
         scale = s;
-        r = rotation_of(orientation);
+        r = rotation;
         for (int k = 0; k < 9; ++k) abs_r[k] = std::fabs(r.m[k]);
         for (int k = 0; k < 3; ++k) abs_position[k] = std::fabs(pos[k]);
     }

@@ -67,6 +67,7 @@
 // (f64x4 values passed between inlined helpers: no ABI boundary is crossed.)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #include "narrow/bvh.hpp"
+#include "world/mesh.hpp"
 
 namespace hgcd {
 
@@ -189,15 +190,22 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
 // m's, and the products before the division) stays under 2^-1066 / s_a.
 // Overflow leaves an infinity or a NaN in y or in the bound, and the test
 // answers not apart.
-inline bool root_ball_apart(const BodyView &a, const BodyView &b) {
-    auto pmax = [](const double *p) { return std::max(std::max(p[0], p[1]), p[2]); };
-    const BvhNode &na = *a.root;
+// A body's side of it: its mesh, rotation, position and scale.
+struct BallSide {
+    const Mesh &mesh;
+    const Rotation &r;
+    const double *position;
+    double scale;
+};
+inline bool root_ball_apart(const BallSide &a, const BallSide &b) {
+    auto pmax = [](const double *p) { return std::max(std::max(std::fabs(p[0]), std::fabs(p[1])), std::fabs(p[2])); };
+    const BvhNode &na = root_node(a.mesh);
     double m[3];
-    transform_point(b.r, b.position, b.scale, b.root->center, m);
-    const double inv = 1 / a.scale, pa = pmax(a.abs_position);
-    const double ball = (b.mesh->root_ball * b.scale + 5e-15 * (pmax(b.abs_position) + 1.74 * b.scale * b.mesh->root_reach) +
+    transform_point(b.r, b.position, b.scale, root_node(b.mesh).center, m);
+    const double inv = 1 / a.scale, pa = pmax(a.position);
+    const double ball = (b.mesh.root_ball * b.scale + 5e-15 * (pmax(b.position) + 1.74 * b.scale * b.mesh.root_reach) +
                          4e-15 * pa + 0x1p-1066) * inv +
-                        1e-5 * a.mesh->root_reach;
+                        1e-5 * a.mesh.root_reach;
     const double d[3] = {m[0] - a.position[0], m[1] - a.position[1], m[2] - a.position[2]};
     const double *r = a.r.m;
     bool apart = false;

@@ -41,11 +41,11 @@ void next_epoch(NarrowScratch &s) {
     }
 }
 
-void prepare_side(const BodyPose &pose, NarrowScratch::Side &c, uint32_t epoch, BodyView &v) {
+void prepare_side(const BodyPose &pose, const Rotation &r, NarrowScratch::Side &c, uint32_t epoch, BodyView &v) {
     const Mesh &m = *pose.mesh;
     v.mesh = &m;
     v.local = m.vertices.data();
-    v.set_pose(pose.position, pose.orientation, pose.scale);
+    v.set_pose(pose.position, r, pose.scale);
     v.epoch = epoch;
     const size_t nv = m.vertex_count;
     if (c.vertex_stamp.size() < nv) {
@@ -421,13 +421,17 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         return c;
     }
     next_epoch(s);
-    BodyView va, vb;
-    prepare_side(a, s.side[0], s.epoch, va);
-    prepare_side(b, s.side[1], s.epoch, vb);
-    if (!kMargin && va.nodes && (root_ball_apart(va, vb) || root_ball_apart(vb, va))) {
-        s.exact_tests += counted;  // (as the roots' test below would have)
-        return Contact::None;
+    const Rotation ra = rotation_of(a.orientation), rb = rotation_of(b.orientation);
+    if (!kMargin && !a.mesh->bvh.empty()) {
+        const BallSide sa{*a.mesh, ra, a.position, a.scale}, sb{*b.mesh, rb, b.position, b.scale};
+        if (root_ball_apart(sa, sb) || root_ball_apart(sb, sa)) {
+            s.exact_tests += counted;  // (as the roots' test below would have)
+            return Contact::None;
+        }
     }
+    BodyView va, vb;
+    prepare_side(a, ra, s.side[0], s.epoch, va);
+    prepare_side(b, rb, s.side[1], s.epoch, vb);
     // a with a tree: the node tests in a's mesh frame, b's nodes (or its
     // point node, Mesh::point_node) mapped there.
     RelFrame frame;
@@ -512,7 +516,7 @@ template Contact collide_tree<true>(const BodyPose &, const BodyPose &, NarrowSc
 
 void prepare_query_view(const BodyPose &pose, NarrowScratch &s, BodyView &v) {
     next_epoch(s);
-    prepare_side(pose, s.side[0], s.epoch, v);
+    prepare_side(pose, rotation_of(pose.orientation), s.side[0], s.epoch, v);
 }
 
 }  // namespace hgcd

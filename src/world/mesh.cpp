@@ -122,7 +122,7 @@ void set_box_cut(Mesh &m) {
 // Mesh::root_ball and root_reach (the factor 1 + 1e-12 covers the roundings
 // of the sum and the square root).
 void set_root_ball(Mesh &m) {
-    const BvhNode &n = m.bvh.empty() ? m.point_node : m.bvh.nodes[0];
+    const BvhNode &n = root_node(m);
     const double *h = n.half;
     m.root_ball = std::sqrt((h[0] * h[0] + h[1] * h[1]) + h[2] * h[2]) * ((1 + 4.3e-6) * (1 + 1e-12));
     for (int k = 0; k < 3; ++k) m.root_reach = std::max(m.root_reach, std::fabs(n.center[k]) + h[k]);

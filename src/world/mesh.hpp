@@ -189,6 +189,9 @@ struct Mesh {
     Hull hull;
 };
 
+// The mesh's root node: its tree's, or point_node without a tree.
+inline const BvhNode &root_node(const Mesh &m) { return m.bvh.empty() ? m.point_node : m.bvh.nodes[0]; }
+
 // Checks and analyses the arrays, filling *out. Returns false with a message
 // naming the problem when the data is refused. `same`, when given, is asked
 // (with the checked mesh) before Mesh::sat is built, for the SatData of a

@@ -4,9 +4,9 @@
 // and edges (coplanar and collinear by the hundred), repeated points, points
 // a few ulps off a face, and flat sets. For each: the faces close up (every
 // directed edge has its twin), every point is inside or on every face's
-// plane (exact), the hull's vertices are input points, and the support
-// queries (hull_support's scan, hull_climb's climbs) agree with a scan of
-// all points.
+// plane (exact), the hull's vertices are input points, each group's ball
+// holds its vertices, and the support queries (hull_support, hull_climb's
+// climbs) agree with a scan of all points.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -29,6 +29,46 @@ extern "C" {  // this cmocka.h has no C++ guard
 
 namespace {
 
+// Each group's ball holds its rows (the padding repeats vertex 0).
+void check_groups(const hgcd::Hull &h) {
+    const size_t n = h.padded(), stride = h.group_stride();
+    assert_true(n % hgcd::Hull::kGroup == 0 && n >= h.size && n < h.size + hgcd::Hull::kGroup);
+    for (size_t i = 0; i < n; ++i) {
+        const size_t v = i < h.size ? i : 0, g = i / hgcd::Hull::kGroup;
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) {
+            assert_true(h.rows[k * n + i] == h.xyz[3 * v + k]);
+            const double d = h.rows[k * n + i] - h.groups[k * stride + g];
+            d2 += d * d;
+        }
+        assert_true(std::sqrt(d2) <= h.groups[3 * stride + g]);
+    }
+}
+
+// hull_support answers as a scan of every vertex in order would: the
+// largest computed projection, at the lowest index that has it. Directions
+// at random, along the axes and diagonals, zero, tiny and huge.
+void check_supports(const hgcd::Hull &h) {
+    rng r;
+    r.s = 5;
+    std::vector<std::vector<double>> dirs;
+    for (int t = 0; t < 300; ++t) dirs.push_back({unif(&r) - 0.5, unif(&r) - 0.5, unif(&r) - 0.5});
+    for (int d = 1; d < 27; ++d) dirs.push_back({double(d % 3 - 1), double(d / 3 % 3 - 1), double(d / 9 - 1)});
+    dirs.push_back({0, 0, 0});
+    for (double s : {1e-310, 1e-200, 1e200, 1e305}) dirs.push_back({s * 0.3, -s * 0.7, s * 0.1});
+    for (const auto &d : dirs) {
+        double want = -INFINITY, best;
+        uint32_t at = 0;
+        for (uint32_t i = 0; i < h.size; ++i) {
+            const double *p = &h.xyz[3 * size_t(i)];
+            const double v = (d[0] * p[0] + d[1] * p[1]) + d[2] * p[2];
+            if (v > want) want = v, at = i;
+        }
+        assert_int_equal(hgcd::hull_support(h, d.data(), &best), at);
+        assert_true(best == want);
+    }
+}
+
 // Checks the hull of pts (all used) exactly; returns its vertex count.
 uint32_t check_hull(const std::vector<double> &pts) {
     const std::vector<char> used(pts.size() / 3, 1);
@@ -45,14 +85,15 @@ uint32_t check_hull(const std::vector<double> &pts) {
         for (size_t i = 0; i < pts.size() / 3; ++i)
             assert_true(oracle_orient3d(&pts[3 * faces[f]], &pts[3 * faces[f + 1]], &pts[3 * faces[f + 2]],
                                         &pts[3 * i]) >= 0);
-    // The vertices are the faces' corners, in index order.
+    // The vertices are the faces' corners, each once (numbered in groups).
     std::set<uint32_t> corners(faces.begin(), faces.end());
     assert_int_equal(corners.size(), h.size);
-    size_t k = 0;
-    for (uint32_t v : corners) {
-        for (int c = 0; c < 3; ++c) assert_true(h.xyz[3 * k + c] == pts[3 * v + c]);
-        ++k;
-    }
+    std::set<std::vector<double>> want, have;
+    for (uint32_t v : corners) want.insert({pts[3 * v], pts[3 * v + 1], pts[3 * v + 2]});
+    for (uint32_t k = 0; k < h.size; ++k) have.insert({h.xyz[3 * k], h.xyz[3 * k + 1], h.xyz[3 * k + 2]});
+    assert_true(want == have);
+    check_groups(h);
+    check_supports(h);
     // Supports: the largest projection over all points is reached at a
     // hull vertex (up to the rounding of the projections).
     rng r;
@@ -165,6 +206,15 @@ void test_flat_sets(void **) {
     some[0] = 0;
     const hgcd::Hull h = hgcd::build_hull(ball.data(), some, 1u << 20);
     assert_int_equal(h.size, 1999);
+    check_groups(h);
+    check_supports(h);  // (more groups than hull_support bounds: a plain scan)
+    // Points on a sphere, up to the size bound's groups.
+    ball.resize(3 * 1000);
+    const hgcd::Hull g = hgcd::build_hull(ball.data(), std::vector<char>(1000, 1), 1u << 20);
+    assert_int_equal(g.size, 1000);
+    assert_true(g.group_count() <= hgcd::Hull::kMaxGroups);
+    check_groups(g);
+    check_supports(g);
 }
 
 }  // namespace

@@ -23,6 +23,9 @@
 #include "common/simd.hpp"
 #include "exact/geometry.hpp"
 
+// (f64x4 values passed between inlined helpers: no ABI boundary is crossed.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace hgcd {
 
 namespace {
@@ -108,6 +111,56 @@ bool first_tetrahedron(const Builder &h, const std::vector<uint32_t> &pts, uint3
     return false;  // coplanar (or the first three collinear: no hull then, which is safe)
 }
 
+// Orders v[b, e) so that each run of 8 lies close together: split at a
+// multiple of 8 near the middle along the longest side of their box
+// (coordinate, then index: the same order on any machine).
+void group_order(const Builder &h, std::vector<uint32_t> &v, size_t b, size_t e) {
+    if (e - b <= Hull::kGroup) return;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = b; i < e; ++i)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], h.p(v[i])[k]);
+            hi[k] = std::max(hi[k], h.p(v[i])[k]);
+        }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
+    const size_t mid = b + std::max<size_t>(Hull::kGroup, (e - b) / (2 * Hull::kGroup) * Hull::kGroup);
+    std::nth_element(v.begin() + b, v.begin() + mid, v.begin() + e, [&](uint32_t x, uint32_t y) {
+        const double px = h.p(x)[axis], py = h.p(y)[axis];
+        return px < py || (px == py && x < y);
+    });
+    group_order(h, v, b, mid);
+    group_order(h, v, mid, e);
+}
+
+// Hull::groups from the rows. The radius: the largest computed distance from
+// the centre, each within a few u of exact, times 1 + 1e-12.
+void set_groups(Hull &out) {
+    const size_t n = out.padded(), count = out.group_count(), stride = (count + 3) / 4 * 4;
+    for (double v : out.xyz) out.extent = std::max(out.extent, std::fabs(v));
+    out.groups.assign(Hull::kGroupFields * stride, 0.0);
+    for (size_t g = 0; g < stride; ++g) {
+        const size_t from = Hull::kGroup * (g < count ? g : 0);
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (size_t i = from; i < from + Hull::kGroup; ++i)
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], out.rows[k * n + i]);
+                hi[k] = std::max(hi[k], out.rows[k * n + i]);
+            }
+        double c[3], r2 = 0;
+        for (int k = 0; k < 3; ++k) c[k] = 0.5 * lo[k] + 0.5 * hi[k];
+        for (size_t i = from; i < from + Hull::kGroup; ++i) {
+            double d2 = 0;
+            for (int k = 0; k < 3; ++k) d2 += (out.rows[k * n + i] - c[k]) * (out.rows[k * n + i] - c[k]);
+            r2 = std::max(r2, d2);
+        }
+        const double r = std::sqrt(r2) * (1 + 1e-12), cmax = std::max(std::max(std::fabs(c[0]), std::fabs(c[1])), std::fabs(c[2]));
+        const double field[Hull::kGroupFields] = {c[0], c[1], c[2], r, 2e-15 * (cmax + r)};
+        for (size_t k = 0; k < Hull::kGroupFields; ++k) out.groups[k * stride + g] = field[k];
+    }
+}
+
 }  // namespace
 
 Hull build_hull(const double *x, const std::vector<char> &used, uint32_t max_vertices, std::vector<uint32_t> *faces) {
@@ -147,16 +200,19 @@ Hull build_hull(const double *x, const std::vector<char> &used, uint32_t max_ver
     // edge (u, v) of a face names v as a neighbour of u (its twin, on the
     // face across, names u as v's).
     Hull out;
-    std::vector<uint32_t> id(used.size(), UINT32_MAX);
+    std::vector<uint32_t> order, id(used.size(), UINT32_MAX);
     for (uint32_t v = 0; v < h.degree.size(); ++v)
-        if (h.degree[v]) {
-            id[v] = out.size++;
-            out.xyz.insert(out.xyz.end(), h.p(v), h.p(v) + 3);
-        }
-    const size_t padded = (out.size + 7) / 8 * 8;
+        if (h.degree[v]) order.push_back(v);
+    group_order(h, order, 0, order.size());
+    for (uint32_t v : order) {
+        id[v] = out.size++;
+        out.xyz.insert(out.xyz.end(), h.p(v), h.p(v) + 3);
+    }
+    const size_t padded = (out.size + Hull::kGroup - 1) / Hull::kGroup * Hull::kGroup;
     out.rows.resize(3 * padded);
     for (size_t i = 0; i < padded; ++i)
         for (int k = 0; k < 3; ++k) out.rows[k * padded + i] = out.xyz[3 * (i < out.size ? i : 0) + k];
+    set_groups(out);
     out.first.assign(out.size + 1, 0);
     for (uint32_t v : h.face) ++out.first[id[v] + 1];
     for (uint32_t i = 0; i < out.size; ++i) out.first[i + 1] += out.first[i];
@@ -196,35 +252,94 @@ uint32_t hull_climb(const Hull &h, const double *dir, uint32_t start) {
 
 namespace {
 
-// hull_support over lanes of V (f64x2 or f64x4), two blocks of lanes a
-// step (two independent maxima): the same products and comparisons in every
-// lane, and ties to the lowest index, so the same answer whatever the width.
+// hull_support over lanes of V (f64x2 or f64x4). Each group's ball bounds
+// its vertices' computed projections from above; the group of the highest
+// bound is scanned first, and the groups whose bound is below the top found
+// there hold no vertex at the top: they are skipped, the others scanned in
+// order of index (a running maximum per lane, strict: the first in each lane,
+// then the lowest index among the lanes' equal maxima), so the answer is a
+// full scan's whatever the width.
+//
+// The bound. A vertex q of a group with centre c and radius r has d . q <= d
+// . c + |d|_2 r; fl(d . q) is within g_3 |d|_1 |q|_inf <= g_3 |d|_1 (|c|_inf
+// + r) of d . q and fl(d . c) within g_3 |d|_1 |c|_inf of d . c, so fl(d . q)
+// <= fl(d . c) + |d|_2 r + |d|_1 k, k = 2e-15 (|c|_inf + r) (g_3 < 4e-16),
+// which also covers the roundings of the bound's own products and sums
+// (relative u each, of terms at most |d|_1 (|c|_inf + r)) and of |d|_2 (taken
+// as fl(sqrt(fl(d . d))) (1 + 1e-12), or as |d|_1 where d . d nears the
+// subnormals); 1e-300 covers underflow. Only for
+// |d|_1 times the largest |coordinate| below 1e300: no value overflows.
 template <class V>
 __attribute__((always_inline)) inline uint32_t support_lanes(const Hull &h, const double *dir, double *best) {
     constexpr int L = sizeof(V) / sizeof(double);
-    const size_t n = h.padded();
+    const size_t n = h.padded(), count = h.group_count(), stride = h.group_stride();
     const double *x = h.rows.data(), *y = x + n, *z = y + n;
-    V d0, d1, d2, m[2], at[2], i, step;
-    for (int l = 0; l < L; ++l) {
-        d0[l] = dir[0], d1[l] = dir[1], d2[l] = dir[2];
-        m[0][l] = m[1][l] = -INFINITY, at[0][l] = at[1][l] = 0, i[l] = l, step[l] = L;
-    }
-    for (size_t k = 0; k < n; k += 2 * L) {
-        for (int u = 0; u < 2; ++u, i += step) {
-            V px, py, pz;
-            std::memcpy(&px, x + k + u * L, sizeof px);
-            std::memcpy(&py, y + k + u * L, sizeof py);
-            std::memcpy(&pz, z + k + u * L, sizeof pz);
-            const V p = (d0 * px + d1 * py) + d2 * pz;
-            const auto up = p > m[u];
-            m[u] = up ? p : m[u];
-            at[u] = up ? i : at[u];  // indices as doubles: exact, and no 64-bit integer compare in SSE2
+    const double *gx = h.groups.data(), *gy = gx + stride, *gz = gy + stride, *gr = gz + stride, *gk = gr + stride;
+    auto all = [](double v) __attribute__((always_inline)) {
+        V r;
+        for (int l = 0; l < L; ++l) r[l] = v;
+        return r;
+    };
+    auto load = [](const double *p) __attribute__((always_inline)) {
+        V r;
+        std::memcpy(&r, p, sizeof r);
+        return r;
+    };
+    const V d0 = all(dir[0]), d1 = all(dir[1]), d2 = all(dir[2]);
+    const double norm1 = (std::fabs(dir[0]) + std::fabs(dir[1])) + std::fabs(dir[2]);
+    V m = all(-INFINITY), at = all(0), first;
+    for (int l = 0; l < L; ++l) first[l] = l;
+    const V step = all(L);
+    auto scan = [&](size_t g) __attribute__((always_inline)) {
+        const size_t k0 = Hull::kGroup * g;
+        V i = first + all(double(k0));
+#pragma GCC unroll 16
+        for (size_t j = 0; j < Hull::kGroup; j += L, i += step) {
+            const size_t k = k0 + j;
+            const V p = (d0 * load(x + k) + d1 * load(y + k)) + d2 * load(z + k);
+            const auto higher = p > m;
+            m = higher ? p : m;
+            at = higher ? i : at;  // indices as doubles: exact, and no 64-bit integer compare in SSE2
         }
+    };
+    if (count > Hull::kMaxGroups || !(norm1 * h.extent < 1e300)) {
+        for (size_t g = 0; g < count; ++g) scan(g);
+    } else {
+        const double dd = (dir[0] * dir[0] + dir[1] * dir[1]) + dir[2] * dir[2];
+        const double norm2 = dd >= 0x1p-1000 ? std::sqrt(dd) * (1 + 1e-12) : norm1;  // (|d|_1 >= |d|_2)
+        const V n1 = all(norm1), n2 = all(norm2), tiny = all(1e-300);
+        // Each group's bound, and the group of the highest (the lowest index
+        // among equals: padding groups repeat group 0).
+        double up[Hull::kMaxGroups];
+        V top_up = all(-INFINITY), top_g = all(0), g_at = first;
+        for (size_t g = 0; g < stride; g += L, g_at += step) {
+            const V dc = (d0 * load(gx + g) + d1 * load(gy + g)) + d2 * load(gz + g);
+            const V u = dc + ((n2 * load(gr + g) + n1 * load(gk + g)) + tiny);
+            std::memcpy(up + g, &u, sizeof u);
+            const auto higher = u > top_up;
+            top_up = higher ? u : top_up;
+            top_g = higher ? g_at : top_g;
+        }
+        double tu = -INFINITY, tg = 0;
+        for (int l = 0; l < L; ++l)
+            if (top_up[l] > tu || (top_up[l] == tu && top_g[l] < tg)) tu = top_up[l], tg = top_g[l];
+        // Its top bounds the others from below.
+        const size_t top = size_t(tg);
+        V t = all(-INFINITY);
+#pragma GCC unroll 16
+        for (size_t j = 0; j < Hull::kGroup; j += L) {
+            const size_t k = Hull::kGroup * top + j;
+            const V p = (d0 * load(x + k) + d1 * load(y + k)) + d2 * load(z + k);
+            t = p > t ? p : t;
+        }
+        double floor = -INFINITY;
+        for (int l = 0; l < L; ++l) floor = t[l] > floor ? t[l] : floor;
+        for (size_t g = 0; g < count; ++g)
+            if (!(up[g] < floor)) scan(g);
     }
     double bm = -INFINITY, ba = 0;
-    for (int u = 0; u < 2; ++u)
-        for (int l = 0; l < L; ++l)
-            if (m[u][l] > bm || (m[u][l] == bm && at[u][l] < ba)) bm = m[u][l], ba = at[u][l];
+    for (int l = 0; l < L; ++l)
+        if (m[l] > bm || (m[l] == bm && at[l] < ba)) bm = m[l], ba = at[l];
     *best = bm;
     return uint32_t(ba);
 }

@@ -17,17 +17,30 @@ namespace hgcd {
 struct Hull {
     uint32_t size = 0;            // vertices; 0: no hull
     std::vector<double> xyz;      // 3 doubles a vertex
-    // x, then y, then z of every vertex, each row padded to a multiple of 8
-    // (with vertex 0 again)
+    // x, then y, then z of every vertex, each row padded to a multiple of
+    // kGroup (with vertex 0 again). The vertices are numbered in groups of
+    // kGroup that lie near each other (median splits of the longest side).
     std::vector<double> rows;
+    // A ball about each group of kGroup rows, kGroupFields rows of the
+    // groups' count rounded up to a multiple of 4 (the padding repeats group
+    // 0): centre x y z, radius (rounded up), and 2e-15 (|centre|_inf +
+    // radius), what hull_support's bound adds for roundings.
+    static constexpr size_t kGroup = 16;
+    static constexpr size_t kGroupFields = 5;
+    static constexpr size_t kMaxGroups = 64;  // beyond, hull_support scans every group
+    std::vector<double> groups;
+    double extent = 0;  // the largest |coordinate| of a vertex
     std::vector<uint32_t> first;  // the neighbours of vertex i: adj[first[i], first[i + 1])
     std::vector<uint32_t> adj;
     uint32_t seed[14] = {};       // the vertices farthest along the axes and the diagonals
     size_t padded() const { return rows.size() / 3; }
+    size_t group_count() const { return padded() / kGroup; }
+    size_t group_stride() const { return groups.size() / kGroupFields; }
 };
 
 // Up to this many vertices GJK's supports scan the hull (at 144 vertices a
-// scan costs 650 instructions against 850 for a climb), beyond it they climb.
+// scan costs about 450 instructions against 850 for a climb), beyond it they
+// climb.
 constexpr uint32_t kScanHull = 256;
 
 // The hull of the points of `vertices` (xyz each) whose flag in `used` is
@@ -39,8 +52,10 @@ constexpr uint32_t kScanHull = 256;
 Hull build_hull(const double *vertices, const std::vector<char> &used, uint32_t max_vertices,
                 std::vector<uint32_t> *faces = nullptr);
 
-// A vertex of h at which fl((d0 x + d1 y) + d2 z) is largest, that value
-// into *best: each vertex's within g_3 (|d0 x| + |d1 y| + |d2 z|) of exact.
+// A vertex of h at which fl((d0 x + d1 y) + d2 z) is largest (the lowest
+// index of those), that value into *best: each vertex's within g_3 (|d0 x| +
+// |d1 y| + |d2 z|) of exact. Groups whose ball's bound stays below the best
+// value found are not scanned (hull.cpp): the answer is the full scan's.
 uint32_t hull_support(const Hull &h, const double *dir, double *best);
 
 // A vertex of h where dir . x is largest among its neighbours (in float),

@@ -41,31 +41,31 @@ template <bool kMargin>
 bool meeting_triangles(const Mesh &ma, const double *wa, const double *box_a, const Mesh &mb, const double *wb,
                        const double *box_b, NearTriangles &near_b, uint64_t &triangle_tests, uint32_t *meet,
                        double d) {
-    near_b.tri.clear();
-    near_b.box.clear();
+    near_b.room(mb.triangle_count);
+    uint32_t *const near_tri = near_b.tri.data();
+    double *const near_box = near_b.box.data();
+    size_t near = 0;
     for (uint32_t t = 0; t < mb.triangle_count; ++t) {
-        double tb[6];
+        double *tb = near_box + 6 * near;
         triangle_box(wb, &mb.triangles[3 * size_t(t)], tb);
         if (kMargin ? boxes_apart(tb, box_a, d) : boxes_disjoint(tb, box_a)) continue;
-        near_b.tri.push_back(t);
-        near_b.box.insert(near_b.box.end(), tb, tb + 6);
+        near_tri[near++] = t;
     }
-    if (near_b.tri.empty()) return false;
+    if (near == 0) return false;
     for (uint32_t t = 0; t < ma.triangle_count; ++t) {
         const uint32_t *fa = &ma.triangles[3 * size_t(t)];
         double ta[6];
         triangle_box(wa, fa, ta);
         if (kMargin ? boxes_apart(ta, box_b, d) : boxes_disjoint(ta, box_b)) continue;
         const double *p0 = &wa[3 * size_t(fa[0])], *p1 = &wa[3 * size_t(fa[1])], *p2 = &wa[3 * size_t(fa[2])];
-        for (size_t k = 0; k < near_b.tri.size(); ++k) {
-            if (kMargin ? boxes_apart(ta, &near_b.box[6 * k], d) : boxes_disjoint(ta, &near_b.box[6 * k]))
-                continue;
-            const uint32_t *fb = &mb.triangles[3 * size_t(near_b.tri[k])];
+        for (size_t k = 0; k < near; ++k) {
+            if (kMargin ? boxes_apart(ta, near_box + 6 * k, d) : boxes_disjoint(ta, near_box + 6 * k)) continue;
+            const uint32_t *fb = &mb.triangles[3 * size_t(near_tri[k])];
             ++triangle_tests;
             const double *q0 = &wb[3 * size_t(fb[0])], *q1 = &wb[3 * size_t(fb[1])], *q2 = &wb[3 * size_t(fb[2])];
             if (kMargin ? tri_tri_within(p0, p1, p2, q0, q1, q2, d) : tri_tri_intersect(p0, p1, p2, q0, q1, q2)) {
                 meet[0] = t;
-                meet[1] = near_b.tri[k];
+                meet[1] = near_tri[k];
                 return true;
             }
         }

@@ -82,7 +82,15 @@ struct NodeHint {
 // (6 doubles each): the candidates of the triangle-pair loops.
 struct NearTriangles {
     std::vector<uint32_t> tri;
-    std::vector<double> box;
+    std::vector<double> box;  // 6 a triangle
+    // Room for n triangles, written by index (the buffers only grow: no
+    // per-element insert in the hot loop).
+    void room(size_t n) {
+        if (tri.size() < n) {
+            tri.resize(n);
+            box.resize(6 * n);
+        }
+    }
 };
 
 // Per-thread buffers, reused across pairs so the hot loop does not allocate.

@@ -43,33 +43,34 @@ bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uin
     uint32_t fa, na, fb, nb;
     leaf_range(a, i, fa, na);
     leaf_range(b, j, fb, nb);
-    // Triangles of b that reach a's node box, with their exact boxes.
-    s.near_b.tri.clear();
-    s.near_b.box.clear();
+    // Triangles of b that reach a's node box, with their exact boxes (`near`
+    // of them).
+    s.near_b.room(nb);
+    uint32_t *const near_tri = s.near_b.tri.data();
+    double *const near_box = s.near_b.box.data();
+    size_t near = 0;
     for (uint32_t t = fb; t < fb + nb; ++t) {
         const double *q[3];
-        double tb[6];
+        double *tb = near_box + 6 * near;
         view_triangle_box(b, t, q, tb);
         if (kMargin ? boxes_apart(tb, node_a, d) : boxes_disjoint(tb, node_a)) continue;
-        s.near_b.tri.push_back(t);
-        s.near_b.box.insert(s.near_b.box.end(), tb, tb + 6);
+        near_tri[near++] = t;
     }
-    if (s.near_b.tri.empty()) return false;
+    if (near == 0) return false;
     for (uint32_t t = fa; t < fa + na; ++t) {
         const double *p[3];
         double ta[6];
         view_triangle_box(a, t, p, ta);
         if (kMargin ? boxes_apart(ta, node_b, d) : boxes_disjoint(ta, node_b)) continue;
-        for (size_t k = 0; k < s.near_b.tri.size(); ++k) {
-            if (kMargin ? boxes_apart(ta, &s.near_b.box[6 * k], d) : boxes_disjoint(ta, &s.near_b.box[6 * k]))
-                continue;
-            const uint32_t *f = &b.tris[3 * size_t(s.near_b.tri[k])];
+        for (size_t k = 0; k < near; ++k) {
+            if (kMargin ? boxes_apart(ta, near_box + 6 * k, d) : boxes_disjoint(ta, near_box + 6 * k)) continue;
+            const uint32_t *f = &b.tris[3 * size_t(near_tri[k])];
             ++s.triangle_tests;
             const double *q0 = b.vertex(f[0]), *q1 = b.vertex(f[1]), *q2 = b.vertex(f[2]);
             if (kMargin ? tri_tri_within(p[0], p[1], p[2], q0, q1, q2, d)
                         : tri_tri_intersect(p[0], p[1], p[2], q0, q1, q2)) {
                 meet[0] = t;
-                meet[1] = s.near_b.tri[k];
+                meet[1] = near_tri[k];
                 return true;
             }
         }

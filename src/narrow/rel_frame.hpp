@@ -188,9 +188,11 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
 // non-negative, each computed within a relative 1e-15, and |y_k - c_k| within
 // u, which the factor 1 + 1e-12 covers. Underflow (world roundings, b's and
 // m's, and the products before the division) stays under 2^-1066 / s_a.
-// Overflow leaves an infinity or a NaN in y or in the bound, and the test
-// answers not apart.
-// A body's side of it: its mesh, rotation, position and scale.
+// Overflow (a tiny s_a) leaves an infinity or a NaN in y, which an axis then
+// does not take (only |y_k| <= 1e300, so no step overflowed), or in the
+// bound, which then separates nothing.
+
+// A body's side of the balls' test: its mesh, rotation, position and scale.
 struct BallSide {
     const Mesh &mesh;
     const Rotation &r;
@@ -211,7 +213,7 @@ inline bool root_ball_apart(const BallSide &a, const BallSide &b) {
     bool apart = false;
     for (int k = 0; k < 3; ++k) {
         const double y = ((r[k] * d[0] + r[3 + k] * d[1]) + r[6 + k] * d[2]) * inv;
-        apart |= std::fabs(y - na.center[k]) > (na.half[k] + ball) * (1 + 1e-12) + 1e-300;
+        apart |= std::fabs(y) <= 1e300 && std::fabs(y - na.center[k]) > (na.half[k] + ball) * (1 + 1e-12) + 1e-300;
     }
     return apart;
 }

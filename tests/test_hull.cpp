@@ -130,6 +130,12 @@ void test_random_points(void **) {
         for (int i = 0; i < 3 * n; ++i) pts.push_back((unif(&r) - 0.5) * std::ldexp(1.0, round - 10));
         check_hull(pts);
     }
+    // Tiny and large coordinates.
+    for (int e : {-250, -200, 45}) {
+        std::vector<double> pts;
+        for (int i = 0; i < 3 * 300; ++i) pts.push_back((unif(&r) - 0.5) * std::ldexp(1.0, e));
+        check_hull(pts);
+    }
 }
 
 void test_blob(void **) {

@@ -111,9 +111,9 @@ bool first_tetrahedron(const Builder &h, const std::vector<uint32_t> &pts, uint3
     return false;  // coplanar (or the first three collinear: no hull then, which is safe)
 }
 
-// Orders v[b, e) so that each run of 8 lies close together: split at a
-// multiple of 8 near the middle along the longest side of their box
-// (coordinate, then index: the same order on any machine).
+// Orders v[b, e) so that each run of Hull::kGroup lies close together:
+// split at a multiple of kGroup near the middle along the longest side of
+// their box (coordinate, then index: the same order on any machine).
 void group_order(const Builder &h, std::vector<uint32_t> &v, size_t b, size_t e) {
     if (e - b <= Hull::kGroup) return;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -135,7 +135,9 @@ void group_order(const Builder &h, std::vector<uint32_t> &v, size_t b, size_t e)
 }
 
 // Hull::groups from the rows. The radius: the largest computed distance from
-// the centre, each within a few u of exact, times 1 + 1e-12.
+// the centre, each within a few u of exact (times 1 + 1e-12) but for
+// underflow in the squares (3 2^-1074 in d2 at most, below 1e-161 once
+// rooted).
 void set_groups(Hull &out) {
     const size_t n = out.padded(), count = out.group_count(), stride = (count + 3) / 4 * 4;
     for (double v : out.xyz) out.extent = std::max(out.extent, std::fabs(v));
@@ -155,7 +157,7 @@ void set_groups(Hull &out) {
             for (int k = 0; k < 3; ++k) d2 += (out.rows[k * n + i] - c[k]) * (out.rows[k * n + i] - c[k]);
             r2 = std::max(r2, d2);
         }
-        const double r = std::sqrt(r2) * (1 + 1e-12), cmax = std::max(std::max(std::fabs(c[0]), std::fabs(c[1])), std::fabs(c[2]));
+        const double r = std::sqrt(r2) * (1 + 1e-12) + 1e-161, cmax = std::max(std::max(std::fabs(c[0]), std::fabs(c[1])), std::fabs(c[2]));
         const double field[Hull::kGroupFields] = {c[0], c[1], c[2], r, 2e-15 * (cmax + r)};
         for (size_t k = 0; k < Hull::kGroupFields; ++k) out.groups[k * stride + g] = field[k];
     }

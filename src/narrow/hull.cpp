@@ -198,9 +198,9 @@ Hull build_hull(const double *x, const std::vector<char> &used, uint32_t max_ver
         if (outside && h.add(i) && h.vertices > max_vertices) return Hull();
     }
     if (faces) *faces = h.face;
-    // The hull's vertices in order of index, and its edges: each directed
-    // edge (u, v) of a face names v as a neighbour of u (its twin, on the
-    // face across, names u as v's).
+    // The hull's vertices in groups (group_order), and its edges: each
+    // directed edge (u, v) of a face names v as a neighbour of u (its twin,
+    // on the face across, names u as v's).
     Hull out;
     std::vector<uint32_t> order, id(used.size(), UINT32_MAX);
     for (uint32_t v = 0; v < h.degree.size(); ++v)
@@ -269,8 +269,8 @@ namespace {
 // which also covers the roundings of the bound's own products and sums
 // (relative u each, of terms at most |d|_1 (|c|_inf + r)) and of |d|_2 (taken
 // as fl(sqrt(fl(d . d))) (1 + 1e-12), or as |d|_1 where d . d nears the
-// subnormals); 1e-300 covers underflow. Only for
-// |d|_1 times the largest |coordinate| below 1e300: no value overflows.
+// subnormals); 1e-300 covers underflow. Only for |d|_1 times the largest
+// |coordinate| below 1e300: no value overflows.
 template <class V>
 __attribute__((always_inline)) inline uint32_t support_lanes(const Hull &h, const double *dir, double *best) {
     constexpr int L = sizeof(V) / sizeof(double);

@@ -109,6 +109,9 @@ HGCD_RF_INLINE f64x2 splat(const double *block, int k, int l) {
 HGCD_RF_INLINE f64x2 vabs(f64x2 x) { return (f64x2)((i64x2)x & i64x2{INT64_MAX, INT64_MAX}); }
 HGCD_RF_INLINE f64x2 both(double x) { return f64x2{x, x}; }
 
+// max_k |p_k|.
+inline double max_abs3(const double *p) { return std::max(std::max(std::fabs(p[0]), std::fabs(p[1])), std::fabs(p[2])); }
+
 // The frame of the pair (a, b): a's mesh frame. False when the frame's
 // values leave the range where the argument above holds (the caller then
 // takes the world-space node tests): a's frame divides by s_a, so a tiny
@@ -133,13 +136,8 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
             f.q[3 * i + j] = ((ra[i] * rb[j] + ra[3 + i] * rb[3 + j]) + ra[6 + i] * rb[6 + j]) * sigma;
             qmax = std::max(qmax, std::fabs(f.q[3 * i + j]));
         }
-    auto reach = [](const BvhNode &root) {
-        return std::max(std::max(std::fabs(root.center[0]) + root.half[0], std::fabs(root.center[1]) + root.half[1]),
-                        std::fabs(root.center[2]) + root.half[2]);
-    };
-    auto pmax = [](const double *p) { return std::max(std::max(std::fabs(p[0]), std::fabs(p[1])), std::fabs(p[2])); };
-    const double la = reach(*a.root), lb = reach(*b.root);
-    const double pa = pmax(a.position) / a.scale, pab = (pmax(a.position) + pmax(b.position)) / a.scale;
+    const double la = a.mesh->root_reach, lb = b.mesh->root_reach;  // (Mesh::root_reach: of a.root, b.root)
+    const double pa = max_abs3(a.position) / a.scale, pab = (max_abs3(a.position) + max_abs3(b.position)) / a.scale;
     const double columns[9] = {ra[0], ra[3], ra[6], ra[1], ra[4], ra[7], ra[2], ra[5], ra[8]};
     const double rho = orthonormal_defect(columns);
     const double big = 1e100;
@@ -200,12 +198,11 @@ struct BallSide {
     double scale;
 };
 inline bool root_ball_apart(const BallSide &a, const BallSide &b) {
-    auto pmax = [](const double *p) { return std::max(std::max(std::fabs(p[0]), std::fabs(p[1])), std::fabs(p[2])); };
     const BvhNode &na = root_node(a.mesh);
     double m[3];
     transform_point(b.r, b.position, b.scale, root_node(b.mesh).center, m);
-    const double inv = 1 / a.scale, pa = pmax(a.position);
-    const double ball = (b.mesh.root_ball * b.scale + 5e-15 * (pmax(b.position) + 1.74 * b.scale * b.mesh.root_reach) +
+    const double inv = 1 / a.scale, pa = max_abs3(a.position);
+    const double ball = (b.mesh.root_ball * b.scale + 5e-15 * (max_abs3(b.position) + 1.74 * b.scale * b.mesh.root_reach) +
                          4e-15 * pa + 0x1p-1066) * inv +
                         1e-5 * a.mesh.root_reach;
     const double d[3] = {m[0] - a.position[0], m[1] - a.position[1], m[2] - a.position[2]};

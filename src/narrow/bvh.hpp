@@ -55,10 +55,13 @@ struct NodeObb {
 // and 2p (children are allocated in pairs after the root); block 0 holds the
 // root in both lanes. Fields: the mesh-frame box's centre (0..2) and half
 // (3..5), the fitted box's centre (6..8), axes (u_i at 9 + 3i) and halves
-// (18..20), and the node's link (21: BvhNode's first | count << 32, the bits
-// of the double), so that a traversal reads no BvhNode.
-constexpr size_t kLaneBlock = 44;
+// (18..20), the node's link (21: BvhNode's first | count << 32, the bits
+// of the double), so that a traversal reads no BvhNode, and its span (22:
+// the triangles under it are those of leaf order first .. end - 1, first |
+// end << 32: a subtree's triangles are contiguous there).
+constexpr size_t kLaneBlock = 46;
 constexpr int kLinkField = 21;
+constexpr int kSpanField = 22;
 inline size_t lane_block(uint32_t n) { return (size_t(n) + 1) >> 1; }
 inline int lane_of(uint32_t n) { return int((n + 1) & 1); }
 inline uint64_t node_link(const BvhNode &n) { return uint64_t(n.first) | uint64_t(n.count) << 32; }
@@ -116,9 +119,12 @@ inline double orthonormal_defect(const double *u) {
     return std::isfinite(worst) ? worst * (1 + 1e-12) : INFINITY;
 }
 
-// Writes node k's fields (n and its fitted box o) into its lane of `block`
-// (both lanes for the root, k = 0).
-void node_lanes(const BvhNode &n, const NodeObb &o, uint32_t k, double *block);
+// Writes node k's fields (n, its fitted box o, the first and count of the
+// triangles under it) into its lane of `block` (both lanes for the root, k =
+// 0).
+void node_lanes(const BvhNode &n, const NodeObb &o, uint32_t first, uint32_t count, uint32_t k, double *block);
+// Whether span x lies within span y (x's node is in the subtree of y's).
+inline bool span_within(uint64_t x, uint64_t y) { return uint32_t(x) >= uint32_t(y) && x >> 32 <= y >> 32; }
 
 // Fits an oriented box to each of the tree's nodes (principal axes of their
 // vertices) and fills bvh.lanes, on up to `threads` threads.

@@ -123,10 +123,11 @@ void fit_node(const double *vertices, const uint32_t *corners, size_t corner_cou
 
 }  // namespace
 
-void node_lanes(const BvhNode &n, const NodeObb &o, uint32_t k, double *block) {
-    double field[22];
-    const uint64_t link = node_link(n);
+void node_lanes(const BvhNode &n, const NodeObb &o, uint32_t first, uint32_t count, uint32_t k, double *block) {
+    double field[23];
+    const uint64_t link = node_link(n), span = uint64_t(first) | uint64_t(first + count) << 32;
     std::memcpy(&field[kLinkField], &link, sizeof link);
+    std::memcpy(&field[kSpanField], &span, sizeof span);
     for (int i = 0; i < 3; ++i) {
         field[i] = n.center[i];
         field[3 + i] = n.half[i];
@@ -134,7 +135,7 @@ void node_lanes(const BvhNode &n, const NodeObb &o, uint32_t k, double *block) {
         field[18 + i] = o.half[i];
     }
     for (int i = 0; i < 9; ++i) field[9 + i] = o.axis[i];
-    for (int f = 0; f < 22; ++f) {
+    for (int f = 0; f < 23; ++f) {
         if (k == 0) block[2 * f] = field[f];
         block[2 * f + lane_of(k)] = field[f];
     }
@@ -166,7 +167,7 @@ void fit_node_obbs(const double *vertices, Bvh &bvh, int threads) {
     bvh.lanes.assign(kLaneBlock * (nn / 2 + 1), 0.0);
     for (size_t k = 0; k < nn; ++k) {
         const BvhNode &n = bvh.nodes[k];
-        node_lanes(n, obb[k], uint32_t(k), &bvh.lanes[kLaneBlock * lane_block(uint32_t(k))]);
+        node_lanes(n, obb[k], first[k], count[k], uint32_t(k), &bvh.lanes[kLaneBlock * lane_block(uint32_t(k))]);
     }
 }
 

@@ -91,10 +91,11 @@ struct RelFrame {
 // field k at 2k + l): centre C (0..2), axes V_j (3 + 3j), halves (12..14),
 // half extents in a's frame (15..17), radii on their own axes (18..20),
 // |V_j|_1 (21..23), the radius on any a axis beyond the halves' (24: 1e-15
-// qn sum half + 1.74 eps), the nodes' links (kImageLink, copied from the
-// lanes' kLinkField).
-constexpr size_t kImageBlock = 52;
+// qn sum half + 1.74 eps), the nodes' links and spans (kImageLink,
+// kImageSpan, copied from the lanes' kLinkField, kSpanField).
+constexpr size_t kImageBlock = 54;
 constexpr int kImageLink = 25;
+constexpr int kImageSpan = 26;
 
 // Both lanes of a block of doubles (field k), or lane l of it in both.
 HGCD_RF_INLINE f64x2 lanes2(const double *block, int k) {
@@ -256,6 +257,7 @@ HGCD_RF_INLINE void node_images(const RelFrame &f, const double *in, double *out
     field[21] = (both(1e-15 * f.qn) * hsum + both(1.74) * eps) + both(1e-300);
     std::memcpy(out + 6, field, sizeof field);
     std::memcpy(out + 2 * kImageLink, in + 2 * kLinkField, 2 * sizeof(double));
+    std::memcpy(out + 2 * kImageSpan, in + 2 * kSpanField, 2 * sizeof(double));
 }
 
 // Node pairs several at once, one per lane (f64x2, f64x4: each lane does

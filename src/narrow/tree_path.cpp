@@ -176,12 +176,15 @@ inline double lane_dist2(const double *x, int k, int l, const double *y, int j, 
 // in a's mesh frame (rel_apart2), the same plane test and leaves. A node
 // pair is tested before it is pushed, the two children of a descent at once
 // (a's two siblings against b's node, or a's node against b's two), so the
-// stack holds only pairs that passed.
+// stack holds only pairs that passed. skip (or null): the spans of a node
+// pair searched already (its subtrees hold no meeting triangles), whose
+// descendant pairs are passed over.
 // kWide: the four child pairs in one four-lane test (AVX2), else in two
 // two-lane ones (the same bits).
 template <bool kWide>
 HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
-                             uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
+                             uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested,
+                             const uint64_t *skip) {
     const double *lanes_a = a.lanes;
     const RelFrame &f = *img.f;
     auto block_a = [&](uint32_t n) __attribute__((always_inline)) { return lanes_a + kLaneBlock * lane_block(n); };
@@ -198,6 +201,9 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
         const uint32_t i = uint32_t(top >> 32), j = uint32_t(top);
         const double *ba = block_a(i), *mb = img.block(lane_block(j));
         const int li = lane_of(i), lj = lane_of(j);
+        if (skip && span_within(lane_link(ba, kSpanField, li), skip[0]) &&
+            span_within(lane_link(mb, kImageSpan, lj), skip[1]))
+            continue;  // (searched already)
         const uint64_t link_a = lane_link(ba, kLinkField, li), link_b = lane_link(mb, kImageLink, lj);
         const bool la = link_a >> 32 != 0, lb = link_b >> 32 != 0;
         // The plane test where it pays: a leaf at least twice the other
@@ -271,21 +277,24 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
 __attribute__((target("avx2"), noinline)) bool surfaces_meet_rel_avx2(BodyView &a, BodyView &b, Images &img,
                                                                      NarrowScratch &s, uint32_t start_a,
                                                                      uint32_t start_b, uint32_t *meet,
-                                                                     uint32_t *leaves, bool start_tested) {
-    return meet_rel<true>(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+                                                                     uint32_t *leaves, bool start_tested,
+                                                                     const uint64_t *skip) {
+    return meet_rel<true>(a, b, img, s, start_a, start_b, meet, leaves, start_tested, skip);
 }
 #endif
 __attribute__((noinline)) bool surfaces_meet_rel_base(BodyView &a, BodyView &b, Images &img, NarrowScratch &s,
                                                       uint32_t start_a, uint32_t start_b, uint32_t *meet,
-                                                      uint32_t *leaves, bool start_tested) {
-    return meet_rel<false>(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+                                                      uint32_t *leaves, bool start_tested,
+                                                      const uint64_t *skip) {
+    return meet_rel<false>(a, b, img, s, start_a, start_b, meet, leaves, start_tested, skip);
 }
 bool surfaces_meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratch &s, uint32_t start_a,
-                       uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested) {
+                       uint32_t start_b, uint32_t *meet, uint32_t *leaves, bool start_tested,
+                       const uint64_t *skip) {
 #if HGCD_AVX2
-    if (use_avx2()) return surfaces_meet_rel_avx2(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+    if (use_avx2()) return surfaces_meet_rel_avx2(a, b, img, s, start_a, start_b, meet, leaves, start_tested, skip);
 #endif
-    return surfaces_meet_rel_base(a, b, img, s, start_a, start_b, meet, leaves, start_tested);
+    return surfaces_meet_rel_base(a, b, img, s, start_a, start_b, meet, leaves, start_tested, skip);
 }
 
 // The roots' pair apart in a's frame (the first test of a pair), built as
@@ -396,6 +405,11 @@ uint32_t ancestor(const Bvh &t, uint32_t n) {
     return n;
 }
 
+// Node n's span (kSpanField) in its tree's lanes.
+uint64_t span_of(const double *lanes, uint32_t n) {
+    return lane_link(lanes + kLaneBlock * lane_block(n), kSpanField, lane_of(n));
+}
+
 }  // namespace
 
 template <bool kMargin>
@@ -448,8 +462,11 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         img.data = c.images.get();
         img.slot = c.image_slot.data();
     }
-    auto search = [&](uint32_t na, uint32_t nb, uint32_t *meet, uint32_t *leaves, bool tested = false) {
-        return rel ? surfaces_meet_rel(va, vb, img, s, na, nb, meet, leaves, tested)
+    // (skip: the spans of a node pair searched already in vain; the frame
+    // path alone passes them over.)
+    auto search = [&](uint32_t na, uint32_t nb, uint32_t *meet, uint32_t *leaves, bool tested = false,
+                      const uint64_t *skip = nullptr) {
+        return rel ? surfaces_meet_rel(va, vb, img, s, na, nb, meet, leaves, tested, skip)
                    : surfaces_meet<kMargin>(va, vb, s, na, nb, meet, leaves, d);
     };
     if (hint) hint->found = false;
@@ -481,15 +498,28 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
                                         (!vb.nodes && !(vb.near_box[0] <= vb.near_box[3])));
     uint32_t meet[2], leaves[2];
     bool met = false;
+    bool whole = false;  // (the whole trees searched already)
     if (hint && !none_near) {
         // The subtrees near where the surfaces met at the last detect,
         // searched first: after a tick of motion they mostly still meet there.
         const uint32_t na = va.nodes ? uint32_t(a.mesh->bvh.nodes.size()) : 1;
         const uint32_t nb = vb.nodes ? uint32_t(b.mesh->bvh.nodes.size()) : 1;
-        if (hint->node_a < na && hint->node_b < nb)
-            met = search(hint->node_a, hint->node_b, meet, leaves);
+        uint32_t up_a = hint->node_a, up_b = hint->node_b;
+        if (up_a < na && up_b < nb) {
+            met = search(up_a, up_b, meet, leaves);
+            // A miss: mostly the meeting point moved next door, so the
+            // subtrees kHintLevels further up are searched next, and so on
+            // up to the roots, each time but for the part searched already.
+            while (!met && rel && (up_a | up_b) != 0) {
+                const uint64_t searched[2] = {span_of(va.lanes, up_a), span_of(vb.lanes, up_b)};
+                up_a = ancestor(a.mesh->bvh, up_a);
+                up_b = ancestor(b.mesh->bvh, up_b);
+                met = search(up_a, up_b, meet, leaves, false, searched);
+            }
+            whole = rel && (up_a | up_b) == 0;
+        }
     }
-    if (!none_near && (met || search(0, 0, meet, leaves, rel))) {
+    if (!none_near && (met || (!whole && search(0, 0, meet, leaves, rel)))) {
         if (witness)
             *witness = Witness{va.mesh_triangle(meet[0]), vb.mesh_triangle(meet[1]), false, true};
         if (hint) *hint = NodeHint{ancestor(a.mesh->bvh, leaves[0]), ancestor(b.mesh->bvh, leaves[1]), true};

@@ -150,7 +150,7 @@ void set_point_node(Mesh &m) {
     n.first = 0;
     n.count = m.triangle_count;
     m.point_lanes.assign(kLaneBlock, 0.0);
-    node_lanes(n, o, 0, m.point_lanes.data());
+    node_lanes(n, o, 0, m.triangle_count, 0, m.point_lanes.data());
 }
 
 // Degenerate triangles and connected components (union-find on vertices).

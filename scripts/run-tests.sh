@@ -41,6 +41,7 @@ HGCD_NO_AVX2=1 build/tests/test_grid
 HGCD_NO_AVX2=1 build/tests/test_convex
 HGCD_NO_AVX2=1 build/tests/test_large
 HGCD_NO_AVX2=1 build/tests/test_bvh
+HGCD_NO_AVX2=1 build/tests/test_hint
 HGCD_NO_AVX2=1 HGCD_TEST_FILTER='test_tetra*' build/tests/test_world
 HGCD_NO_AVX2=1 build/tests/test_threads
 HGCD_NO_AVX2=1 build/tests/test_incremental

@@ -516,7 +516,7 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
                 up_b = ancestor(b.mesh->bvh, up_b);
                 met = search(up_a, up_b, meet, leaves, false, searched);
             }
-            whole = rel && (up_a | up_b) == 0;
+            whole = rel;  // (the climb ends at the roots)
         }
     }
     if (!none_near && (met || (!whole && search(0, 0, meet, leaves, rel)))) {

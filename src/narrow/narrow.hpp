@@ -64,9 +64,10 @@ struct Witness {
 // The first-tried witness of a pair with a tree (a mesh above
 // kBvhMinTriangles): in, a pair of tree nodes (of a's tree and of b's; 0 for
 // a mesh without one) near where the surfaces met at this pair's last
-// detect, whose subtrees are searched before the whole trees (out of range:
-// none); out, found tells whether the surfaces met, then node_a, node_b are
-// the ancestors kHintLevels above the meeting leaves. Only a hint: any value
+// detect, whose subtrees are searched first, then those of their ancestors
+// a few levels up at a time (out of range: none); out, found tells whether
+// the surfaces met, then node_a, node_b are the ancestors kHintLevels above
+// the meeting leaves (tree_path.cpp). Only a hint: any value
 // leaves the verdict exact (the same exact triangle tests decide).
 // A pair found apart by its hulls (tree_path.cpp) has an axis instead: in,
 // when axis_given, a world direction along which a lay beyond b at the last

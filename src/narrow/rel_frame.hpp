@@ -256,8 +256,8 @@ HGCD_RF_INLINE void node_images(const RelFrame &f, const double *in, double *out
     }
     field[21] = (both(1e-15 * f.qn) * hsum + both(1.74) * eps) + both(1e-300);
     std::memcpy(out + 6, field, sizeof field);
-    std::memcpy(out + 2 * kImageLink, in + 2 * kLinkField, 2 * sizeof(double));
-    std::memcpy(out + 2 * kImageSpan, in + 2 * kSpanField, 2 * sizeof(double));
+    static_assert(kImageSpan == kImageLink + 1 && kSpanField == kLinkField + 1, "links and spans copied at once");
+    std::memcpy(out + 2 * kImageLink, in + 2 * kLinkField, 4 * sizeof(double));
 }
 
 // Node pairs several at once, one per lane (f64x2, f64x4: each lane does

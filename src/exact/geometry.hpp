@@ -43,21 +43,25 @@ bool tri_tri_within(const double *p0, const double *p1, const double *p2, const 
 // of a closest feature pair found in floating point).
 bool features_within(const double *const *a, int na, const double *const *b, int nb, double d);
 
-// A triangle with its plane filter data and box computed once, for callers
-// that test one triangle against several others (e.g. the 16 face pairs of
-// two tetrahedra). The vertex pointers must stay valid while it is used.
+// A triangle with its exact box, and its plane filter data computed on
+// first use, for callers that test one triangle against several others (a
+// tree's leaf against another's: most pairs are told apart by one plane, so
+// the other is never needed). The vertex pointers must stay valid while it
+// is used.
 struct PreparedTriangle {
     const double *v[3];
-    double n[3];   // rounded normal (v1-v0) x (v2-v0), filter use only
-    double an[3];  // filter permanents of n's components
-    double lo[3], hi[3];  // exact bounding box
+    double box[6];  // exact bounding box: low x y z, high x y z
+    double n[3];    // rounded normal (v1-v0) x (v2-v0), filter use only
+    double an[3];   // filter permanents of n's components
+    bool planed;    // n and an computed
 };
 
 void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
                       const double *v2);
 
-// Same answer as tri_tri_intersect on the triangles' vertices.
-bool tri_tri_intersect(const PreparedTriangle &p, const PreparedTriangle &q);
+// Same answer as tri_tri_intersect on the triangles' vertices (the planes
+// computed on first use).
+bool tri_tri_intersect(PreparedTriangle &p, PreparedTriangle &q);
 
 // Same answer as tri_tri_intersect(p[0], p[1], p[2], q[0], q[1], q[2]), for
 // callers that already hold the exact signs sp[i] = orient3d(q0, q1, q2, p_i)

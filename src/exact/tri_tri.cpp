@@ -203,9 +203,19 @@ inline bool tri_tri_finish(const double *const *p, const double *const *q,
     return orient3d_filtered(pa, phi, qa, qlo) <= 0;
 }
 
-// The plane filter a prepared triangle holds.
-inline PlaneFilter plane_of(const PreparedTriangle &t) {
+// The plane filter of a prepared triangle, its data computed on first use
+// (by plane_prepare, so the same bits as the vertex version's).
+inline PlaneFilter plane_of(PreparedTriangle &t) {
     PlaneFilter pf;
+    if (!t.planed) {
+        plane_prepare(pf, t.v[0], t.v[1], t.v[2]);
+        for (int k = 0; k < 3; ++k) {
+            t.n[k] = pf.n[k];
+            t.an[k] = pf.an[k];
+        }
+        t.planed = true;
+        return pf;
+    }
     pf.t0 = t.v[0];
     pf.t1 = t.v[1];
     pf.t2 = t.v[2];
@@ -314,22 +324,19 @@ void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
     t.v[0] = v0;
     t.v[1] = v1;
     t.v[2] = v2;
-    PlaneFilter pf;
-    plane_prepare(pf, v0, v1, v2);
     for (int k = 0; k < 3; ++k) {
-        t.n[k] = pf.n[k];
-        t.an[k] = pf.an[k];
-        t.lo[k] = min2(min2(v0[k], v1[k]), v2[k]);
-        t.hi[k] = max2(max2(v0[k], v1[k]), v2[k]);
+        t.box[k] = min2(min2(v0[k], v1[k]), v2[k]);
+        t.box[3 + k] = max2(max2(v0[k], v1[k]), v2[k]);
     }
+    t.planed = false;
 }
 
-bool tri_tri_intersect(const PreparedTriangle &p, const PreparedTriangle &q) {
+bool tri_tri_intersect(PreparedTriangle &p, PreparedTriangle &q) {
     bool apart = false;
-    for (int k = 0; k < 3; ++k) {
-        apart |= (p.hi[k] < q.lo[k]) | (q.hi[k] < p.lo[k]);
-    }
+    for (int k = 0; k < 3; ++k) apart |= (p.box[3 + k] < q.box[k]) | (q.box[3 + k] < p.box[k]);
     if (apart) return false;
+    // (The steps of tri_tri_intersect on the vertices, each plane's filter
+    // data computed once.)
     int sp[3];
     plane_sides3(plane_of(q), p.v[0], p.v[1], p.v[2], sp);
     if (all_same_nonzero(sp)) return false;

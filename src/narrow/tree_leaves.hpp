@@ -23,15 +23,9 @@ inline void leaf_range(const BodyView &v, uint32_t n, uint32_t &first, uint32_t 
     }
 }
 
-inline void view_triangle_box(BodyView &v, uint32_t t, const double *(&p)[3], double *box) {
+inline void prepare_view_triangle(BodyView &v, uint32_t t, PreparedTriangle &out) {
     const uint32_t *f = &v.tris[3 * size_t(t)];
-    p[0] = v.vertex(f[0]);
-    p[1] = v.vertex(f[1]);
-    p[2] = v.vertex(f[2]);
-    for (int k = 0; k < 3; ++k) {
-        box[k] = std::min(std::min(p[0][k], p[1][k]), p[2][k]);
-        box[3 + k] = std::max(std::max(p[0][k], p[1][k]), p[2][k]);
-    }
+    prepare_triangle(out, v.vertex(f[0]), v.vertex(f[1]), v.vertex(f[2]));
 }
 
 // Exact test of the triangles of leaf i of a against those of leaf j of b.
@@ -43,32 +37,30 @@ bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uin
     uint32_t fa, na, fb, nb;
     leaf_range(a, i, fa, na);
     leaf_range(b, j, fb, nb);
-    // Triangles of b that reach a's node box, with their exact boxes (`near`
-    // of them).
-    s.near_b.room(nb);
-    uint32_t *const near_tri = s.near_b.tri.data();
-    double *const near_box = s.near_b.box.data();
+    // Triangles of b that reach a's node box, prepared (`near` of them).
+    if (s.leaf_near.size() < nb) {
+        s.leaf_near.resize(nb);
+        s.leaf_near_tri.resize(nb);
+    }
+    PreparedTriangle *const near_b = s.leaf_near.data();
+    uint32_t *const near_tri = s.leaf_near_tri.data();
     size_t near = 0;
     for (uint32_t t = fb; t < fb + nb; ++t) {
-        const double *q[3];
-        double *tb = near_box + 6 * near;
-        view_triangle_box(b, t, q, tb);
-        if (kMargin ? boxes_apart(tb, node_a, d) : boxes_disjoint(tb, node_a)) continue;
+        prepare_view_triangle(b, t, near_b[near]);
+        if (kMargin ? boxes_apart(near_b[near].box, node_a, d) : boxes_disjoint(near_b[near].box, node_a)) continue;
         near_tri[near++] = t;
     }
     if (near == 0) return false;
     for (uint32_t t = fa; t < fa + na; ++t) {
-        const double *p[3];
-        double ta[6];
-        view_triangle_box(a, t, p, ta);
-        if (kMargin ? boxes_apart(ta, node_b, d) : boxes_disjoint(ta, node_b)) continue;
+        PreparedTriangle p;
+        prepare_view_triangle(a, t, p);
+        if (kMargin ? boxes_apart(p.box, node_b, d) : boxes_disjoint(p.box, node_b)) continue;
         for (size_t k = 0; k < near; ++k) {
-            if (kMargin ? boxes_apart(ta, near_box + 6 * k, d) : boxes_disjoint(ta, near_box + 6 * k)) continue;
-            const uint32_t *f = &b.tris[3 * size_t(near_tri[k])];
+            PreparedTriangle &q = near_b[k];
+            if (kMargin ? boxes_apart(p.box, q.box, d) : boxes_disjoint(p.box, q.box)) continue;
             ++s.triangle_tests;
-            const double *q0 = b.vertex(f[0]), *q1 = b.vertex(f[1]), *q2 = b.vertex(f[2]);
-            if (kMargin ? tri_tri_within(p[0], p[1], p[2], q0, q1, q2, d)
-                        : tri_tri_intersect(p[0], p[1], p[2], q0, q1, q2)) {
+            if (kMargin ? tri_tri_within(p.v[0], p.v[1], p.v[2], q.v[0], q.v[1], q.v[2], d)
+                        : tri_tri_intersect(p, q)) {
                 meet[0] = t;
                 meet[1] = near_tri[k];
                 return true;

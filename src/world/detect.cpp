@@ -29,6 +29,7 @@ constexpr size_t kNarrowChunk = 512;
 constexpr uint8_t kCcdUse = 1;    // convex and set to GJK or MPR: libccd
 constexpr uint8_t kCcdGjk = 2;    // set to GJK
 constexpr uint8_t kCcdAsked = 4;  // set to GJK or MPR, convex or not
+constexpr uint8_t kQueueTetra = 1, kQueueConvex = 2;  // (NarrowPlan::queued)
 
 }  // namespace
 
@@ -63,6 +64,10 @@ struct World::NarrowPlan {
     // Every live mesh small convex and none a tetrahedron: every pair goes
     // to the convex batch, in the chunk's order.
     bool all_convex = false;
+    // Per mesh slot: kQueueTetra when the batch takes its pairs with
+    // tetrahedra, kQueueConvex when the convex batch takes its pairs with
+    // small convex meshes (a pair is queued when its two share a bit).
+    std::vector<uint8_t> queued;
     std::unique_ptr<ConvexPair[]> convex_pairs;
     std::unique_ptr<Contact[]> convex_verdicts;
 };
@@ -266,6 +271,10 @@ void World::plan_narrow(int threads, NarrowPlan &plan) const {
         plan.convex_pairs.reset(new ConvexPair[size_t(threads) * kNarrowChunk]);
         plan.convex_verdicts.reset(new Contact[size_t(threads) * kNarrowChunk]);
     }
+    plan.queued.assign(meshes_.size(), 0);
+    for (size_t m = 0; m < meshes_.size(); ++m)
+        plan.queued[m] = uint8_t((plan.batch && meshes_[m].tetra ? kQueueTetra : 0) |
+                                 (plan.convex_batch && meshes_[m].sat ? kQueueConvex : 0));
 }
 
 void World::narrow_phase(int threads, const NarrowPlan &plan,
@@ -439,6 +448,40 @@ void World::within_margins(size_t tetras, NarrowThread &t) const {
     }
 }
 
+// What the later pairs of a chunk will read, asked for in stages, each
+// stage's lines read by the next (their latency hidden): for the pair 16
+// on, its meshes and slots; 8 on, when no batch will take it, its
+// placements and where its witnesses' run starts (by its lower slot); 4 on,
+// that run. On `scanned` (a tree pair every candidate) the three lookups
+// took 8% of the detect unasked for. A batch asks for its pairs'
+// placements itself: asked for here, 512 pairs before their use, they held
+// up this loop. (Inlined into the loop: a call GCC's analysis finds free of
+// side effects, a prefetch not counting, is deleted.)
+__attribute__((always_inline)) inline void World::ask_ahead(const NarrowPlan &plan, const PairBuffer &list, size_t k, size_t end) const {
+    if (k + 16 < end) {
+        const uint64_t p = list[k + 16];
+        __builtin_prefetch(&body_mesh_[p >> 32]);
+        __builtin_prefetch(&body_mesh_[uint32_t(p)]);
+        __builtin_prefetch(&slot_of_[p >> 32]);
+        __builtin_prefetch(&slot_of_[uint32_t(p)]);
+    }
+    const bool runs = !witness_start_.empty();
+    if (k + 8 < end) {
+        const uint64_t p = list[k + 8];
+        const uint32_t a = uint32_t(p >> 32), b = uint32_t(p);
+        if (!(plan.queued[body_mesh_[a]] & plan.queued[body_mesh_[b]])) {
+            __builtin_prefetch(&place_[a]);
+            __builtin_prefetch(&place_[b]);
+            if (runs) __builtin_prefetch(&witness_start_[std::min(slot_of_[a], slot_of_[b])]);
+        }
+    }
+    if (runs && k + 4 < end) {
+        const uint64_t p = list[k + 4];
+        const uint32_t lo = std::min(slot_of_[p >> 32], slot_of_[uint32_t(p)]);
+        if (lo < witness_start_.size()) __builtin_prefetch(witness_.data() + witness_start_[lo]);
+    }
+}
+
 // The pairs of a chunk whose meshes are not all tetrahedra: each tested here,
 // or queued for the batch if both are tetrahedra and the plan batches.
 // Returns the count queued.
@@ -449,18 +492,7 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
     const size_t end = chunk.end;
     size_t tetras = 0;
     for (size_t k = chunk.begin; k < end; ++k) {
-        // The meshes of a later pair, to hide the latency, and its placements
-        // unless the batched test will read them (it asks for them itself:
-        // asked for here, 512 pairs before their use, they held up this loop).
-        if (k + 8 < end) {
-            const uint64_t ahead = list[k + 8];
-            __builtin_prefetch(&body_mesh_[ahead >> 32]);
-            __builtin_prefetch(&body_mesh_[uint32_t(ahead)]);
-            if (!batch) {
-                __builtin_prefetch(&place_[ahead >> 32]);
-                __builtin_prefetch(&place_[uint32_t(ahead)]);
-            }
-        }
+        ask_ahead(plan, list, k, end);
         // Storage indices. The exact verdict does not depend on the order of
         // the two bodies, so only contacts (which follow the pair's order as
         // reported) and libccd (whose tolerances might) take them in slot

@@ -291,6 +291,8 @@ class World {
     template <class Pair>
     void append_hits(const Contact *verdict, size_t n, const Pair *pairs, const uint64_t *keys, NarrowThread &t) const;
     void within_margins(size_t tetras, NarrowThread &t) const;
+    // Asks for what the pairs after the k-th of list[.., end) will read.
+    void ask_ahead(const NarrowPlan &plan, const PairBuffer &list, size_t k, size_t end) const;
     size_t narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                         NarrowThread &t) const;
     static Contact collide_pair(const BodyPose &pa, const BodyPose &pb, uint8_t ma, uint8_t mb, double d,

@@ -195,6 +195,23 @@ hgcd_status World::set_pose(hgcd_body id, const double *position, const double *
     if (hgcd_status s = check_pose("body_set_pose", position, orientation)) return s;
     apply_pose(at_[slot], position, orientation);
     query_.stale = true;
+    // Callers mostly pose their bodies in slot order, while storage follows
+    // space: the lines of the slot kPoseAhead on are asked for now, and have
+    // arrived by its call (bench_pose, 200k boxes: 220 -> 71 ns a call with
+    // a new position, 320 -> 133 with a new orientation; 1 ahead was too
+    // late). Callers in another order lose a few needless requests a call.
+    constexpr size_t kPoseAhead = 4;
+    if (size_t(slot) + kPoseAhead < at_.size()) {
+        const size_t n = at_[size_t(slot) + kPoseAhead];
+        if (n < place_.size()) {
+            __builtin_prefetch(place_.data() + n, 1);
+            __builtin_prefetch(point_.data() + 3 * n, 1);
+            __builtin_prefetch(box_off_.data() + 6 * n, 1);
+            __builtin_prefetch(body_record_.data() + n);
+            __builtin_prefetch(body_mesh_.data() + n);
+            __builtin_prefetch(moved_at_.data() + n, 1);
+        }
+    }
     return HGCD_OK;
 }
 

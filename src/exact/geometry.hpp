@@ -5,6 +5,7 @@
 // sign is computed exactly (floating-point filter, exact fallback), never with
 // a tolerance.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 
 namespace hgcd {
@@ -56,8 +57,17 @@ struct PreparedTriangle {
     bool planed;    // n and an computed
 };
 
-void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
-                      const double *v2);
+// (Inline: a leaf pair prepares several, each a few instructions.)
+inline void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1, const double *v2) {
+    t.v[0] = v0;
+    t.v[1] = v1;
+    t.v[2] = v2;
+    for (int k = 0; k < 3; ++k) {
+        t.box[k] = std::min(std::min(v0[k], v1[k]), v2[k]);
+        t.box[3 + k] = std::max(std::max(v0[k], v1[k]), v2[k]);
+    }
+    t.planed = false;
+}
 
 // Same answer as tri_tri_intersect on the triangles' vertices (the planes
 // computed on first use).

@@ -319,18 +319,6 @@ bool tri_tri_intersect_signed(const double *const *p, const double *const *q,
     return tri_tri_finish(p, q, sp, sq);
 }
 
-void prepare_triangle(PreparedTriangle &t, const double *v0, const double *v1,
-                      const double *v2) {
-    t.v[0] = v0;
-    t.v[1] = v1;
-    t.v[2] = v2;
-    for (int k = 0; k < 3; ++k) {
-        t.box[k] = min2(min2(v0[k], v1[k]), v2[k]);
-        t.box[3 + k] = max2(max2(v0[k], v1[k]), v2[k]);
-    }
-    t.planed = false;
-}
-
 bool tri_tri_intersect(PreparedTriangle &p, PreparedTriangle &q) {
     bool apart = false;
     for (int k = 0; k < 3; ++k) apart |= (p.box[3 + k] < q.box[k]) | (q.box[3 + k] < p.box[k]);

@@ -99,9 +99,9 @@ struct NearTriangles {
 struct NarrowScratch {
     std::vector<double> world_a, world_b;
     NearTriangles near_b;  // triangles of b that reach a's box
-    // The tree path's leaves (leaves_meet): the triangles of b's leaf that
-    // reach a's, prepared, with their leaf-order indices.
-    std::vector<PreparedTriangle> leaf_near;
+    // The tree path's leaves (leaves_meet): a's leaf's triangles, prepared,
+    // and those of b's that reach them, with their leaf-order indices.
+    std::vector<PreparedTriangle> leaf_a, leaf_near;
     std::vector<uint32_t> leaf_near_tri;
     // Tree path (a mesh above kBvhMinTriangles): per side, world vertices and
     // node boxes computed on first use, valid while their stamp is `epoch`

@@ -30,38 +30,54 @@ inline void prepare_view_triangle(BodyView &v, uint32_t t, PreparedTriangle &out
 
 // Exact test of the triangles of leaf i of a against those of leaf j of b.
 // On a meeting pair, sets meet[0], meet[1] to their leaf-order indices.
-// With kMargin: a triangle pair within d (boxes grown by d).
+// With kMargin: a triangle pair within d (boxes grown by d). Each side's
+// triangles are tried against the box of the other's that can meet them
+// (exact, and inside the leaf's node box: no world box of a node is asked
+// for). The first meeting pair in a's order, then b's, is the one found.
 template <bool kMargin>
-bool leaves_meet(BodyView &a, uint32_t i, const double *node_a, BodyView &b, uint32_t j,
-                 const double *node_b, NarrowScratch &s, uint32_t *meet, double d) {
+bool leaves_meet(BodyView &a, uint32_t i, BodyView &b, uint32_t j, NarrowScratch &s, uint32_t *meet, double d) {
     uint32_t fa, na, fb, nb;
     leaf_range(a, i, fa, na);
     leaf_range(b, j, fb, nb);
-    // Triangles of b that reach a's node box, prepared (`near` of them).
+    if (s.leaf_a.size() < na) s.leaf_a.resize(na);
     if (s.leaf_near.size() < nb) {
         s.leaf_near.resize(nb);
         s.leaf_near_tri.resize(nb);
     }
+    auto grow = [](double *box, const double *t) {
+        for (int k = 0; k < 3; ++k) {
+            box[k] = std::min(box[k], t[k]);
+            box[3 + k] = std::max(box[3 + k], t[3 + k]);
+        }
+    };
+    PreparedTriangle *const tri_a = s.leaf_a.data();
+    double box_a[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t t = 0; t < na; ++t) {
+        prepare_view_triangle(a, fa + t, tri_a[t]);
+        grow(box_a, tri_a[t].box);
+    }
+    // Triangles of b that reach a's, prepared (`near` of them), and their box.
     PreparedTriangle *const near_b = s.leaf_near.data();
     uint32_t *const near_tri = s.leaf_near_tri.data();
+    double box_b[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
     size_t near = 0;
     for (uint32_t t = fb; t < fb + nb; ++t) {
         prepare_view_triangle(b, t, near_b[near]);
-        if (kMargin ? boxes_apart(near_b[near].box, node_a, d) : boxes_disjoint(near_b[near].box, node_a)) continue;
+        if (kMargin ? boxes_apart(near_b[near].box, box_a, d) : boxes_disjoint(near_b[near].box, box_a)) continue;
+        grow(box_b, near_b[near].box);
         near_tri[near++] = t;
     }
     if (near == 0) return false;
-    for (uint32_t t = fa; t < fa + na; ++t) {
-        PreparedTriangle p;
-        prepare_view_triangle(a, t, p);
-        if (kMargin ? boxes_apart(p.box, node_b, d) : boxes_disjoint(p.box, node_b)) continue;
+    for (uint32_t t = 0; t < na; ++t) {
+        PreparedTriangle &p = tri_a[t];
+        if (kMargin ? boxes_apart(p.box, box_b, d) : boxes_disjoint(p.box, box_b)) continue;
         for (size_t k = 0; k < near; ++k) {
             PreparedTriangle &q = near_b[k];
             if (kMargin ? boxes_apart(p.box, q.box, d) : boxes_disjoint(p.box, q.box)) continue;
             ++s.triangle_tests;
             if (kMargin ? tri_tri_within(p.v[0], p.v[1], p.v[2], q.v[0], q.v[1], q.v[2], d)
                         : tri_tri_intersect(p, q)) {
-                meet[0] = t;
+                meet[0] = fa + t;
                 meet[1] = near_tri[k];
                 return true;
             }

@@ -115,7 +115,7 @@ bool surfaces_meet(BodyView &a, BodyView &b, NarrowScratch &s, uint32_t start_a,
         const bool la = a.leaf(i), lb = b.leaf(j);
         if (!kMargin && la != lb && (la ? plane_cut(a, i, bb) : plane_cut(b, j, ba))) continue;
         if (la && lb) {
-            if (leaves_meet<kMargin>(a, i, ba, b, j, bb, s, meet, d)) {
+            if (leaves_meet<kMargin>(a, i, b, j, s, meet, d)) {
                 leaves[0] = i;
                 leaves[1] = j;
                 return true;
@@ -216,7 +216,7 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
                             : size_b >= 2 * size_a && plane_cut(b, j, a.box(i))))
             continue;
         if (la && lb) {
-            if (leaves_meet<false>(a, i, a.box(i), b, j, b.box(j), s, meet, 0)) {
+            if (leaves_meet<false>(a, i, b, j, s, meet, 0)) {
                 leaves[0] = i;
                 leaves[1] = j;
                 return true;

@@ -457,7 +457,8 @@ void World::within_margins(size_t tetras, NarrowThread &t) const {
 // placements itself: asked for here, 512 pairs before their use, they held
 // up this loop. (Inlined into the loop: a call GCC's analysis finds free of
 // side effects, a prefetch not counting, is deleted.)
-__attribute__((always_inline)) inline void World::ask_ahead(const NarrowPlan &plan, const PairBuffer &list, size_t k, size_t end) const {
+__attribute__((always_inline)) inline void World::ask_ahead(const NarrowPlan &plan, const PairBuffer &list,
+                                                            size_t k, size_t end) const {
     if (k + 16 < end) {
         const uint64_t p = list[k + 16];
         __builtin_prefetch(&body_mesh_[p >> 32]);

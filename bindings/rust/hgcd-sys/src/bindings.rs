@@ -2524,8 +2524,10 @@ extern "C" {
     #[doc = "  for meshes of at most 128 triangles, up to 8 box transforms for larger"]
     #[doc = "  ones (a 2-core AMD EPYC, CPU time: about 13 ns with an unchanged"]
     #[doc = "  orientation; with a new one about 30 ns for a tetrahedron, 35 to 80 ns"]
-    #[doc = "  for a 12-triangle box; bench/bench_pose.c). For many bodies"]
-    #[doc = "  hgcd_world_set_poses costs less per body."]
+    #[doc = "  for a 12-triangle box; bench/bench_pose.c). Calls in slot order (the"]
+    #[doc = "  bodies' index order) cost least in a large world: each asks for the"]
+    #[doc = "  storage of the body four slots on, which is otherwise a cache miss a"]
+    #[doc = "  call. For many bodies hgcd_world_set_poses costs less per body."]
     pub fn hgcd_body_set_pose(
         world: *mut hgcd_world,
         body: hgcd_body,

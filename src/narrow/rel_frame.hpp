@@ -362,11 +362,15 @@ HGCD_RF_INLINE unsigned rel_apart2(const RelFrame &f, const double *a, int la, c
 // The four pairs of a's two nodes of block `a` with b's two of image block
 // `b`: bit la + 2 lb for the pair (lane la of a, lane lb of b).
 HGCD_RF_INLINE unsigned rel_apart4(const RelFrame &f, const double *a, const double *b) {
+    // (Each a 16-byte load and one shuffle: built element by element, the
+    // vectors took several instructions each.)
     auto A = [&](int k) __attribute__((always_inline)) {
-        return f64x4{a[2 * k], a[2 * k + 1], a[2 * k], a[2 * k + 1]};
+        const f64x2 v = lanes2(a, k);
+        return f64x4(__builtin_shufflevector(v, v, 0, 1, 0, 1));
     };
     auto B = [&](int k) __attribute__((always_inline)) {
-        return f64x4{b[2 * k], b[2 * k], b[2 * k + 1], b[2 * k + 1]};
+        const f64x2 v = lanes2(b, k);
+        return f64x4(__builtin_shufflevector(v, v, 0, 0, 1, 1));
     };
     return rel_apart_lanes<f64x4, i64x4>(f, A, B);
 }

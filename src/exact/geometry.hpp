@@ -70,7 +70,8 @@ inline void prepare_triangle(PreparedTriangle &t, const double *v0, const double
 }
 
 // Same answer as tri_tri_intersect on the triangles' vertices (the planes
-// computed on first use).
+// computed on first use). Its box filter is left to the caller, who has
+// the boxes: the plane tests decide alone.
 bool tri_tri_intersect(PreparedTriangle &p, PreparedTriangle &q);
 
 // Same answer as tri_tri_intersect(p[0], p[1], p[2], q[0], q[1], q[2]), for

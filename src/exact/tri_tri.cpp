@@ -320,11 +320,9 @@ bool tri_tri_intersect_signed(const double *const *p, const double *const *q,
 }
 
 bool tri_tri_intersect(PreparedTriangle &p, PreparedTriangle &q) {
-    bool apart = false;
-    for (int k = 0; k < 3; ++k) apart |= (p.box[3 + k] < q.box[k]) | (q.box[3 + k] < p.box[k]);
-    if (apart) return false;
-    // (The steps of tri_tri_intersect on the vertices, each plane's filter
-    // data computed once.)
+    // (The steps of tri_tri_intersect on the vertices after its box filter,
+    // which the callers run on the prepared boxes; each plane's filter data
+    // computed once.)
     int sp[3];
     plane_sides3(plane_of(q), p.v[0], p.v[1], p.v[2], sp);
     if (all_same_nonzero(sp)) return false;

@@ -484,12 +484,11 @@ __attribute__((always_inline)) inline void World::ask_ahead(const NarrowPlan &pl
 }
 
 // The pairs of a chunk whose meshes are not all tetrahedra: each tested here,
-// or queued for the batch if both are tetrahedra and the plan batches.
+// or queued for a batch (NarrowPlan::queued).
 // Returns the count queued.
 size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const NarrowChunk &chunk,
                            NarrowThread &t) const {
-    const bool want_contacts = plan.want_contacts, any_ccd = plan.any_ccd, batch = plan.batch,
-               margins = plan.margins;
+    const bool want_contacts = plan.want_contacts, any_ccd = plan.any_ccd, margins = plan.margins;
     const size_t end = chunk.end;
     size_t tetras = 0;
     for (size_t k = chunk.begin; k < end; ++k) {
@@ -502,12 +501,13 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
         if ((want_contacts || any_ccd) && slot_of_[a] > slot_of_[b]) std::swap(a, b);
         const Placement &la = place_[a], &lb = place_[b];
         const Mesh *mesh_a = &meshes_[body_mesh_[a]], *mesh_b = &meshes_[body_mesh_[b]];
-        if (batch && mesh_a->tetra && mesh_b->tetra) {
+        const uint8_t queue = plan.queued[body_mesh_[a]] & plan.queued[body_mesh_[b]];
+        if (queue & kQueueTetra) {
             t.tetra[tetras++] = TetraPair{mesh_a, mesh_b, &la, &lb, pool_.blocks()[body_record_[a].block].d,
                                           pool_.blocks()[body_record_[b].block].d};
             continue;
         }
-        if (plan.convex_batch && mesh_a->sat && mesh_b->sat) {
+        if (queue & kQueueConvex) {
             t.convex[t.convex_count++] = ConvexPair{mesh_a, mesh_b, &la, &lb, mesh_a->sat.get(), mesh_b->sat.get()};
             continue;
         }

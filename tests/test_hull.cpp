@@ -5,8 +5,8 @@
 // a few ulps off a face, and flat sets. For each: the faces close up (every
 // directed edge has its twin), every point is inside or on every face's
 // plane (exact), the hull's vertices are input points, each group's ball
-// holds its vertices, and the support queries (hull_support, hull_climb's
-// climbs) agree with a scan of all points.
+// holds its vertices, and the support queries (hull_support,
+// hull_support_near, hull_climb's climbs) agree with a scan of all points.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -56,6 +56,7 @@ void check_supports(const hgcd::Hull &h) {
     for (int d = 1; d < 27; ++d) dirs.push_back({double(d % 3 - 1), double(d / 3 % 3 - 1), double(d / 9 - 1)});
     dirs.push_back({0, 0, 0});
     for (double s : {1e-310, 1e-200, 1e200, 1e305}) dirs.push_back({s * 0.3, -s * 0.7, s * 0.1});
+    size_t answered = 0;
     for (const auto &d : dirs) {
         double want = -INFINITY, best;
         uint32_t at = 0;
@@ -66,7 +67,22 @@ void check_supports(const hgcd::Hull &h) {
         }
         assert_int_equal(hgcd::hull_support(h, d.data(), &best), at);
         assert_true(best == want);
+        // hull_support_near, from any start: when it answers, a top, and a
+        // bound at least the scan's value and within roundings of it.
+        const double n1 = (std::fabs(d[0]) + std::fabs(d[1])) + std::fabs(d[2]);
+        for (uint32_t start : {0u, h.size / 2, h.size - 1, at}) {
+            double bound;
+            const uint32_t c = hgcd::hull_support_near(h, d.data(), start, &bound);
+            if (c == UINT32_MAX) continue;
+            ++answered;
+            assert_true(c < h.size);
+            const double *q = &h.xyz[3 * size_t(c)];
+            assert_true(bound >= want);
+            assert_true(bound <= want + 4e-15 * n1 * h.extent + 1e-299);
+            assert_true((d[0] * q[0] + d[1] * q[1]) + d[2] * q[2] >= want - 4e-15 * n1 * h.extent - 1e-299);
+        }
     }
+    assert_true(answered >= dirs.size());  // (most directions, from most starts)
 }
 
 // Checks the hull of pts (all used) exactly; returns its vertex count.

@@ -252,6 +252,51 @@ uint32_t hull_climb(const Hull &h, const double *dir, uint32_t start) {
     return at;
 }
 
+// The signs. For a vertex p and a neighbour q, e_k = fl(q_k - p_k) is within
+// u |e_k| / (1 - u) of q_k - p_k (u = 2^-53), so d . e within that times
+// sum |d_k e_k| of d . (q - p), and s = fl((d0 e0 + d1 e1) + d2 e2) within
+// g_3 sum |d_k e_k| of d . e: |s - d . (q - p)| < 4.5e-16 sum |d_k e_k|. The
+// bound err = 5e-16 fl(sum |fl(d_k e_k)|) + 1e-300 covers it with the
+// roundings of the products and sums (and underflow), so s > err proves q
+// higher, s < -err proves it lower. Every neighbour lower (or level, which
+// is not told apart: then the scan) makes p a top over the hull: it is
+// convex, and the cone of p's edges holds it. The value: any vertex x has
+// fl(d . x) <= d . x + g_3 |d|_1 X <= d . p + g_3 |d|_1 X <= fl(d . p) + 2
+// g_3 |d|_1 X (X: the hull's extent), and 1e-15 |d|_1 X + 1e-300 covers 2
+// g_3 |d|_1 X with the roundings of its terms and of the final sum.
+uint32_t hull_support_near(const Hull &h, const double *dir, uint32_t start, double *bound) {
+    constexpr int kSteps = 16;
+    const double n1 = (std::fabs(dir[0]) + std::fabs(dir[1])) + std::fabs(dir[2]);
+    if (start >= h.size || !(n1 * h.extent < 1e300)) return UINT32_MAX;
+    const double *x = h.xyz.data();
+    uint32_t at = start;
+    for (int step = 0; step < kSteps; ++step) {
+        const double *p = x + 3 * size_t(at);
+        uint32_t next = UINT32_MAX;
+        double rise = 0;
+        bool level = false;
+        for (uint32_t k = h.first[at]; k < h.first[at + 1]; ++k) {
+            const double *q = x + 3 * size_t(h.adj[k]);
+            const double e0 = dir[0] * (q[0] - p[0]), e1 = dir[1] * (q[1] - p[1]), e2 = dir[2] * (q[2] - p[2]);
+            const double s = (e0 + e1) + e2;
+            const double err = 5e-16 * ((std::fabs(e0) + std::fabs(e1)) + std::fabs(e2)) + 1e-300;
+            if (s > err) {
+                if (s > rise) rise = s, next = h.adj[k];
+            } else {
+                level |= !(s < -err);
+            }
+        }
+        if (next != UINT32_MAX) {
+            at = next;
+            continue;
+        }
+        if (level) return UINT32_MAX;
+        *bound = ((dir[0] * p[0] + dir[1] * p[1]) + dir[2] * p[2]) + (1e-15 * n1 * h.extent + 1e-300);
+        return at;
+    }
+    return UINT32_MAX;
+}
+
 namespace {
 
 // hull_support over lanes of V (f64x2 or f64x4). Each group's ball bounds

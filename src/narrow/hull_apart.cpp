@@ -55,15 +55,20 @@ bool certify(const RelFrame &f, const double *v, double lo_a, double hb) {
 }  // namespace
 
 bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const Hull &b, const BvhNode &root_b,
-                 const double *first, double *axis) {
-    // GJK's supports: a scan of a small hull (whose value the certificate
-    // then takes), a climb on a large one (from its last support).
+                 const double *first, double *axis, uint32_t *near) {
+    // GJK's supports: on a small hull, the first from the given supports
+    // (hull_support_near) when it can tell, else a scan (either gives the
+    // certificate its value); a climb on a large one (from its last
+    // support).
     uint32_t at_a = UINT32_MAX, at_b = UINT32_MAX;
+    uint32_t near_a = near ? near[0] : UINT32_MAX, near_b = near ? near[1] : UINT32_MAX;
     double point_b[3], lo_a = 0, hb = 0;
     auto lowest_a = [&](const double *dir, const double **point) {
         const double down[3] = {-dir[0], -dir[1], -dir[2]};
         if (a.size <= kScanHull) {
-            at_a = hull_support(a, down, &lo_a);
+            at_a = near_a != UINT32_MAX ? hull_support_near(a, down, near_a, &lo_a) : UINT32_MAX;
+            near_a = UINT32_MAX;
+            if (at_a == UINT32_MAX) at_a = hull_support(a, down, &lo_a);
             lo_a = -lo_a;
         } else {
             at_a = hull_climb(a, down, at_a);
@@ -74,7 +79,13 @@ bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const 
     auto highest_b = [&](const double *dir, const double **point) {
         double w[3];
         to_b(f.q, dir, w);
-        at_b = b.size <= kScanHull ? hull_support(b, w, &hb) : hull_climb(b, w, at_b);
+        if (b.size <= kScanHull) {
+            at_b = near_b != UINT32_MAX ? hull_support_near(b, w, near_b, &hb) : UINT32_MAX;
+            near_b = UINT32_MAX;
+            if (at_b == UINT32_MAX) at_b = hull_support(b, w, &hb);
+        } else {
+            at_b = hull_climb(b, w, at_b);
+        }
         const double *q = &b.xyz[3 * size_t(at_b)];
         for (int i = 0; i < 3; ++i)
             point_b[i] = f.t[i] + ((f.q[3 * i] * q[0] + f.q[3 * i + 1] * q[1]) + f.q[3 * i + 2] * q[2]);
@@ -100,7 +111,12 @@ bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const 
         to_b(f.q, v, w);
         hull_support(b, w, &hb);
     }
-    return certify(f, v, lo_a, hb);
+    if (!certify(f, v, lo_a, hb)) return false;
+    if (near) {
+        near[0] = at_a;
+        near[1] = at_b;
+    }
+    return true;
 }
 
 bool bodies_hulls_apart(const RelFrame &f, const BodyView &a, const BodyView &b, NodeHint *hint) {
@@ -110,11 +126,18 @@ bool bodies_hulls_apart(const RelFrame &f, const BodyView &a, const BodyView &b,
     if (given)
         for (int i = 0; i < 3; ++i)
             first[i] = (r[i] * hint->axis[0] + r[3 + i] * hint->axis[1]) + r[6 + i] * hint->axis[2];
-    if (!hulls_apart(f, a.mesh->hull, a.nodes[0], b.mesh->hull, b.nodes[0], given ? first : nullptr, axis))
+    uint32_t near[2] = {UINT32_MAX, UINT32_MAX};
+    if (given) {
+        near[0] = hint->support_a;
+        near[1] = hint->support_b;
+    }
+    if (!hulls_apart(f, a.mesh->hull, a.nodes[0], b.mesh->hull, b.nodes[0], given ? first : nullptr, axis, near))
         return false;
     if (hint) {
         for (int k = 0; k < 3; ++k) hint->axis[k] = (r[3 * k] * axis[0] + r[3 * k + 1] * axis[1]) + r[3 * k + 2] * axis[2];
         hint->axis_found = true;
+        hint->support_a = near[0];
+        hint->support_b = near[1];
     }
     return true;
 }

@@ -72,12 +72,15 @@ struct Witness {
 // leaves the verdict exact (the same exact triangle tests decide).
 // A pair found apart by its hulls (tree_path.cpp) has an axis instead: in,
 // when axis_given, a world direction along which a lay beyond b at the last
-// detect, GJK's first; out, when axis_found, the certified one.
+// detect, GJK's first; out, when axis_found, the certified one. With the
+// axis, the hull vertices of a and b lowest and highest along it (in, where
+// the supports climb from; UINT32_MAX: none).
 struct NodeHint {
     uint32_t node_a = UINT32_MAX, node_b = UINT32_MAX;
     bool found = false;
     bool axis_given = false, axis_found = false;
     double axis[3] = {0, 0, 0};
+    uint32_t support_a = UINT32_MAX, support_b = UINT32_MAX;
 };
 
 // Triangles of one body that reach the other's box, with their exact boxes

@@ -427,12 +427,14 @@ Contact collide_tree(const BodyPose &a, const BodyPose &b, NarrowScratch &s, Wit
         if (hint) {
             turned = *hint;
             std::swap(turned.node_a, turned.node_b);
+            std::swap(turned.support_a, turned.support_b);
         }
         Witness w;
         const Contact c = collide_tree<kMargin>(b, a, s, &w, counted, d, hint ? &turned : nullptr);
         if (hint) {
             *hint = turned;
             std::swap(hint->node_a, hint->node_b);
+            std::swap(hint->support_a, hint->support_b);
         }
         if (witness && c != Contact::None)
             *witness = Witness{w.tri_b, w.tri_a, c == Contact::Containment ? !w.a_holds_b : w.a_holds_b, true};

@@ -523,9 +523,13 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
             const uint64_t key = pair_key(sa, sb);
             NodeHint hint;
             if (const NodeWitness *w = find_witness(key)) {
-                if (w->node[0] == kAxisWitness) {  // the axis is kept pointing from the higher slot's body
+                if (w->node[0] >= kAxisTag) {  // the axis is kept pointing from the higher slot's body
                     unpack_axis(w->node[1], hint.axis, sa < sb ? 1 : -1);
                     hint.axis_given = true;
+                    const uint32_t low = w->node[0] >> 10 & kNoSupport, high = w->node[0] & kNoSupport;
+                    const uint32_t ua = sa < sb ? low : high, ub = sa < sb ? high : low;
+                    hint.support_a = ua == kNoSupport ? UINT32_MAX : ua;
+                    hint.support_b = ub == kNoSupport ? UINT32_MAX : ub;
                 } else {
                     hint.node_a = w->node[sa > sb];
                     hint.node_b = w->node[sa < sb];
@@ -536,7 +540,9 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
             if (hint.found)
                 t.witnesses.push_back(NodeWitness{key, {sa < sb ? hint.node_a : hint.node_b, sa < sb ? hint.node_b : hint.node_a}});
             else if (hint.axis_found)
-                t.witnesses.push_back(NodeWitness{key, {kAxisWitness, pack_axis(hint.axis, sa < sb ? 1 : -1)}});
+                t.witnesses.push_back(NodeWitness{key, {sa < sb ? axis_witness(hint.support_a, hint.support_b)
+                                                               : axis_witness(hint.support_b, hint.support_a),
+                                                        pack_axis(hint.axis, sa < sb ? 1 : -1)}});
         } else {
             hit = collide_pair(pa, pb, ma, mb, d, want_contacts, t, &contact);
         }

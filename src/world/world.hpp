@@ -265,13 +265,20 @@ class World {
     // each colliding pair of the last detect with a mesh that has a tree,
     // the tree nodes near where its surfaces met (NodeHint; the lower slot's
     // first), and for each pair its hulls proved apart at the last detect,
-    // the axis (kAxisWitness, then pack_axis's word). Hints that the next
-    // detect tries first: any entry leaves verdicts exact.
+    // the axis (pack_axis's word) and the hulls' supports along it
+    // (axis_witness's word). Hints that the next detect tries first: any
+    // entry leaves verdicts exact.
     struct NodeWitness {
         uint64_t key;
         uint32_t node[2];
     };
-    static constexpr uint32_t kAxisWitness = UINT32_MAX;  // (no tree has so many nodes)
+    // An axis witness's first word: kAxisTag and the two supports (10 bits
+    // each, the lower slot's first; kNoSupport: none), above every node
+    // index (no tree has so many nodes).
+    static constexpr uint32_t kAxisTag = 0xFFF00000u, kNoSupport = 1023;
+    static uint32_t axis_witness(uint32_t low, uint32_t high) {
+        return kAxisTag | std::min(low, kNoSupport) << 10 | std::min(high, kNoSupport);
+    }
     // A direction (times sign) in 32 bits, octahedral (16 bits a
     // coordinate, about 1e-4 radians), and back.
     static uint32_t pack_axis(const double *v, double sign);

@@ -63,12 +63,17 @@ bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const 
     uint32_t at_a = UINT32_MAX, at_b = UINT32_MAX;
     uint32_t near_a = near ? near[0] : UINT32_MAX, near_b = near ? near[1] : UINT32_MAX;
     double point_b[3], lo_a = 0, hb = 0;
+    // A small hull's support: from `from` the first time (then forgotten),
+    // by a scan when that cannot tell.
+    auto small_support = [](const Hull &h, const double *dir, uint32_t &from, double *value) {
+        const uint32_t at = from != UINT32_MAX ? hull_support_near(h, dir, from, value) : UINT32_MAX;
+        from = UINT32_MAX;
+        return at != UINT32_MAX ? at : hull_support(h, dir, value);
+    };
     auto lowest_a = [&](const double *dir, const double **point) {
         const double down[3] = {-dir[0], -dir[1], -dir[2]};
         if (a.size <= kScanHull) {
-            at_a = near_a != UINT32_MAX ? hull_support_near(a, down, near_a, &lo_a) : UINT32_MAX;
-            near_a = UINT32_MAX;
-            if (at_a == UINT32_MAX) at_a = hull_support(a, down, &lo_a);
+            at_a = small_support(a, down, near_a, &lo_a);
             lo_a = -lo_a;
         } else {
             at_a = hull_climb(a, down, at_a);
@@ -79,13 +84,7 @@ bool hulls_apart(const RelFrame &f, const Hull &a, const BvhNode &root_a, const 
     auto highest_b = [&](const double *dir, const double **point) {
         double w[3];
         to_b(f.q, dir, w);
-        if (b.size <= kScanHull) {
-            at_b = near_b != UINT32_MAX ? hull_support_near(b, w, near_b, &hb) : UINT32_MAX;
-            near_b = UINT32_MAX;
-            if (at_b == UINT32_MAX) at_b = hull_support(b, w, &hb);
-        } else {
-            at_b = hull_climb(b, w, at_b);
-        }
+        at_b = b.size <= kScanHull ? small_support(b, w, near_b, &hb) : hull_climb(b, w, at_b);
         const double *q = &b.xyz[3 * size_t(at_b)];
         for (int i = 0; i < 3; ++i)
             point_b[i] = f.t[i] + ((f.q[3 * i] * q[0] + f.q[3 * i + 1] * q[1]) + f.q[3 * i + 2] * q[2]);

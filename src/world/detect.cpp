@@ -526,10 +526,8 @@ size_t World::narrow_pairs(const NarrowPlan &plan, const PairBuffer &list, const
                 if (w->node[0] >= kAxisTag) {  // the axis is kept pointing from the higher slot's body
                     unpack_axis(w->node[1], hint.axis, sa < sb ? 1 : -1);
                     hint.axis_given = true;
-                    const uint32_t low = w->node[0] >> 10 & kNoSupport, high = w->node[0] & kNoSupport;
-                    const uint32_t ua = sa < sb ? low : high, ub = sa < sb ? high : low;
-                    hint.support_a = ua == kNoSupport ? UINT32_MAX : ua;
-                    hint.support_b = ub == kNoSupport ? UINT32_MAX : ub;
+                    hint.support_a = witness_support(w->node[0], sa < sb);
+                    hint.support_b = witness_support(w->node[0], sa > sb);
                 } else {
                     hint.node_a = w->node[sa > sb];
                     hint.node_b = w->node[sa < sb];

@@ -279,6 +279,12 @@ class World {
     static uint32_t axis_witness(uint32_t low, uint32_t high) {
         return kAxisTag | std::min(low, kNoSupport) << 10 | std::min(high, kNoSupport);
     }
+    // Its support of the lower slot's body (first) or the higher's, or
+    // UINT32_MAX.
+    static uint32_t witness_support(uint32_t word, bool first) {
+        const uint32_t v = first ? word >> 10 & kNoSupport : word & kNoSupport;
+        return v == kNoSupport ? UINT32_MAX : v;
+    }
     // A direction (times sign) in 32 bits, octahedral (16 bits a
     // coordinate, about 1e-4 radians), and back.
     static uint32_t pack_axis(const double *v, double sign);

@@ -298,6 +298,8 @@ class World {
     // witness_ from this detect's new witnesses (any order) and the last
     // ones of the pairs kept untested that are in pairs_.
     void keep_witnesses(std::vector<NodeWitness> &fresh);
+    // Sorts them by key (slots: every key's high half is below it).
+    static void sort_witnesses(std::vector<NodeWitness> &w, size_t slots);
     void narrow_phase(int threads, const NarrowPlan &plan, std::vector<std::vector<hgcd_contact>> &hit_contacts,
                       std::vector<NodeWitness> &fresh);
     void narrow_chunk(const NarrowPlan &plan, const NarrowChunk &chunk, NarrowThread &t) const;

@@ -62,6 +62,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "common/cpu.hpp"
 #include "common/simd.hpp"
 
 // (f64x4 values passed between inlined helpers: no ABI boundary is crossed.)
@@ -360,19 +361,29 @@ HGCD_RF_INLINE unsigned rel_apart2(const RelFrame &f, const double *a, int la, c
 }
 
 // The four pairs of a's two nodes of block `a` with b's two of image block
-// `b`: bit la + 2 lb for the pair (lane la of a, lane lb of b).
+// `b`: bit la + 2 lb for the pair (lane la of a, lane lb of b). kWide: in
+// one four-lane test, expanded only inside AVX2 functions (its builtin
+// needs their target), else in two two-lane ones (the same bits).
+template <bool kWide>
 HGCD_RF_INLINE unsigned rel_apart4(const RelFrame &f, const double *a, const double *b) {
-    // (Each a 16-byte load and one shuffle: built element by element, the
-    // vectors took several instructions each.)
-    auto A = [&](int k) __attribute__((always_inline)) {
-        const f64x2 v = lanes2(a, k);
-        return f64x4(__builtin_shufflevector(v, v, 0, 1, 0, 1));
-    };
-    auto B = [&](int k) __attribute__((always_inline)) {
-        const f64x2 v = lanes2(b, k);
-        return f64x4(__builtin_shufflevector(v, v, 0, 0, 1, 1));
-    };
-    return rel_apart_lanes<f64x4, i64x4>(f, A, B);
+#if HGCD_AVX2
+    if constexpr (kWide) {
+        // Lane 2 la + lb: b's two nodes repeated, a 16-byte broadcast load
+        // for each of b's fields (the more numerous), one load and a
+        // shuffle for each of a's; as written out element by element or as
+        // shuffles, the compiler took a lane-crossing permute for each.
+        auto A = [&](int k) __attribute__((always_inline)) {
+            const f64x2 v = lanes2(a, k);
+            return f64x4(__builtin_shufflevector(v, v, 0, 0, 1, 1));
+        };
+        auto B = [&](int k) __attribute__((always_inline)) {
+            return f64x4(__builtin_ia32_vbroadcastf128_pd256(reinterpret_cast<const f64x2 *>(b + 2 * k)));
+        };
+        const unsigned bits = rel_apart_lanes<f64x4, i64x4>(f, A, B);
+        return (bits & 9u) | (bits & 2u) << 1 | (bits & 4u) >> 1;
+    }
+#endif
+    return rel_apart2<true, false>(f, a, 0, b, 0) | rel_apart2<true, false>(f, a, 0, b, 1) << 2;
 }
 
 }  // namespace hgcd

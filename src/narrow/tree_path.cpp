@@ -229,9 +229,7 @@ HGCD_RF_INLINE bool meet_rel(BodyView &a, BodyView &b, Images &img, NarrowScratc
         if (!la && !lb && size_a <= 2 * size_b && size_b <= 2 * size_a) {
             const uint32_t c = uint32_t(link_a), e = uint32_t(link_b);
             const double *x = block_a(c), *y = img.block(lane_block(e));
-            const unsigned apart = kWide ? rel_apart4(f, x, y)
-                                         : rel_apart2<true, false>(f, x, 0, y, 0) |
-                                               rel_apart2<true, false>(f, x, 0, y, 1) << 2;
+            const unsigned apart = rel_apart4<kWide>(f, x, y);
             uint64_t item[4];
             double far[4];
             int n = 0;

@@ -84,6 +84,9 @@ struct RelFrame {
     double mu_b;      // the pair's part of each node image's eps
     double node_eps;  // times (|c|_1 + sum half): the node's part (2e-15 qmax)
     double qn;        // >= |V_j|_2 of every image axis
+    // |V_j . V_k| <= gram (j = k) or gram_off (j != k) for the computed
+    // axes V_j of every node image (prepare_frame)
+    double gram, gram_off;
     double tmax, qmax;  // |t~| and max |Q~_ij|
     double la, lb;      // the roots' reaches L_a, L_b
 };
@@ -156,6 +159,21 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
     f.mu_b = (6e-15 * pab + 1e-14 * sigma * lb + 2e-15 * tmax) * (1 + 1e-10) + 1e-300 + under;
     f.node_eps = 2e-15 * qmax;
     f.qn = 1.001 * sigma;
+    // The Gram bound. V_j = fl(Q~ v_j) is within g_3 qmax |v_j|_1 (max
+    // norm, |v_j|_1 <= 1.74) of Q~ v_j, so |V_j - Q~ v_j|_2 < 1.1e-15 qmax
+    // <= 1.1e-15 qn and |V_j . V_k - v_j^T M v_k| <= 2.3e-15 qn^2, M =
+    // Q~^T Q~. R_a = n R_u + (1 - n) I up to its entries' roundings has
+    // singular values within 2.1e-6 of 1 (|n - 1| <= 1e-6), as R_b has, so
+    // Q = sigma R_a^T R_b has them within sigma [1 - 4.2e-6, 1 + 4.3e-6],
+    // Q~ (entries within 6e-16 sigma of Q's, 2-norm 1.8e-15 sigma) within
+    // sigma [1 - 4.3e-6, 1 + 4.4e-6], and M's eigenvalues are within
+    // sigma^2 [1 - 8.6e-6, 1 + 8.9e-6]: ||M - sigma^2 I||_2 <= 9e-6
+    // sigma^2. With |v_j . v_k - d_jk| <= 1e-12 (NodeObb) and |v_j|_2^2 <= 1
+    // + 1e-12, |v_j^T M v_k| <= sigma^2 (d_jk + 1e-5); sigma^2 <= fl(sigma)^2
+    // (1 + 3u).
+    const double s2 = sigma * sigma * (1 + 1e-15);
+    f.gram = s2 * (1 + 1e-5) + 2.3e-15 * f.qn * f.qn;
+    f.gram_off = s2 * 1e-5 + 2.3e-15 * f.qn * f.qn;
     f.tmax = tmax, f.qmax = qmax, f.la = la, f.lb = lb;
     return true;
 }
@@ -245,17 +263,13 @@ HGCD_RF_INLINE void node_images(const RelFrame &f, const double *in, double *out
         put(12 + k, h[k]);
         put(15 + k, ((h[0] * vabs(V[k]) + h[1] * vabs(V[3 + k])) + h[2] * vabs(V[6 + k])) + eps);
     }
-    f64x2 l1[3], g[3][3];
-    for (int j = 0; j < 3; ++j) l1[j] = (vabs(V[3 * j]) + vabs(V[3 * j + 1])) + vabs(V[3 * j + 2]);
-    for (int j = 0; j < 3; ++j)
-        for (int k = j; k < 3; ++k) {
-            const f64x2 *x = V + 3 * j, *y = V + 3 * k;
-            g[j][k] = g[k][j] = vabs((x[0] * y[0] + x[1] * y[1]) + x[2] * y[2]);
-        }
-    const f64x2 own_err = both(1e-15 * f.qn * f.qn) * hsum + both(1e-300);
+    // The radius on an own axis V_j, sum_k half_k |V_j . V_k|, from
+    // RelFrame::gram's bound on the axes' Gram matrix.
+    const f64x2 off = both(f.gram_off) * hsum + both(1e-300);
     for (int j = 0; j < 3; ++j) {
-        put(18 + j, (((h[0] * g[j][0] + h[1] * g[j][1]) + h[2] * g[j][2]) + own_err) + eps * l1[j]);
-        put(21 + j, l1[j]);
+        const f64x2 l1 = (vabs(V[3 * j]) + vabs(V[3 * j + 1])) + vabs(V[3 * j + 2]);
+        put(18 + j, (both(f.gram) * h[j] + off) + eps * l1);
+        put(21 + j, l1);
     }
     put(24, (both(1e-15 * f.qn) * hsum + both(1.74) * eps) + both(1e-300));
     static_assert(kImageSpan == kImageLink + 1 && kSpanField == kLinkField + 1, "links and spans copied at once");

@@ -6,7 +6,8 @@
 // against the GMP oracle, then every hint (the roots, random nodes, leaves,
 // the meeting leaves of a nearby pose, out of range) must give that
 // verdict, whether its subtrees meet or the search has to climb from them
-// towards the roots.
+// towards the roots. And the frame's bound on a rotation matrix's defect.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -167,6 +168,38 @@ void test_blob_icosphere(void **) { check_blob_with(icosphere, 1.2, 12); }
 
 void test_blob_box(void **) { check_blob_with(box, 0.8, 14); }
 
+// rotation_defect (common/transform.hpp), which the frame's node tests take
+// for ||R^T R - I||_inf, bounds it as computed in long double from the
+// rounded matrix, for quaternions up to 1e-6 off unit length (and none
+// beyond).
+void test_rotation_defect(void **) {
+    rng r{21};
+    double worst = 0;
+    for (int k = 0; k < 20000; ++k) {
+        double q[4];
+        random_unit_quaternion(&r, q);
+        const double stretch = 1 + (k % 3 == 0 ? 0.999e-6 : 2 * unif(&r) - 1) * 0.49e-6;  // |q|^2 within 1e-6 of 1
+        for (double &c : q) c *= (k & 1) ? stretch : 1 / stretch;
+        const hgcd::Rotation rot = hgcd::rotation_of(q);
+        long double row_max = 0;
+        for (int i = 0; i < 3; ++i) {
+            long double row = 0;
+            for (int j = 0; j < 3; ++j) {
+                long double dot = 0;
+                for (int m = 0; m < 3; ++m) dot += (long double)rot.m[3 * m + i] * rot.m[3 * m + j];
+                row += fabsl(dot - (i == j ? 1 : 0));
+            }
+            row_max = std::max(row_max, row);
+        }
+        const double bound = hgcd::rotation_defect(q);
+        assert_true(bound >= row_max);
+        worst = std::max(worst, double(row_max / bound));
+    }
+    assert_true(worst > 0.5);  // (the bound is not loose by more than 2x here)
+    double far[4] = {0, 0, 0, 1 + 1e-6};
+    assert_true(std::isinf(hgcd::rotation_defect(far)));
+}
+
 }  // namespace
 
 int main() {
@@ -174,6 +207,7 @@ int main() {
         cmocka_unit_test(test_blob_blob),
         cmocka_unit_test(test_blob_icosphere),
         cmocka_unit_test(test_blob_box),
+        cmocka_unit_test(test_rotation_defect),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -39,6 +39,23 @@ inline Rotation rotation_of(const double *q) {
     return r;
 }
 
+// A bound on ||R^T R - I||_inf (max row sum) for R = rotation_of(q), from
+// the quaternion's norm alone; infinity unless |fl(|q|^2) - 1| <= 1e-6. In
+// exact arithmetic on x, y, z, w with n = |q|^2, R = n R_u + (1 - n) I (R_u
+// a rotation), so R^T R - I = n (n - 1) (2 I - R_u - R_u^T), whose max row
+// sum is at most |n (n - 1)| (2 + 2 sqrt(3)) (a rotation's rows have 1-norm
+// at most sqrt(3)). The computed entries are within 5.1u (diagonal: two
+// squares, a sum and a subtraction, |y^2 + z^2| <= n) or 2u (the others) of
+// those, E with ||E||_inf < 2e-15, and ||R^T E + E^T R + E^T E||_inf <= 2
+// 1.74 ||E||_inf + tiny < 7e-15. fl(n) is within g_4 n < 4.6e-16 of n, so
+// the bound is 5.47 (|fl(n) - 1| + 4.6e-16) + 7e-15 <= 5.5 |fl(n) - 1| +
+// 1e-14 (5.47 >= (2 + 2 sqrt(3)) n; fl(n) - 1 is exact near 1; 1 + 1e-12
+// covers the rest).
+inline double rotation_defect(const double *q) {
+    const double d = std::fabs((((q[0] * q[0] + q[1] * q[1]) + q[2] * q[2]) + q[3] * q[3]) - 1);
+    return d <= 1e-6 ? (5.5 * d + 1e-14) * (1 + 1e-12) : INFINITY;
+}
+
 // World vertex of mesh vertex m for a body at c, rotation r, scale s.
 inline void transform_point(const Rotation &r, const double *c, double s,
                             const double *m, double *out) {

@@ -150,6 +150,9 @@ struct BodyView {
     Rotation r;
     const double *position = nullptr;
     double scale = 1;
+    // A bound on ||R^T R - I||_inf for r (rotation_defect), or infinity:
+    // then computed where needed (orthonormal_defect).
+    double defect = INFINITY;
     double abs_r[9];
     double abs_position[3];
     // Caches, sized by the caller: 3 doubles and a stamp per vertex,

@@ -28,7 +28,8 @@
 // roundings of transform_point, as at BodyView::node_box; underflow at
 // prepare_frame). Phi(w~) = R_a^T
 // R_a p + R_a^T e / s_a = p + D p + R_a^T e / s_a with D = R_a^T R_a - I,
-// ||D||_inf <= rho_a (orthonormal_defect of R_a's columns), so |Phi(w~) - p|
+// ||D||_inf <= rho_a (BodyView::defect, else orthonormal_defect of R_a's
+// columns), so |Phi(w~) - p|
 // <= rho_a L_a + 1.74 g_5 (P_a / s_a + 1.74 L_a) <= mu_a (RelFrame::mu_a,
 // twice that with the roundings of its own evaluation).
 //
@@ -143,8 +144,11 @@ inline bool prepare_frame(const BodyView &a, const BodyView &b, RelFrame &f) {
         }
     const double la = a.mesh->root_reach, lb = b.mesh->root_reach;  // (Mesh::root_reach: of a.root, b.root)
     const double pa = max_abs3(a.position) / a.scale, pab = (max_abs3(a.position) + max_abs3(b.position)) / a.scale;
-    const double columns[9] = {ra[0], ra[3], ra[6], ra[1], ra[4], ra[7], ra[2], ra[5], ra[8]};
-    const double rho = orthonormal_defect(columns);
+    double rho = a.defect;
+    if (!(rho <= 1)) {
+        const double columns[9] = {ra[0], ra[3], ra[6], ra[1], ra[4], ra[7], ra[2], ra[5], ra[8]};
+        rho = orthonormal_defect(columns);
+    }
     const double big = 1e100;
     if (!(tmax <= big && qmax <= big && qmax * lb <= big && la <= big && sigma * big >= 1)) return false;
     // Underflow: each rounding of a world vertex may also be off by half a

@@ -46,6 +46,7 @@ void prepare_side(const BodyPose &pose, const Rotation &r, NarrowScratch::Side &
     v.mesh = &m;
     v.local = m.vertices.data();
     v.set_pose(pose.position, r, pose.scale);
+    v.defect = rotation_defect(pose.orientation);
     v.epoch = epoch;
     const size_t nv = m.vertex_count;
     if (c.vertex_stamp.size() < nv) {

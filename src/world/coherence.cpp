@@ -169,9 +169,8 @@ void World::unpack_axis(uint32_t w, double *v, double sign) {
 }
 
 // Sorts witnesses by key. Many (more than slots / 8): by lower slot (the
-// key's high half) in one counting pass, then each slot's few by key (on
-// `scanned` a detect's 20,000 witnesses cost a fifth of std::sort's
-// comparisons this way).
+// key's high half) in one counting pass, then each slot's few by key, where
+// std::sort would compare n log n times.
 void World::sort_witnesses(std::vector<NodeWitness> &w, size_t slots) {
     const auto by_key = [](const NodeWitness &x, const NodeWitness &y) { return x.key < y.key; };
     if (w.size() * 8 <= slots) {
